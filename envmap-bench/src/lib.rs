@@ -1,0 +1,2 @@
+//! Benchmarks, accuracy sweeps and the minimax fitter.
+#![forbid(unsafe_code)]

@@ -1,0 +1,3 @@
+//! Environment-map parameterizations.
+#![no_std]
+#![forbid(unsafe_code)]

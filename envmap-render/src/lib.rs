@@ -1,0 +1,2 @@
+//! Environment-map images, conversions and rendering.
+#![forbid(unsafe_code)]

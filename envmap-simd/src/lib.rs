@@ -1,0 +1,3 @@
+//! envmap's mappings eight directions at a time.
+#![no_std]
+#![forbid(unsafe_code)]

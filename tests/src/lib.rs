@@ -1,0 +1,2 @@
+//! Shared helpers for envmap's cross-crate tests.
+#![forbid(unsafe_code)]
