@@ -1,2 +1,473 @@
 //! Shared helpers for envmap's cross-crate tests.
+//!
+//! Reference geometry in f64 (angles between directions, uniform directions,
+//! small rotations), builders for awkward `f32` inputs (denormals, signed
+//! zeros, huge and mixed magnitudes, exact ties), a deterministic
+//! pseudo-random generator for tests that must not depend on proptest's
+//! seed, ulp distances, numerical integration and a recorder of worst cases
+//! that property tests print when run with `--nocapture`.
+//!
+//! Nothing here depends on proptest (a dev-dependency of this crate): the
+//! test files build their strategies from raw integers and floats and call
+//! the builders below.
 #![forbid(unsafe_code)]
+
+use std::cell::RefCell;
+use std::f64::consts::{PI, TAU};
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use envmap_core::{AnyMapping, ChartUv};
+use glam::Vec3;
+
+/// 4π, the solid angle of the whole sphere.
+pub const FOUR_PI: f64 = 4.0 * PI;
+
+/// A 3-vector of f64, for reference computations (the workspace builds glam
+/// without its f64 types).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DVec3 {
+    /// x component.
+    pub x: f64,
+    /// y component.
+    pub y: f64,
+    /// z component.
+    pub z: f64,
+}
+
+impl DVec3 {
+    /// (0, 0, 0).
+    pub const ZERO: DVec3 = DVec3::new(0.0, 0.0, 0.0);
+    /// (1, 0, 0).
+    pub const X: DVec3 = DVec3::new(1.0, 0.0, 0.0);
+    /// (0, 1, 0).
+    pub const Y: DVec3 = DVec3::new(0.0, 1.0, 0.0);
+    /// (0, 0, 1).
+    pub const Z: DVec3 = DVec3::new(0.0, 0.0, 1.0);
+    /// (0, 0, −1).
+    pub const NEG_Z: DVec3 = DVec3::new(0.0, 0.0, -1.0);
+
+    /// A vector from its components.
+    #[must_use]
+    pub const fn new(x: f64, y: f64, z: f64) -> Self {
+        Self { x, y, z }
+    }
+
+    /// Dot product.
+    #[must_use]
+    pub fn dot(self, o: DVec3) -> f64 {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// Cross product.
+    #[must_use]
+    pub fn cross(self, o: DVec3) -> DVec3 {
+        DVec3::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
+    }
+
+    /// Euclidean length.
+    #[must_use]
+    pub fn length(self) -> f64 {
+        self.dot(self).sqrt()
+    }
+
+    /// The unit vector in the same direction (NaN for the zero vector).
+    #[must_use]
+    pub fn normalize(self) -> DVec3 {
+        self / self.length()
+    }
+
+    /// Rounded to f32, component by component.
+    #[must_use]
+    pub fn as_vec3(self) -> Vec3 {
+        Vec3::new(self.x as f32, self.y as f32, self.z as f32)
+    }
+
+    /// The product `m · self` with the f32 matrix `m`, in f64.
+    #[must_use]
+    pub fn transformed(self, m: glam::Mat3) -> DVec3 {
+        to_f64(m.x_axis) * self.x + to_f64(m.y_axis) * self.y + to_f64(m.z_axis) * self.z
+    }
+}
+
+impl Add for DVec3 {
+    type Output = DVec3;
+    fn add(self, o: DVec3) -> DVec3 {
+        DVec3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl Sub for DVec3 {
+    type Output = DVec3;
+    fn sub(self, o: DVec3) -> DVec3 {
+        DVec3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+
+impl Mul<f64> for DVec3 {
+    type Output = DVec3;
+    fn mul(self, s: f64) -> DVec3 {
+        DVec3::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+
+impl Div<f64> for DVec3 {
+    type Output = DVec3;
+    fn div(self, s: f64) -> DVec3 {
+        DVec3::new(self.x / s, self.y / s, self.z / s)
+    }
+}
+
+impl Neg for DVec3 {
+    type Output = DVec3;
+    fn neg(self) -> DVec3 {
+        DVec3::new(-self.x, -self.y, -self.z)
+    }
+}
+
+/// `v` converted to f64 (exactly).
+#[must_use]
+pub fn to_f64(v: Vec3) -> DVec3 {
+    DVec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
+}
+
+/// `v` normalised in f64.
+///
+/// Every finite `f32` squared fits in f64 (`f32::MAX² ≈ 1.2e77`, the
+/// smallest denormal squared ≈ 2e-90), so no scaling is needed. Returns the
+/// zero vector for the zero vector.
+#[must_use]
+pub fn unit_f64(v: Vec3) -> DVec3 {
+    let d = to_f64(v);
+    let len = d.length();
+    if len == 0.0 {
+        DVec3::ZERO
+    } else {
+        d / len
+    }
+}
+
+/// The angle in radians between two non-zero vectors (any lengths), computed
+/// in f64 as `atan2(|a × b|, a · b)`, which is accurate for tiny and for
+/// nearly opposite angles alike.
+#[must_use]
+pub fn angle(a: DVec3, b: DVec3) -> f64 {
+    let (a, b) = (a.normalize(), b.normalize());
+    a.cross(b).length().atan2(a.dot(b))
+}
+
+/// [`angle`] between two `f32` vectors, computed in f64.
+#[must_use]
+pub fn angle_f32(a: Vec3, b: Vec3) -> f64 {
+    angle(to_f64(a), to_f64(b))
+}
+
+/// A unit direction in f64 from two numbers in `[0, 1]`, uniformly
+/// distributed on the sphere when `s` and `t` are uniform:
+/// z = 1 − 2s, φ = 2πt.
+#[must_use]
+pub fn uniform_direction(s: f64, t: f64) -> DVec3 {
+    let z = 1.0 - 2.0 * s;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let (sp, cp) = (TAU * t).sin_cos();
+    DVec3::new(r * cp, r * sp, z)
+}
+
+/// Two unit vectors that complete the unit vector `d` to an orthonormal basis.
+#[must_use]
+pub fn perpendicular_basis(d: DVec3) -> (DVec3, DVec3) {
+    let helper = if d.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
+    let e1 = d.cross(helper).normalize();
+    let e2 = d.cross(e1);
+    (e1, e2)
+}
+
+/// The unit vector `d` turned by `alpha` radians towards the tangent
+/// direction at angle `psi` in the plane perpendicular to `d`.
+#[must_use]
+pub fn rotate_away(d: DVec3, psi: f64, alpha: f64) -> DVec3 {
+    let (e1, e2) = perpendicular_basis(d);
+    let t = e1 * psi.cos() + e2 * psi.sin();
+    d * alpha.cos() + t * alpha.sin()
+}
+
+/// An awkward `f32` component for direction inputs, from a `kind` (taken
+/// modulo 8), 32 random bits and a sign.
+///
+/// | kind | value |
+/// | --- | --- |
+/// | 0, 7 | uniform in [−1, 1] |
+/// | 1 | magnitude 10^e, e uniform in [−30, 30] |
+/// | 2 | a denormal (from the smallest up to just below `f32::MIN_POSITIVE`) |
+/// | 3 | a zero (the sign picks +0 or −0) |
+/// | 4 | huge: in [`f32::MAX`/2, `f32::MAX`] |
+/// | 5 | any finite non-NaN `f32` bit pattern (every exponent equally likely) |
+/// | 6 | exactly ±1 (so that components tie) |
+#[must_use]
+pub fn awkward_component(kind: u8, bits: u32, negative: bool) -> f32 {
+    let frac = f64::from(bits) / 4_294_967_296.0;
+    let magnitude = match kind % 8 {
+        1 => 10f64.powf(-30.0 + 60.0 * frac) as f32,
+        2 => f32::from_bits(1 + bits % 0x007f_ffff),
+        3 => 0.0,
+        4 => (f64::from(f32::MAX) * (0.5 + 0.5 * frac)) as f32,
+        5 => {
+            // Exponent field at most 0xfe: finite.
+            let b = bits & 0x7fff_ffff;
+            let b = if b >> 23 == 0xff { b & 0x7f7f_ffff } else { b };
+            f32::from_bits(b)
+        }
+        6 => 1.0,
+        _ => frac as f32,
+    };
+    if negative {
+        -magnitude
+    } else {
+        magnitude
+    }
+}
+
+/// Makes the magnitudes of some components of `v` equal, keeping their signs,
+/// so that the cube's tie rule and similar boundaries get exercised.
+///
+/// `tie % 8`: 0–2 leave `v` alone; 3: |y| = |x|; 4: |z| = |x|; 5: |z| = |y|;
+/// 6: |y| = |z| = |x|; 7: |x| = |y| = |z| = the largest of the three.
+#[must_use]
+pub fn with_ties(v: Vec3, tie: u8) -> Vec3 {
+    let (x, y, z) = (v.x, v.y, v.z);
+    let m = x.abs().max(y.abs()).max(z.abs());
+    match tie % 8 {
+        3 => Vec3::new(x, x.abs().copysign(y), z),
+        4 => Vec3::new(x, y, x.abs().copysign(z)),
+        5 => Vec3::new(x, y, y.abs().copysign(z)),
+        6 => Vec3::new(x, x.abs().copysign(y), x.abs().copysign(z)),
+        7 => Vec3::new(m.copysign(x), m.copysign(y), m.copysign(z)),
+        _ => v,
+    }
+}
+
+/// `v`, or, if it is the zero vector, `v` with its z replaced by the smallest
+/// denormal (keeping z's sign), so strategies need not reject.
+#[must_use]
+pub fn nonzero(v: Vec3) -> Vec3 {
+    if v.x == 0.0 && v.y == 0.0 && v.z == 0.0 {
+        Vec3::new(v.x, v.y, f32::from_bits(1).copysign(v.z))
+    } else {
+        v
+    }
+}
+
+/// The position of `x` on the line of `f32` values, such that neighbouring
+/// floats differ by 1 and both zeros are 0.
+#[must_use]
+pub fn ordinal(x: f32) -> i64 {
+    let b = x.to_bits();
+    let magnitude = i64::from(b & 0x7fff_ffff);
+    if b >> 31 == 1 {
+        -magnitude
+    } else {
+        magnitude
+    }
+}
+
+/// How many `f32` steps (ulps) `x` lies outside `[lo, hi]`: 0 inside, and
+/// `u64::MAX` for NaN.
+#[must_use]
+pub fn ulps_outside(x: f32, lo: f32, hi: f32) -> u64 {
+    if x.is_nan() {
+        return u64::MAX;
+    }
+    let (k, klo, khi) = (ordinal(x), ordinal(lo), ordinal(hi));
+    if k < klo {
+        (klo - k).unsigned_abs()
+    } else if k > khi {
+        (k - khi).unsigned_abs()
+    } else {
+        0
+    }
+}
+
+/// The Euclidean distance between the `(u, v)` of two chart points, in f64
+/// (the charts are not compared).
+#[must_use]
+pub fn uv_distance(a: ChartUv, b: ChartUv) -> f64 {
+    let du = f64::from(a.u) - f64::from(b.u);
+    let dv = f64::from(a.v) - f64::from(b.v);
+    du.hypot(dv)
+}
+
+/// The distance between two values of a coordinate that wraps around
+/// (0 ≡ 1): `min(|a − b|, 1 − |a − b|)`.
+#[must_use]
+pub fn wrapped_distance(a: f32, b: f32) -> f64 {
+    let d = (f64::from(a) - f64::from(b)).abs();
+    d.min(1.0 - d)
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): a tiny deterministic generator for
+/// tests whose inputs must not depend on proptest's seed.
+#[derive(Clone, Debug)]
+pub struct SplitMix64 {
+    state: u64,
+}
+
+impl SplitMix64 {
+    /// A generator started from `seed`.
+    #[must_use]
+    pub fn new(seed: u64) -> Self {
+        Self { state: seed }
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.state = self.state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// A uniform number in `[0, 1)` with 53 random bits.
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A uniformly distributed unit direction, rounded to `f32`.
+    pub fn direction(&mut self) -> Vec3 {
+        let (s, t) = (self.next_f64(), self.next_f64());
+        uniform_direction(s, t).as_vec3()
+    }
+}
+
+/// The positive nodes and weights of the 8-point Gauss–Legendre rule on [−1, 1].
+const GAUSS_LEGENDRE_8: [(f64, f64); 4] = [
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
+    (0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
+];
+
+/// `∫∫ f(u, v) du dv` over `[u0, u1] × [v0, v1]` by the 8-point
+/// Gauss–Legendre rule on a `panels × panels` grid of sub-rectangles.
+///
+/// For an analytic integrand (such as the cube's area element over a texel)
+/// a few panels already give close to f64 precision.
+#[must_use]
+pub fn integrate_2d(
+    f: impl Fn(f64, f64) -> f64,
+    u0: f64,
+    u1: f64,
+    v0: f64,
+    v1: f64,
+    panels: u32,
+) -> f64 {
+    let nodes: Vec<(f64, f64)> = GAUSS_LEGENDRE_8
+        .iter()
+        .flat_map(|&(x, w)| [(-x, w), (x, w)])
+        .collect();
+    let n = f64::from(panels);
+    let (hu, hv) = ((u1 - u0) / n, (v1 - v0) / n);
+    let mut total = 0.0;
+    for pi in 0..panels {
+        for pj in 0..panels {
+            let cu = u0 + (f64::from(pi) + 0.5) * hu;
+            let cv = v0 + (f64::from(pj) + 0.5) * hv;
+            let mut sum = 0.0;
+            for &(xu, wu) in &nodes {
+                for &(xv, wv) in &nodes {
+                    sum += wu * wv * f(cu + 0.5 * hu * xu, cv + 0.5 * hv * xv);
+                }
+            }
+            total += sum * 0.25 * hu * hv;
+        }
+    }
+    total
+}
+
+/// The cube face's solid-angle density in its `(u, v)` coordinates: with
+/// sc = 2u − 1 and tc = 2v − 1, dΩ = dsc dtc / (1 + sc² + tc²)^{3/2}
+/// = 4 du dv / (1 + sc² + tc²)^{3/2} (the gnomonic area element).
+#[must_use]
+pub fn cube_area_element(u: f64, v: f64) -> f64 {
+    let (sc, tc) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    4.0 / (1.0 + sc * sc + tc * tc).powf(1.5)
+}
+
+/// A compensated (Neumaier) sum, so that adding up tens of thousands of
+/// texel solid angles does not itself add rounding error worth measuring.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Sum {
+    sum: f64,
+    compensation: f64,
+}
+
+impl Sum {
+    /// Adds `x`.
+    pub fn add(&mut self, x: f64) {
+        let t = self.sum + x;
+        if self.sum.abs() >= x.abs() {
+            self.compensation += (self.sum - t) + x;
+        } else {
+            self.compensation += (x - t) + self.sum;
+        }
+        self.sum = t;
+    }
+
+    /// The sum so far.
+    #[must_use]
+    pub fn value(&self) -> f64 {
+        self.sum + self.compensation
+    }
+}
+
+/// Records, per slot (usually per mapping), the largest value seen and a
+/// description of the input that produced it; [`Worst::report`] prints the
+/// table (visible with `cargo test -- --nocapture`).
+///
+/// Property tests record their measured errors here, so that the bounds they
+/// state can be checked against what a long run (`PROPTEST_CASES=200000`)
+/// actually reaches.
+#[derive(Debug)]
+pub struct Worst {
+    slots: RefCell<Vec<(f64, String)>>,
+    names: Vec<String>,
+}
+
+impl Worst {
+    /// A recorder with one slot per name.
+    #[must_use]
+    pub fn new<S: ToString>(names: &[S]) -> Self {
+        Self {
+            slots: RefCell::new(vec![(f64::NEG_INFINITY, String::new()); names.len()]),
+            names: names.iter().map(ToString::to_string).collect(),
+        }
+    }
+
+    /// A recorder with one slot per mapping of [`AnyMapping::ALL`].
+    #[must_use]
+    pub fn per_mapping() -> Self {
+        Self::new(&AnyMapping::NAMES)
+    }
+
+    /// Records `value` in `slot`; `what` describes the input and is only
+    /// evaluated when `value` is a new worst.
+    pub fn record(&self, slot: usize, value: f64, what: impl FnOnce() -> String) {
+        let mut slots = self.slots.borrow_mut();
+        if value > slots[slot].0 {
+            slots[slot] = (value, what());
+        }
+    }
+
+    /// Prints one line per slot with a recorded value.
+    pub fn report(&self, title: &str) {
+        println!("{title}");
+        for (name, (value, what)) in self.names.iter().zip(self.slots.borrow().iter()) {
+            if value.is_finite() {
+                println!("  {name:>22}: {value:.3e}  at {what}");
+            }
+        }
+    }
+}
