@@ -1,0 +1,337 @@
+//! Fast `atan`, `atan2`, `asin`, `acos` and `sin_cos` for [`f32x8`], at three
+//! accuracy tiers chosen at compile time.
+//!
+//! ```
+//! use envmap_simd::approx::{self, Exact, Fast};
+//! use wide::f32x8;
+//!
+//! let y = f32x8::splat(1.0);
+//! let x = f32x8::splat(-1.0);
+//! let precise = approx::atan2::<Exact>(y, x);
+//! let quick = approx::atan2::<Fast>(y, x);
+//! assert!((precise.to_array()[0] - 3.0 * core::f32::consts::FRAC_PI_4).abs() < 1e-6);
+//! assert!((quick.to_array()[0] - 3.0 * core::f32::consts::FRAC_PI_4).abs() < 1e-4);
+//! ```
+//!
+//! | tier      | bound                       | atan/atan2 | asin/acos | sin, cos      |
+//! |-----------|-----------------------------|-----------:|----------:|--------------:|
+//! | [`Exact`] | 2 ULP                       | degree 17  | degree 11 | degree 7, 8   |
+//! | [`Fine`]  | 2·10⁻⁶ rad absolute         | degree 13  | degree 7  | degree 5, 6   |
+//! | [`Fast`]  | 10⁻⁴ rad absolute           | degree 7   | degree 5  | degree 5, 4   |
+//!
+//! Errors are measured against the `f64` function rounded to `f32`; ULP
+//! means the distance in representable `f32` values. Each function's
+//! documentation gives its reduction and the measured maximum error per
+//! tier. All functions are branch-free (masks and blends only) and work lane
+//! by lane: a NaN lane returns NaN and never changes another lane.
+//!
+//! The polynomial coefficients are minimax fits made by the project's own
+//! Remez fitter ([`coeffs`] says how to regenerate them).
+//!
+//! # Measuring
+//!
+//! The errors quoted were printed by
+//!
+//! ```text
+//! cargo test -p envmap-tests --release --test approx_accuracy -- --nocapture
+//! ```
+//!
+//! (dense sweep; `ENVMAP_EXTENSIVE=1` sweeps every `f32` of each reduced
+//! domain) on x86-64 both without and with `RUSTFLAGS="-C target-cpu=native"`
+//! (FMA): the figures are the larger of the two builds.
+
+mod asin_acos;
+mod atan;
+pub mod coeffs;
+mod poly;
+mod sin_cos;
+
+use asin_acos::Asin;
+use atan::Atan;
+use poly::Odd;
+use sin_cos::{CosPoly, SinCos};
+use wide::f32x8;
+
+/// [`sin_cos`](fn@sin_cos) meets its tier's bound for `|x| ≤ SIN_COS_RANGE`
+/// (`≈ 4096·π/2`, where the leading Cody–Waite product stops being exact).
+pub const SIN_COS_RANGE: f32 = 6433.0;
+
+/// An accuracy tier: which polynomials (and how careful a reduction) the
+/// functions of this module use. Implemented by [`Exact`], [`Fine`] and
+/// [`Fast`]; pick one as a type parameter.
+pub trait Tier: Copy + Default + core::fmt::Debug + Send + Sync + 'static {
+    /// `"exact"`, `"fine"` or `"fast"`.
+    const NAME: &'static str;
+    /// Arctangent; see [`atan`](fn@atan).
+    fn atan(x: f32x8) -> f32x8;
+    /// Four-quadrant arctangent of `y/x`; see [`atan2`](fn@atan2).
+    fn atan2(y: f32x8, x: f32x8) -> f32x8;
+    /// Arcsine; see [`asin`](fn@asin).
+    fn asin(x: f32x8) -> f32x8;
+    /// Arccosine; see [`acos`](fn@acos).
+    fn acos(x: f32x8) -> f32x8;
+    /// Sine and cosine; see [`sin_cos`](fn@sin_cos).
+    fn sin_cos(x: f32x8) -> (f32x8, f32x8);
+}
+
+/// At most 2 ULP from the correctly rounded result (`sin_cos` for
+/// `|x| ≤` [`SIN_COS_RANGE`]); two-part `π` constants, compensated sums and
+/// a four-part Cody–Waite reduction.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Exact;
+
+/// At most `2·10⁻⁶` rad absolute error.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Fine;
+
+/// At most `10⁻⁴` rad absolute error.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Fast;
+
+const ATAN_EXACT: Atan = Atan {
+    poly: Odd {
+        lead_one: true,
+        coeffs: &coeffs::ATAN_EXACT,
+    },
+    split: true,
+};
+const ATAN_FINE: Atan = Atan {
+    poly: Odd {
+        lead_one: false,
+        coeffs: &coeffs::ATAN_FINE,
+    },
+    split: false,
+};
+const ATAN_FAST: Atan = Atan {
+    poly: Odd {
+        lead_one: false,
+        coeffs: &coeffs::ATAN_FAST,
+    },
+    split: false,
+};
+const ASIN_EXACT: Asin = Asin {
+    poly: Odd {
+        lead_one: true,
+        coeffs: &coeffs::ASIN_EXACT,
+    },
+    split: true,
+};
+const ASIN_FINE: Asin = Asin {
+    poly: Odd {
+        lead_one: false,
+        coeffs: &coeffs::ASIN_FINE,
+    },
+    split: false,
+};
+const ASIN_FAST: Asin = Asin {
+    poly: Odd {
+        lead_one: false,
+        coeffs: &coeffs::ASIN_FAST,
+    },
+    split: false,
+};
+const SIN_COS_EXACT: SinCos = SinCos {
+    sin: Odd {
+        lead_one: true,
+        coeffs: &coeffs::SIN_EXACT,
+    },
+    cos: CosPoly::OneMinusHalf(&coeffs::COS_EXACT),
+    four_part: true,
+};
+const SIN_COS_FINE: SinCos = SinCos {
+    sin: Odd {
+        lead_one: false,
+        coeffs: &coeffs::SIN_FINE,
+    },
+    cos: CosPoly::OnePlus(&coeffs::COS_FINE),
+    four_part: false,
+};
+const SIN_COS_FAST: SinCos = SinCos {
+    sin: Odd {
+        lead_one: false,
+        coeffs: &coeffs::SIN_FINE,
+    },
+    cos: CosPoly::OnePlus(&coeffs::COS_FAST),
+    four_part: false,
+};
+
+macro_rules! impl_tier {
+    ($tier:ty, $name:literal, $atan:ident, $asin:ident, $sin_cos:ident) => {
+        impl Tier for $tier {
+            const NAME: &'static str = $name;
+            #[inline]
+            fn atan(x: f32x8) -> f32x8 {
+                $atan.atan(x)
+            }
+            #[inline]
+            fn atan2(y: f32x8, x: f32x8) -> f32x8 {
+                $atan.atan2(y, x)
+            }
+            #[inline]
+            fn asin(x: f32x8) -> f32x8 {
+                $asin.asin(x)
+            }
+            #[inline]
+            fn acos(x: f32x8) -> f32x8 {
+                $asin.acos(x)
+            }
+            #[inline]
+            fn sin_cos(x: f32x8) -> (f32x8, f32x8) {
+                $sin_cos.sin_cos(x)
+            }
+        }
+    };
+}
+
+impl_tier!(Exact, "exact", ATAN_EXACT, ASIN_EXACT, SIN_COS_EXACT);
+impl_tier!(Fine, "fine", ATAN_FINE, ASIN_FINE, SIN_COS_FINE);
+impl_tier!(Fast, "fast", ATAN_FAST, ASIN_FAST, SIN_COS_FAST);
+
+/// Arctangent of each lane, in `[−π/2, π/2]`.
+///
+/// Reduction: `|x| > 1` uses `atan|x| = π/2 − atan(1/|x|)`, so the polynomial
+/// only sees `[0, 1]`; the sign of `x` is restored last. Polynomial (odd, in
+/// `x`): exact `x + x³·P(x²)` of degree 17, fine degree 13, fast degree 7.
+/// `atan(±0) = ±0`, `atan(±∞) = ±π/2` (exactly `f32` `π/2`), NaN stays NaN.
+///
+/// Measured maximum error over every 1021st `f32` (both signs, all
+/// magnitudes) plus the neighbourhoods of 1/2, 1 and 2:
+///
+/// | tier  | max abs error (rad) | at x        | max ULP |
+/// |-------|---------------------|-------------|---------|
+/// | exact | 9.4e-8              | 1.9999965   | 1       |
+/// | fine  | 3.8e-7              | 2.0630407   | 66      |
+/// | fast  | 8.2e-5              | 6.168386    | 13190   |
+///
+/// printed by `cargo test -p envmap-tests --release --test approx_accuracy
+/// -- --nocapture atan::` (add `ENVMAP_EXTENSIVE=1` for every `f32`).
+#[inline]
+#[must_use]
+pub fn atan<T: Tier>(x: f32x8) -> f32x8 {
+    T::atan(x)
+}
+
+/// Four-quadrant arctangent of `y/x` per lane, in `[−π, π]`, with every
+/// IEEE special case of `std`'s `f32::atan2`.
+///
+/// Reduction: `z = min(|x|, |y|) / max(|x|, |y|)` in `[0, 1]` (the quotient
+/// cannot overflow, and underflows only when the angle itself is below the
+/// smallest `f32`, so no rescaling is needed for tiny or huge arguments),
+/// `p = atan(z)` by the same polynomial as [`atan`](fn@atan) (exact degree
+/// 17, fine 13, fast 7), then the octant: `p`, `π/2 − p`, `π − p` or
+/// `π/2 + p`, with the sign of `y` (including `−0`) restored last.
+/// `atan2(±0, +0) = ±0`, `atan2(±0, −0) = ±π`, `atan2(±y, ±0) = ±π/2`,
+/// `atan2(±∞, −∞) = ±3π/4`, `atan2(±∞, +∞) = ±π/4`, a NaN in either argument
+/// gives NaN.
+///
+/// Measured maximum error over a grid of 20 000 angles × radii from 10⁻⁴⁵
+/// (denormal) to 3.4·10³⁸, every pair of binary exponents in
+/// `[−149, 127]` (step 2) with random mantissas and signs, and every 1021st
+/// quotient in `[0, 1]` in each octant:
+///
+/// | tier  | max abs error (rad) | at (y, x)                 | max ULP |
+/// |-------|---------------------|---------------------------|---------|
+/// | exact | 1.7e-7              | (−7.1e-4, −7.0e-4)        | 2       |
+/// | fine  | 5.1e-7              | (7.0e-11, −7.1e-11)       | 66      |
+/// | fast  | 8.2e-5              | (4.18, −5.61)             | 13190   |
+///
+/// printed by `cargo test -p envmap-tests --release --test approx_accuracy
+/// -- --nocapture atan2::`. For comparison `wide`'s own `f32x8::atan2`
+/// measures about 3 ULP.
+#[inline]
+#[must_use]
+pub fn atan2<T: Tier>(y: f32x8, x: f32x8) -> f32x8 {
+    T::atan2(y, x)
+}
+
+/// Arcsine of each lane, in `[−π/2, π/2]`.
+///
+/// Reduction: `|x| ≤ 1/2` evaluates the polynomial at `|x|`; `|x| > 1/2`
+/// uses `asin|x| = π/2 − 2·asin(√((1 − |x|)/2))`. The sign of `x` is
+/// restored last. Polynomial (odd): exact `x + x³·P(x²)` of degree 11, fine
+/// degree 7, fast degree 5, all fitted on `[0, 1/2]`. `asin(±0) = ±0`,
+/// `asin(±1) = ±π/2`, `|x| > 1` and NaN give NaN.
+///
+/// Measured maximum error over every 1021st `f32` of `[−1, 1]` plus the
+/// neighbourhoods of 0, ±1/2 and ±1:
+///
+/// | tier  | max abs error (rad) | at x        | max ULP |
+/// |-------|---------------------|-------------|---------|
+/// | exact | 8.4e-8              | 0.8656927   | 1       |
+/// | fine  | 9.7e-7              | 0.5000038   | 121     |
+/// | fast  | 1.7e-5              | 0.5000038   | 1906    |
+///
+/// printed by `cargo test -p envmap-tests --release --test approx_accuracy
+/// -- --nocapture asin::`.
+#[inline]
+#[must_use]
+pub fn asin<T: Tier>(x: f32x8) -> f32x8 {
+    T::asin(x)
+}
+
+/// Arccosine of each lane, in `[0, π]`.
+///
+/// Reduction: `|x| ≤ 1/2` uses `π/2 ∓ asin|x|`; `|x| > 1/2` uses
+/// `2·asin(√((1 − |x|)/2))` (for `x > 0`) or `π` minus it (for `x < 0`),
+/// which stays accurate next to `±1` where `acos` behaves like a square
+/// root. Same polynomials as [`asin`](fn@asin) (exact degree 11, fine 7,
+/// fast 5). `acos(1) = +0`, `acos(−1) = π`, `|x| > 1` and NaN give NaN.
+///
+/// Measured maximum error over every 1021st `f32` of `[−1, 1]` plus the
+/// neighbourhoods of 0, ±1/2 and ±1:
+///
+/// | tier  | max abs error (rad) | at x        | max ULP |
+/// |-------|---------------------|-------------|---------|
+/// | exact | 1.5e-7              | −0.5182639  | 1       |
+/// | fine  | 1.1e-6              | −0.5000127  | 120     |
+/// | fast  | 1.7e-5              | −0.5000027  | 1898    |
+///
+/// printed by `cargo test -p envmap-tests --release --test approx_accuracy
+/// -- --nocapture acos::`.
+#[inline]
+#[must_use]
+pub fn acos<T: Tier>(x: f32x8) -> f32x8 {
+    T::acos(x)
+}
+
+/// Sine and cosine of each lane, `(sin x, cos x)`.
+///
+/// Reduction: quadrant `q = round(|x|·2/π)` and `r = |x| − q·π/2` in
+/// `[−π/4, π/4]` by Cody–Waite, `π/2` split in four parts (exact tier: three
+/// 12-bit parts and the rest, the third difference kept exactly, so `r` is
+/// rounded once) or two parts (fine and fast: 12 bits and the rest); the
+/// 12-bit parts make `q·part` exact for `q ≤ 2¹²` even without FMA. Then
+/// `sin r`, `cos r` swapped and negated by quadrant and the sign of `x` put
+/// on `sin`. Polynomials on `[0, π/4]`: exact `sin` degree 7
+/// (`r + r³·P(r²)`) and `cos` degree 8 (`1 − r²/2 + r⁴·P(r²)`, the first
+/// sum kept exactly); fine `sin` degree 5, `cos` degree 6; fast `sin`
+/// degree 5, `cos` degree 4. `sin(±0) = ±0`, `cos(±0) = 1`, `±∞` and NaN
+/// give NaN.
+///
+/// Accuracy holds for `|x| ≤` [`SIN_COS_RANGE`] `= 6433` (about 4096·π/2,
+/// far beyond the `[−2π, 2π]` the mappings need). Beyond it the reduction
+/// loses exactness and the error grows roughly like `|x|·4·10⁻⁸` (about
+/// `4·10⁻³` at `10⁵`), and past `2²²·π/2` the quadrant is meaningless; the
+/// reduced argument is clamped to `[−0.786, 0.786]`, so `(sin, cos)` always
+/// stays within the polynomials' error of the unit circle.
+///
+/// Measured maximum error over every 1021st `f32` of `[−6433, 6433]` plus
+/// the neighbourhoods of every multiple of π/4 there:
+///
+/// | tier  | function | max abs error | at x       | max ULP |
+/// |-------|----------|---------------|------------|---------|
+/// | exact | sin      | 6.4e-8        | 2053.8154  | 1       |
+/// | exact | cos      | 6.4e-8        | 3443.9668  | 1       |
+/// | fine  | sin      | 6.6e-7        | 3447.1128  | —       |
+/// | fine  | cos      | 6.5e-7        | 3853.9487  | —       |
+/// | fast  | sin      | 1.24e-5       | 5952.5327  | —       |
+/// | fast  | cos      | 1.25e-5       | 5734.1924  | —       |
+///
+/// (ULP is meaningless for the fine and fast tiers next to the zeros of
+/// `sin` and `cos`.) Printed by `cargo test -p envmap-tests --release --test
+/// approx_accuracy -- --nocapture sin:: cos::`.
+#[inline]
+#[must_use]
+pub fn sin_cos<T: Tier>(x: f32x8) -> (f32x8, f32x8) {
+    T::sin_cos(x)
+}
