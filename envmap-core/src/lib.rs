@@ -1,3 +1,77 @@
-//! Environment-map parameterizations.
+//! Environment-map parameterizations with exact inverses.
+//!
+//! Every representation is an **atlas of charts**: a [`Mapping`] turns a
+//! direction into a point `(chart, u, v)` of its texture ([`Mapping::forward`])
+//! and back ([`Mapping::inverse`]), with u, v ∈ [0, 1] (u right, v down).
+//! Because every representation has both, converting any representation into
+//! any other is one generic loop, and the property tests of the `envmap-tests`
+//! crate prove the round trips.
+//!
+//! | mapping | module | charts | source |
+//! | --- | --- | --- | --- |
+//! | [`LatLong`] | [`latlong`] | 1 (2:1) | Blinn & Newell 1976; seed `000` (quadrant erratum fixed) |
+//! | [`Cube`] | [`cube`] | 6 faces | seed `000`; OpenGL / Vulkan face table |
+//! | [`SphereMap`] | [`sphere_map`] | 1 disk | seed `000`, class and `GL_SPHERE_MAP` conventions |
+//! | [`DualParaboloid`] | [`dual_paraboloid`] | 2 disks | seed `000`; Heidrich & Seidel 1998 |
+//! | [`Tennisball`] | [`tennisball`] | 2 strips (3:1) | seed `000` (coverage erratum fixed) |
+//! | [`Octahedral`] | [`octahedral`] | 1 square | Engelhardt & Dachsbacher 2008 |
+//! | [`EqualAreaOctahedral`] | [`octahedral`] | 1 square | Clarberg 2008; pbrt-v4 |
+//!
+//! Also: the two reflection formulas ([`reflect_view`], [`reflect_incident`]),
+//! axis conventions ([`Frame`], [`Framed`]), atlas layouts ([`Atlas`]), texel
+//! addressing ([`texel`]) and exact texel solid angles ([`solid_angle`]).
+//!
+//! # Bad input
+//!
+//! | input | result |
+//! | --- | --- |
+//! | direction with a NaN or ±Inf component, or the zero vector (±0) | `forward` → `None` |
+//! | denormal or huge (up to `f32::MAX`) components | a valid point: no overflow or underflow |
+//! | chart out of range, NaN u or v, u or v outside `[0, 1]` | `inverse` → `None` |
+//! | a point outside a disk chart (sphere map, paraboloid corners) | `inverse` → `None` |
+//! | `u = 1.0` in [`texel::texel_index`] | the last texel, never one past it |
+//!
+//! `#![no_std]`, no unsafe code, no allocation. Math goes through `libm`, or
+//! `std` with the `std` feature.
 #![no_std]
 #![forbid(unsafe_code)]
+
+#[cfg(feature = "std")]
+extern crate std;
+
+pub mod any;
+pub mod atlas;
+pub mod cube;
+mod direction;
+pub mod dual_paraboloid;
+pub mod frame;
+pub mod latlong;
+mod mapping;
+mod math;
+pub mod octahedral;
+mod reflect;
+pub mod solid_angle;
+pub mod sphere_map;
+pub mod tennisball;
+pub mod texel;
+
+pub use any::AnyMapping;
+pub use atlas::Atlas;
+pub use cube::{Cube, CubeFace};
+pub use direction::normalize_direction;
+pub use dual_paraboloid::DualParaboloid;
+pub use frame::{Frame, Framed};
+pub use latlong::LatLong;
+pub use mapping::{ChartUv, Mapping};
+pub use octahedral::{EqualAreaOctahedral, Octahedral};
+pub use reflect::{reflect_incident, reflect_view};
+pub use sphere_map::{SphereConvention, SphereMap};
+pub use tennisball::Tennisball;
+
+/// Re-export of the `glam` version this crate's API uses.
+pub use glam;
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+struct ReadmeDoctests;

@@ -1,0 +1,176 @@
+//! [`AnyMapping`]: every mapping behind one enum, for code that picks at run time.
+
+use core::fmt;
+use core::str::FromStr;
+
+use glam::Vec3;
+
+use crate::atlas::Atlas;
+use crate::mapping::{ChartUv, Mapping};
+use crate::{
+    Cube, DualParaboloid, EqualAreaOctahedral, LatLong, Octahedral, SphereMap, Tennisball,
+};
+
+/// Every mapping of the crate, chosen at run time (a command-line flag, a file
+/// header). Implements [`Mapping`] by dispatching to the concrete type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AnyMapping {
+    /// [`LatLong`].
+    LatLong,
+    /// [`Cube`].
+    Cube,
+    /// [`SphereMap::CLASS`] (eye along +z).
+    SphereMap,
+    /// [`SphereMap::OPENGL`] (eye along −z, `GL_SPHERE_MAP`).
+    SphereMapGl,
+    /// [`DualParaboloid`].
+    DualParaboloid,
+    /// [`Tennisball`].
+    Tennisball,
+    /// [`Octahedral`].
+    Octahedral,
+    /// [`EqualAreaOctahedral`].
+    EqualAreaOctahedral,
+}
+
+impl AnyMapping {
+    /// Every mapping, in a fixed order.
+    pub const ALL: [AnyMapping; 8] = [
+        AnyMapping::LatLong,
+        AnyMapping::Cube,
+        AnyMapping::SphereMap,
+        AnyMapping::SphereMapGl,
+        AnyMapping::DualParaboloid,
+        AnyMapping::Tennisball,
+        AnyMapping::Octahedral,
+        AnyMapping::EqualAreaOctahedral,
+    ];
+
+    /// The names [`FromStr`] accepts, in the order of [`AnyMapping::ALL`].
+    pub const NAMES: [&'static str; 8] = [
+        "latlong",
+        "cube",
+        "sphere",
+        "sphere-gl",
+        "paraboloid",
+        "tennisball",
+        "octahedral",
+        "octahedral-equal-area",
+    ];
+
+    /// Forward mapping of the chosen variant.
+    #[inline]
+    #[must_use]
+    pub fn forward(self, d: Vec3) -> Option<ChartUv> {
+        match self {
+            AnyMapping::LatLong => LatLong::forward(d),
+            AnyMapping::Cube => Cube::forward(d),
+            AnyMapping::SphereMap => SphereMap::CLASS.forward(d),
+            AnyMapping::SphereMapGl => SphereMap::OPENGL.forward(d),
+            AnyMapping::DualParaboloid => DualParaboloid::forward(d),
+            AnyMapping::Tennisball => Tennisball::forward(d),
+            AnyMapping::Octahedral => Octahedral::forward(d),
+            AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral::forward(d),
+        }
+    }
+
+    /// Inverse mapping of the chosen variant.
+    #[inline]
+    #[must_use]
+    pub fn inverse(self, c: ChartUv) -> Option<Vec3> {
+        match self {
+            AnyMapping::LatLong => LatLong::inverse(c),
+            AnyMapping::Cube => Cube::inverse(c),
+            AnyMapping::SphereMap => SphereMap::CLASS.inverse(c),
+            AnyMapping::SphereMapGl => SphereMap::OPENGL.inverse(c),
+            AnyMapping::DualParaboloid => DualParaboloid::inverse(c),
+            AnyMapping::Tennisball => Tennisball::inverse(c),
+            AnyMapping::Octahedral => Octahedral::inverse(c),
+            AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral::inverse(c),
+        }
+    }
+
+    fn as_dyn(&self) -> &dyn Mapping {
+        match self {
+            AnyMapping::LatLong => &LatLong,
+            AnyMapping::Cube => &Cube,
+            AnyMapping::SphereMap => &SphereMap::CLASS,
+            AnyMapping::SphereMapGl => &SphereMap::OPENGL,
+            AnyMapping::DualParaboloid => &DualParaboloid,
+            AnyMapping::Tennisball => &Tennisball,
+            AnyMapping::Octahedral => &Octahedral,
+            AnyMapping::EqualAreaOctahedral => &EqualAreaOctahedral,
+        }
+    }
+}
+
+impl Mapping for AnyMapping {
+    fn name(&self) -> &'static str {
+        self.as_dyn().name()
+    }
+    fn chart_count(&self) -> u32 {
+        self.as_dyn().chart_count()
+    }
+    fn forward(&self, dir: Vec3) -> Option<ChartUv> {
+        AnyMapping::forward(*self, dir)
+    }
+    fn inverse(&self, c: ChartUv) -> Option<Vec3> {
+        AnyMapping::inverse(*self, c)
+    }
+    fn in_chart(&self, chart: u32, u: f32, v: f32) -> bool {
+        self.as_dyn().in_chart(chart, u, v)
+    }
+    fn solid_angle(&self, chart: u32, u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
+        self.as_dyn().solid_angle(chart, u0, u1, v0, v1)
+    }
+    fn atlas(&self) -> Atlas {
+        self.as_dyn().atlas()
+    }
+}
+
+impl fmt::Display for AnyMapping {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The error of parsing an unknown mapping name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UnknownMapping;
+
+impl fmt::Display for UnknownMapping {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("unknown mapping; expected one of: ")?;
+        for (i, n) in AnyMapping::NAMES.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            f.write_str(n)?;
+        }
+        Ok(())
+    }
+}
+
+impl FromStr for AnyMapping {
+    type Err = UnknownMapping;
+
+    /// Parses the names in [`AnyMapping::NAMES`] (case-insensitive), plus the
+    /// aliases `equirect`, `equirectangular`, `cubemap`, `dual-paraboloid`,
+    /// `octahedral-ea`, `sphere-class`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let eq = |a: &str| s.eq_ignore_ascii_case(a);
+        for (m, n) in AnyMapping::ALL.iter().zip(AnyMapping::NAMES) {
+            if eq(n) {
+                return Ok(*m);
+            }
+        }
+        Ok(match () {
+            () if eq("equirect") || eq("equirectangular") => AnyMapping::LatLong,
+            () if eq("cubemap") => AnyMapping::Cube,
+            () if eq("dual-paraboloid") => AnyMapping::DualParaboloid,
+            () if eq("octahedral-ea") => AnyMapping::EqualAreaOctahedral,
+            () if eq("sphere-class") => AnyMapping::SphereMap,
+            () => return Err(UnknownMapping),
+        })
+    }
+}
