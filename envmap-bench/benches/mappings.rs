@@ -1,7 +1,155 @@
-//! Criterion benchmarks of the mappings.
-use criterion::{criterion_group, criterion_main, Criterion};
+//! Every mapping, forward and inverse: the scalar core, the SIMD kernels at
+//! each tier, a plain std-math scalar latlong, and a plain copy of the same
+//! bytes (the memory floor), on fresh random input, in batches of 4096 (fits
+//! in L1/L2) and 2^22 (does not fit in any cache).
+//!
+//! ```text
+//! cargo bench -p envmap-bench --bench mappings
+//! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench mappings
+//! ENVMAP_BENCH_SIZES=4096 cargo bench -p envmap-bench --bench mappings -- forward/latlong
+//! ```
 
-fn bench(_c: &mut Criterion) {}
+use std::hint::black_box;
 
-criterion_group!(benches, bench);
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use envmap_core::glam::Vec3;
+use envmap_core::{AnyMapping, ChartUv};
+use envmap_simd::{forward_slice, inverse_slice, Exact, Fast, Fine};
+
+/// Deterministic xorshift, so every run measures the same inputs.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn dir(&mut self) -> Vec3 {
+        loop {
+            let v = Vec3::new(
+                2.0 * self.unit() - 1.0,
+                2.0 * self.unit() - 1.0,
+                2.0 * self.unit() - 1.0,
+            );
+            let l = v.length_squared();
+            if l > 1e-4 && l <= 1.0 {
+                return v;
+            }
+        }
+    }
+}
+
+fn sizes() -> Vec<usize> {
+    match std::env::var("ENVMAP_BENCH_SIZES") {
+        Ok(s) => s.split(',').filter_map(|x| x.trim().parse().ok()).collect(),
+        Err(_) => vec![4096, 1 << 22],
+    }
+}
+
+/// The seed's latlong with std's scalar `atan2` and `acos`, in a plain loop.
+fn std_latlong(dirs: &[Vec3], out: &mut [ChartUv]) {
+    use std::f32::consts::{PI, TAU};
+    for (d, o) in dirs.iter().zip(out.iter_mut()) {
+        let n = d.normalize();
+        let mut u = n.y.atan2(n.x) / TAU;
+        if u < 0.0 {
+            u += 1.0;
+        }
+        *o = ChartUv::new(0, u, n.z.acos() / PI);
+    }
+}
+
+fn forward(c: &mut Criterion) {
+    for n in sizes() {
+        let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+        let dirs: Vec<Vec3> = (0..n).map(|_| rng.dir()).collect();
+        let mut out = vec![ChartUv::default(); n];
+        let mut copy_out = vec![Vec3::ZERO; n];
+        for m in AnyMapping::ALL {
+            let mut g = c.benchmark_group(format!("forward/{m}"));
+            g.throughput(Throughput::Elements(n as u64));
+            if n > 100_000 {
+                g.sample_size(10);
+            }
+            g.bench_function(BenchmarkId::new("copy", n), |b| {
+                b.iter(|| copy_out.copy_from_slice(black_box(&dirs)))
+            });
+            g.bench_function(BenchmarkId::new("scalar", n), |b| {
+                b.iter(|| {
+                    for (d, o) in black_box(&dirs).iter().zip(out.iter_mut()) {
+                        *o = m.forward(*d).unwrap_or_default();
+                    }
+                })
+            });
+            g.bench_function(BenchmarkId::new("exact", n), |b| {
+                b.iter(|| forward_slice::<_, Exact>(&m, black_box(&dirs), &mut out))
+            });
+            g.bench_function(BenchmarkId::new("fine", n), |b| {
+                b.iter(|| forward_slice::<_, Fine>(&m, black_box(&dirs), &mut out))
+            });
+            g.bench_function(BenchmarkId::new("fast", n), |b| {
+                b.iter(|| forward_slice::<_, Fast>(&m, black_box(&dirs), &mut out))
+            });
+            if m == AnyMapping::LatLong {
+                g.bench_function(BenchmarkId::new("std", n), |b| {
+                    b.iter(|| std_latlong(black_box(&dirs), &mut out))
+                });
+            }
+            g.finish();
+        }
+    }
+}
+
+fn inverse(c: &mut Criterion) {
+    for n in sizes() {
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+        let dirs: Vec<Vec3> = (0..n).map(|_| rng.dir()).collect();
+        let mut out = vec![Vec3::ZERO; n];
+        let mut copy_out = vec![ChartUv::default(); n];
+        for m in AnyMapping::ALL {
+            // Inputs are the forward images of random directions: valid chart points.
+            let coords: Vec<ChartUv> = dirs
+                .iter()
+                .map(|d| m.forward(*d).unwrap_or_default())
+                .collect();
+            let mut g = c.benchmark_group(format!("inverse/{m}"));
+            g.throughput(Throughput::Elements(n as u64));
+            if n > 100_000 {
+                g.sample_size(10);
+            }
+            g.bench_function(BenchmarkId::new("copy", n), |b| {
+                b.iter(|| copy_out.copy_from_slice(black_box(&coords)))
+            });
+            g.bench_function(BenchmarkId::new("scalar", n), |b| {
+                b.iter(|| {
+                    for (p, o) in black_box(&coords).iter().zip(out.iter_mut()) {
+                        *o = m.inverse(*p).unwrap_or(Vec3::NAN);
+                    }
+                })
+            });
+            g.bench_function(BenchmarkId::new("exact", n), |b| {
+                b.iter(|| inverse_slice::<_, Exact>(&m, black_box(&coords), &mut out))
+            });
+            g.bench_function(BenchmarkId::new("fine", n), |b| {
+                b.iter(|| inverse_slice::<_, Fine>(&m, black_box(&coords), &mut out))
+            });
+            g.bench_function(BenchmarkId::new("fast", n), |b| {
+                b.iter(|| inverse_slice::<_, Fast>(&m, black_box(&coords), &mut out))
+            });
+            g.finish();
+        }
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .warm_up_time(std::time::Duration::from_millis(500))
+        .measurement_time(std::time::Duration::from_secs(2));
+    targets = forward, inverse
+}
 criterion_main!(benches);

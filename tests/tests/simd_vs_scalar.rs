@@ -1,0 +1,360 @@
+//! Every SIMD kernel against the scalar core, lane by lane, at every tier.
+//!
+//! Bounds (in u, v and in radians for directions) follow from each tier's
+//! documented function error: the mappings scale an angle error by at most
+//! 1/π (latlong v, equal-area φ·2/π·½) or 2/π (tennisball v) into (u, v), so
+//! `tier + 1e-6` bounds every coordinate; inverses combine two `sin_cos`
+//! results, so `3·tier + 1e-6` bounds the direction angle. Mappings without
+//! trigonometry (cube, sphere maps, paraboloid, octahedral) evaluate the same
+//! operations in the same order as the core and must agree bit for bit.
+//!
+//! `ENVMAP_EXTENSIVE=1` runs 16× more random directions.
+
+use envmap_core::glam::Vec3;
+use envmap_core::{AnyMapping, ChartUv, Mapping};
+use envmap_simd::{forward_slice, inverse_slice, Exact, Fast, Fine, Mapping8, Tier, INVALID_CHART};
+
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+    /// A random direction with a random length over many decades.
+    fn dir(&mut self) -> Vec3 {
+        loop {
+            let v = Vec3::new(
+                2.0 * self.unit() - 1.0,
+                2.0 * self.unit() - 1.0,
+                2.0 * self.unit() - 1.0,
+            );
+            let l = v.length();
+            if l > 1e-3 && l <= 1.0 {
+                let scale = 10f32.powi((self.next() % 41) as i32 - 20);
+                return v / l * scale;
+            }
+        }
+    }
+}
+
+fn count() -> usize {
+    if std::env::var("ENVMAP_EXTENSIVE").is_ok_and(|v| v == "1") {
+        1 << 20
+    } else {
+        1 << 16
+    }
+}
+
+/// Named hard cases: axes, cube edges and corners (exact ties), signed zeros,
+/// poles, the sphere maps' singular directions, tennisball boundaries, tiny,
+/// huge and denormal components, and bad input.
+fn hard_cases() -> Vec<Vec3> {
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let mut v = vec![
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+        Vec3::new(-0.0, 0.0, 1.0),
+        Vec3::new(0.0, -0.0, -1.0),
+        Vec3::new(1.0, -0.0, -0.0),
+        Vec3::new(-0.0, -1.0, 0.0),
+        Vec3::new(1e-30, 0.0, 1.0),
+        Vec3::new(0.0, -1e-38, -1.0),
+        Vec3::new(1e30, 1e-30, -0.0),
+        Vec3::new(f32::MAX, f32::MAX, f32::MAX),
+        Vec3::new(-f32::MAX, f32::MAX / 2.0, 1.0),
+        Vec3::new(1e-45, 1e-45, 1e-45),
+        Vec3::new(1e-45, -1e-45, 0.0),
+        Vec3::new(3e-39, 1.0e-39, -2e-39),
+        Vec3::new(s, s, 0.0),
+        Vec3::new(s, 0.0, -s),
+        Vec3::new(0.0, s, s),
+        Vec3::new(s, 0.5, -0.5),
+        Vec3::new(0.5, s, 0.5),
+        Vec3::ZERO,
+        Vec3::new(-0.0, -0.0, -0.0),
+        Vec3::new(f32::NAN, 0.0, 1.0),
+        Vec3::new(0.0, f32::INFINITY, 1.0),
+        Vec3::new(0.0, 1.0, f32::NEG_INFINITY),
+        Vec3::NAN,
+    ];
+    // Every cube edge and corner, with exact ties, in both signs.
+    for x in [-1.0f32, -0.0, 0.0, 1.0] {
+        for y in [-1.0f32, -0.0, 0.0, 1.0] {
+            for z in [-1.0f32, -0.0, 0.0, 1.0] {
+                v.push(Vec3::new(x, y, z));
+                v.push(Vec3::new(x * 3.0, y * 3.0, z * 0.5));
+                v.push(Vec3::new(x * 0.5, y * 3.0, z * 3.0));
+            }
+        }
+    }
+    v
+}
+
+fn no_trig(m: AnyMapping) -> bool {
+    matches!(
+        m,
+        AnyMapping::Cube
+            | AnyMapping::SphereMap
+            | AnyMapping::SphereMapGl
+            | AnyMapping::DualParaboloid
+            | AnyMapping::Octahedral
+    )
+}
+
+fn tier_bound<T: Tier>() -> f32 {
+    match T::NAME {
+        "exact" => 5e-7,
+        "fine" => 2e-6,
+        _ => 1e-4,
+    }
+}
+
+/// Angle between two directions in f64, as atan2(|a × b|, a · b).
+fn angle(a: Vec3, b: Vec3) -> f64 {
+    let a = [f64::from(a.x), f64::from(a.y), f64::from(a.z)];
+    let b = [f64::from(b.x), f64::from(b.y), f64::from(b.z)];
+    let c = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let cl = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+    cl.atan2(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+}
+
+fn check_forward<T: Tier>(m: AnyMapping, dirs: &[Vec3]) {
+    let tn = T::NAME;
+    let mut out = vec![ChartUv::default(); dirs.len()];
+    assert_eq!(forward_slice::<_, T>(&m, dirs, &mut out), dirs.len());
+    let bound = tier_bound::<T>() + 1e-6;
+    let mut worst = (0.0f32, Vec3::ZERO);
+    for (d, got) in dirs.iter().zip(&out) {
+        match m.forward(*d) {
+            None => {
+                assert_eq!(
+                    got.chart, INVALID_CHART,
+                    "{m} {tn} {d}: expected invalid lane"
+                );
+                assert!(got.u.is_nan() && got.v.is_nan());
+            }
+            Some(want) => {
+                assert_eq!(got.chart, want.chart, "{m} {tn} {d}: chart");
+                if no_trig(m) {
+                    assert_eq!(
+                        (got.u.to_bits(), got.v.to_bits()),
+                        (want.u.to_bits(), want.v.to_bits()),
+                        "{m} {tn} {d}: {got:?} vs {want:?}"
+                    );
+                    continue;
+                }
+                let mut du = (got.u - want.u).abs();
+                if m == AnyMapping::LatLong {
+                    du = du.min(1.0 - du); // u wraps
+                }
+                let e = du.max((got.v - want.v).abs());
+                assert!(
+                    (0.0..=1.0).contains(&got.u) && (0.0..=1.0).contains(&got.v),
+                    "{m} {tn} {d}: {got:?} out of range"
+                );
+                if e > worst.0 {
+                    worst = (e, *d);
+                }
+            }
+        }
+    }
+    assert!(
+        worst.0 <= bound,
+        "{m} {tn} forward: max |Δuv| {:e} at {} exceeds {bound:e}",
+        worst.0,
+        worst.1
+    );
+    println!(
+        "{m:>22} {:>5} forward: max |Δuv| = {:.2e} at {}",
+        T::NAME,
+        worst.0,
+        worst.1
+    );
+}
+
+fn check_inverse<T: Tier>(m: AnyMapping, rng: &mut Rng, n: usize) {
+    let tn = T::NAME;
+    let mut coords: Vec<ChartUv> = (0..n)
+        .map(|_| {
+            ChartUv::new(
+                (rng.next() % u64::from(m.chart_count())) as u32,
+                rng.unit(),
+                rng.unit(),
+            )
+        })
+        .collect();
+    // Edges, corners and bad points.
+    for c in 0..m.chart_count() + 1 {
+        for (u, v) in [
+            (0.0, 0.0),
+            (1.0, 1.0),
+            (0.5, 0.5),
+            (0.0, 0.5),
+            (1.0, 0.25),
+            (1.5, 0.5),
+            (f32::NAN, 0.5),
+            (0.5, -0.0),
+            (-1e-9, 0.5),
+        ] {
+            coords.push(ChartUv::new(c, u, v));
+        }
+    }
+    let mut out = vec![Vec3::ZERO; coords.len()];
+    assert_eq!(inverse_slice::<_, T>(&m, &coords, &mut out), coords.len());
+    let bound = f64::from(3.0 * tier_bound::<T>() + 1e-6);
+    let mut worst = (0.0f64, ChartUv::default());
+    for (c, got) in coords.iter().zip(&out) {
+        match m.inverse(*c) {
+            None => assert!(got.is_nan(), "{m} {tn} {c:?}: expected NaN, got {got}"),
+            Some(want) => {
+                assert!(got.is_finite(), "{m} {tn} {c:?}: got {got}");
+                let e = angle(*got, want);
+                if e > worst.0 {
+                    worst = (e, *c);
+                }
+            }
+        }
+    }
+    assert!(
+        worst.0 <= bound,
+        "{m} {tn} inverse: max angle {:e} at {:?} exceeds {bound:e}",
+        worst.0,
+        worst.1
+    );
+    println!(
+        "{m:>22} {:>5} inverse: max angle = {:.2e} rad at {:?}",
+        T::NAME,
+        worst.0,
+        worst.1
+    );
+}
+
+fn all_tiers(m: AnyMapping) {
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15 ^ m as u64);
+    let mut dirs: Vec<Vec3> = (0..count()).map(|_| rng.dir()).collect();
+    dirs.extend(hard_cases());
+    check_forward::<Exact>(m, &dirs);
+    check_forward::<Fine>(m, &dirs);
+    check_forward::<Fast>(m, &dirs);
+    let n = count() / 4;
+    check_inverse::<Exact>(m, &mut rng, n);
+    check_inverse::<Fine>(m, &mut rng, n);
+    check_inverse::<Fast>(m, &mut rng, n);
+}
+
+#[test]
+fn latlong() {
+    all_tiers(AnyMapping::LatLong);
+}
+#[test]
+fn cube() {
+    all_tiers(AnyMapping::Cube);
+}
+#[test]
+fn sphere_map_class() {
+    all_tiers(AnyMapping::SphereMap);
+}
+#[test]
+fn sphere_map_gl() {
+    all_tiers(AnyMapping::SphereMapGl);
+}
+#[test]
+fn dual_paraboloid() {
+    all_tiers(AnyMapping::DualParaboloid);
+}
+#[test]
+fn tennisball() {
+    all_tiers(AnyMapping::Tennisball);
+}
+#[test]
+fn octahedral() {
+    all_tiers(AnyMapping::Octahedral);
+}
+#[test]
+fn equal_area_octahedral() {
+    all_tiers(AnyMapping::EqualAreaOctahedral);
+}
+
+/// Slices of awkward lengths give the same result as the scalar core in each
+/// position (the tail goes through the padded kernel).
+#[test]
+fn slice_lengths() {
+    let mut rng = Rng(7);
+    for n in [0usize, 1, 7, 8, 9, 17, 8 * 37 + 1] {
+        let dirs: Vec<Vec3> = (0..n).map(|_| rng.dir()).collect();
+        for m in AnyMapping::ALL {
+            let mut out = vec![ChartUv::new(99, -1.0, -1.0); n + 3];
+            assert_eq!(forward_slice::<_, Exact>(&m, &dirs, &mut out), n);
+            for (k, d) in dirs.iter().enumerate() {
+                let want = m.forward(*d).unwrap();
+                assert_eq!(out[k].chart, want.chart, "{m} n={n} k={k}");
+            }
+            // Elements past the input are untouched.
+            assert!(out[n..].iter().all(|c| c.chart == 99));
+            let mut back = vec![Vec3::ZERO; n];
+            assert_eq!(inverse_slice::<_, Exact>(&m, &out[..n], &mut back), n);
+            for (k, d) in dirs.iter().enumerate() {
+                assert!(angle(back[k], *d) < 1e-5, "{m} n={n} k={k}");
+            }
+        }
+    }
+}
+
+/// A bad lane leaves the other seven lanes bit-identical.
+#[test]
+fn bad_lanes_do_not_disturb_good_ones() {
+    let mut rng = Rng(11);
+    let good: Vec<Vec3> = (0..8).map(|_| rng.dir()).collect();
+    for m in AnyMapping::ALL {
+        let mut clean = vec![ChartUv::default(); 8];
+        forward_slice::<_, Fast>(&m, &good, &mut clean);
+        for bad in [Vec3::NAN, Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 0.0)] {
+            for lane in 0..8 {
+                let mut dirs = good.clone();
+                dirs[lane] = bad;
+                let mut out = vec![ChartUv::default(); 8];
+                forward_slice::<_, Fast>(&m, &dirs, &mut out);
+                for k in 0..8 {
+                    if k == lane {
+                        assert_eq!(out[k].chart, INVALID_CHART);
+                    } else {
+                        assert_eq!(out[k].chart, clean[k].chart);
+                        assert_eq!(out[k].u.to_bits(), clean[k].u.to_bits(), "{m}");
+                        assert_eq!(out[k].v.to_bits(), clean[k].v.to_bits(), "{m}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The batch loads agree with each other.
+#[test]
+fn batch_loads() {
+    use envmap_simd::Dir8;
+    let v: [Vec3; 8] = core::array::from_fn(|k| Vec3::new(k as f32, -(k as f32), 0.5 * k as f32));
+    let a: [[f32; 3]; 8] = core::array::from_fn(|k| v[k].to_array());
+    let x: [f32; 8] = core::array::from_fn(|k| v[k].x);
+    let y: [f32; 8] = core::array::from_fn(|k| v[k].y);
+    let z: [f32; 8] = core::array::from_fn(|k| v[k].z);
+    let b = Dir8::from_vec3s(&v);
+    assert_eq!(b, Dir8::from_arrays(&a));
+    assert_eq!(b, Dir8::from_xyz(&x, &y, &z));
+    assert_eq!(b.to_arrays(), a);
+    let c = AnyMapping::Cube.forward8::<Exact>(b);
+    assert_eq!(c.lane(0), None); // the zero vector
+    assert_eq!(c.lane(1), AnyMapping::Cube.forward(v[1]));
+}
