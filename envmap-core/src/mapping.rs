@@ -10,7 +10,11 @@ use crate::atlas::Atlas;
 /// top-left corner of the chart's rectangle (see [`crate::texel`] for how that
 /// becomes a texel). Single-chart mappings use chart 0; the cube has six
 /// charts (its faces, in GL order), the dual paraboloid and the tennisball two.
+///
+/// `#[repr(C)]`: 12 bytes, `chart` then `u` then `v`, so arrays of it can be
+/// uploaded to GPU buffers as is.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
 pub struct ChartUv {
     /// The chart (cube face, paraboloid disk, tennisball strip), from 0.
     pub chart: u32,

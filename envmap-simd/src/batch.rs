@@ -282,6 +282,26 @@ pub(crate) fn normalize(d: &Dir8) -> Dir8 {
     Dir8::new(x / len, y / len, z / len)
 }
 
+/// Scales each lane by a power of two (exactly, no rounding) so that its
+/// largest component has magnitude in `[1, 2)`: squares can then neither
+/// overflow nor underflow. Lanes with a zero, infinite or NaN largest
+/// component are scaled by an arbitrary power of two (they are masked later).
+#[inline]
+#[must_use]
+pub(crate) fn scale_pow2(d: &Dir8) -> Dir8 {
+    let m = d.x.abs().max(d.y.abs()).max(d.z.abs());
+    // Denormal or tiny lanes: first lift them by 2^64 so the exponent is normal.
+    let tiny = m.simd_lt(f32x8::splat(1e-18));
+    let lift = tiny.select(f32x8::splat(18_446_744_073_709_551_616.0), f32x8::ONE);
+    let m = m * lift;
+    // 2^-e for m = 1.x · 2^e: exponent field 254 − biased(e), clamped to a
+    // valid normal exponent.
+    let e = (m.to_bits() >> 23) & u32x8::splat(0xff);
+    let inv_e = u32x8::splat(254).saturating_sub(e).max(u32x8::ONE).min(u32x8::splat(254));
+    let k = f32x8::from_bits(inv_e << 23);
+    Dir8::new(d.x * lift * k, d.y * lift * k, d.z * lift * k)
+}
+
 /// Sets invalid lanes (mask false) to [`INVALID_CHART`] and NaN.
 #[inline]
 #[must_use]

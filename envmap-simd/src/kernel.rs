@@ -105,11 +105,14 @@ fn inverse_slice_with(kernel: impl Fn(Uv8) -> Dir8, coords: &[ChartUv], out: &mu
     n
 }
 
+/// Stores a batch as `ChartUv`s: interleaved with the same permutes as
+/// `Dir8` stores, then written field by field (which the compiler merges into
+/// whole-register stores, `ChartUv` being `repr(C)`).
 #[inline]
 fn store_uv(b: Uv8, out: &mut [ChartUv]) {
-    let (c, u, v) = (b.chart.to_array(), b.u.to_array(), b.v.to_array());
+    let a = Dir8::new(f32x8::from_bits(b.chart), b.u, b.v).to_interleaved();
     for (k, o) in out.iter_mut().enumerate() {
-        *o = ChartUv::new(c[k], u[k], v[k]);
+        *o = ChartUv::new(a[3 * k].to_bits(), a[3 * k + 1], a[3 * k + 2]);
     }
 }
 

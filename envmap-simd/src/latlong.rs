@@ -3,6 +3,9 @@
 //! The formula of [`envmap_core::latlong`]: u = atan2(y, x)/2π wrapped into
 //! [0, 1), v = atan2(√(x² + y²), z)/π; inverse (sin θ cos φ, sin θ sin φ,
 //! cos θ) with φ = 2πu, θ = πv. `atan2` and `sin_cos` come from the tier `T`.
+//! The forward kernel skips normalisation (both angles are scale-invariant)
+//! and scales by an exact power of two instead, so it agrees with the core to
+//! within the tier's bound rather than bit for bit.
 
 use core::f32::consts::{PI, TAU};
 
@@ -10,22 +13,24 @@ use envmap_core::LatLong;
 use wide::{f32x8, u32x8};
 
 use crate::approx::Tier;
-use crate::batch::{finish, normalize, valid_direction, Dir8, Uv8};
+use crate::batch::{finish, scale_pow2, valid_direction, Dir8, Uv8};
 use crate::kernel::{chart_below, clamp01, in_unit_square, mask_dir, Mapping8};
 
 impl Mapping8 for LatLong {
     #[inline]
     fn forward8<T: Tier>(&self, d: Dir8) -> Uv8 {
         let valid = valid_direction(&d);
-        let n = normalize(&d);
-        let phi = T::atan2(n.y, n.x);
-        let u = phi / f32x8::splat(TAU) + f32x8::ZERO;
+        // No normalisation: both angles are scale-invariant, and an exact
+        // power-of-two scaling keeps √(x² + y²) free of overflow and underflow.
+        let n = scale_pow2(&d);
+        let phi = T::atan2_finite(n.y, n.x);
+        let u = phi * f32x8::splat(1.0 / TAU) + f32x8::ZERO;
         let neg = u.simd_lt(f32x8::ZERO);
         let u = neg.select(u + f32x8::ONE, u);
         let u = u.simd_ge(f32x8::ONE).select(f32x8::ZERO, u);
         let rho = (n.x * n.x + n.y * n.y).sqrt();
-        let theta = T::atan2(rho, n.z);
-        let v = clamp01(theta / f32x8::splat(PI));
+        let theta = T::atan2_finite(rho, n.z);
+        let v = clamp01(theta * f32x8::splat(1.0 / PI));
         finish(valid, u32x8::ZERO, u, v)
     }
 

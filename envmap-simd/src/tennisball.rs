@@ -25,7 +25,7 @@ impl Mapping8 for Tennisball {
         let zero = f32x8::ZERO;
         let c0 = (c.simd_ge(zero) & b.abs().simd_le(s)) | (c.simd_le(zero) & a.abs().simd_ge(s));
         let theta = T::asin(c0.select(b, a));
-        let phi = T::atan2(c0.select(a, b), c0.select(c, -c));
+        let phi = T::atan2_finite(c0.select(a, b), c0.select(c, -c));
         let lim = f32x8::splat(FRAC_PI_4);
         let theta = theta.max(-lim).min(lim);
         let plim = f32x8::splat(3.0 * FRAC_PI_4);

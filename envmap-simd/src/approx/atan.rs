@@ -55,6 +55,18 @@ impl Atan {
 
     #[inline(always)]
     pub(crate) fn atan2(&self, y: f32x8, x: f32x8) -> f32x8 {
+        self.atan2_impl::<true>(y, x)
+    }
+
+    /// `atan2` for finite arguments: the same result without the ±Inf and
+    /// NaN handling (unspecified for such lanes).
+    #[inline(always)]
+    pub(crate) fn atan2_finite(&self, y: f32x8, x: f32x8) -> f32x8 {
+        self.atan2_impl::<false>(y, x)
+    }
+
+    #[inline(always)]
+    fn atan2_impl<const SPECIAL: bool>(&self, y: f32x8, x: f32x8) -> f32x8 {
         let ax = x.abs();
         let ay = y.abs();
         let swap = ay.simd_gt(ax);
@@ -62,16 +74,24 @@ impl Atan {
         let den = swap.select(ay, ax);
         // Both infinite: the angle is an odd multiple of π/4, set exactly
         // below; both zero: 0/0, the angle is 0 or π.
-        let both_inf = ax.is_inf() & ay.is_inf();
+        let both_inf = if SPECIAL {
+            ax.is_inf() & ay.is_inf()
+        } else {
+            f32x8::ZERO
+        };
         let z = (both_inf | den.simd_eq(f32x8::ZERO)).select(f32x8::ZERO, num / den);
         let xneg = x.is_sign_negative();
         // |angle| = base ± p with base 0, π/2 or π.
         let minus = swap ^ xneg;
         let base_hi = swap.select(f32x8::splat(PIO2_HI), keep(xneg, PI_HI));
-        let base_hi = both_inf.select(
-            xneg.select(f32x8::splat(PIO4_3), f32x8::splat(PIO4)),
-            base_hi,
-        );
+        let base_hi = if SPECIAL {
+            both_inf.select(
+                xneg.select(f32x8::splat(PIO4_3), f32x8::splat(PIO4)),
+                base_hi,
+            )
+        } else {
+            base_hi
+        };
         let r = if self.split {
             let (head, tail) = self.poly.eval_split(z, z * z);
             let base_lo = swap.select(f32x8::splat(PIO2_LO), keep(xneg, PI_LO));
@@ -85,6 +105,9 @@ impl Atan {
         } else {
             negate_where(self.poly.eval(z, z * z), minus) + base_hi
         };
+        if !SPECIAL {
+            return r.flip_signs(y);
+        }
         // A NaN in either argument can hide behind the zero quotient above.
         let nan = x.is_nan() | y.is_nan();
         nan.select(x + y, r.flip_signs(y))

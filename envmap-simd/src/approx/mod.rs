@@ -72,6 +72,13 @@ pub trait Tier: Copy + Default + core::fmt::Debug + Send + Sync + 'static {
     fn acos(x: f32x8) -> f32x8;
     /// Sine and cosine; see [`sin_cos`](fn@sin_cos).
     fn sin_cos(x: f32x8) -> (f32x8, f32x8);
+    /// `atan2` for finite arguments only, with the same accuracy; lanes with
+    /// NaN or ±Inf give unspecified values. The mapping kernels use it, as
+    /// they mask invalid lanes themselves.
+    #[inline]
+    fn atan2_finite(y: f32x8, x: f32x8) -> f32x8 {
+        Self::atan2(y, x)
+    }
 }
 
 /// At most 2 ULP from the correctly rounded result (`sin_cos` for
@@ -166,6 +173,10 @@ macro_rules! impl_tier {
             #[inline]
             fn atan2(y: f32x8, x: f32x8) -> f32x8 {
                 $atan.atan2(y, x)
+            }
+            #[inline]
+            fn atan2_finite(y: f32x8, x: f32x8) -> f32x8 {
+                $atan.atan2_finite(y, x)
             }
             #[inline]
             fn asin(x: f32x8) -> f32x8 {
