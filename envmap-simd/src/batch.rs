@@ -297,7 +297,10 @@ pub(crate) fn scale_pow2(d: &Dir8) -> Dir8 {
     // 2^-e for m = 1.x · 2^e: exponent field 254 − biased(e), clamped to a
     // valid normal exponent.
     let e = (m.to_bits() >> 23) & u32x8::splat(0xff);
-    let inv_e = u32x8::splat(254).saturating_sub(e).max(u32x8::ONE).min(u32x8::splat(254));
+    let inv_e = u32x8::splat(254)
+        .saturating_sub(e)
+        .max(u32x8::ONE)
+        .min(u32x8::splat(254));
     let k = f32x8::from_bits(inv_e << 23);
     Dir8::new(d.x * lift * k, d.y * lift * k, d.z * lift * k)
 }
