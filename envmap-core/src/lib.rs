@@ -71,7 +71,3 @@ pub use tennisball::Tennisball;
 /// Re-export of the `glam` version this crate's API uses.
 pub use glam;
 
-/// The README's examples, compiled and run as doctests.
-#[cfg(doctest)]
-#[doc = include_str!("../../README.md")]
-struct ReadmeDoctests;
