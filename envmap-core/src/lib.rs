@@ -70,4 +70,3 @@ pub use tennisball::Tennisball;
 
 /// Re-export of the `glam` version this crate's API uses.
 pub use glam;
-
