@@ -1,2 +1,21 @@
-//! Environment-map images, conversions and rendering.
+//! Environment-map images and their I/O.
+//!
+//! * [`image`]: [`EnvImage`], linear f32 RGB texels tagged with their
+//!   [`Representation`] (mapping, atlas layout, frame).
+//! * [`layout`]: named layouts ([`Layout`]) and telling a representation from
+//!   an image's size ([`layout::detect`], [`layout::resolve`]).
+//! * [`io`]: loading and saving PNG, JPEG, Radiance HDR and OpenEXR, cubes as
+//!   six files, with atomic writes ([`io::load`], [`io::save`]).
+//! * [`error`]: the crate's [`Error`], whose messages name the file.
 #![forbid(unsafe_code)]
+
+pub mod error;
+pub mod image;
+pub mod io;
+pub mod layout;
+
+pub use crate::error::{Error, Result};
+pub use crate::image::{EnvImage, Representation, RgbImage, Stats};
+pub use crate::io::{load, save, LoadOptions, SaveOptions};
+pub use crate::layout::Layout;
+pub mod procedural;

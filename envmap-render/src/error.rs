@@ -1,0 +1,241 @@
+//! The crate's error type.
+//!
+//! Every error that concerns a file names it first (`sky.exr: no RGB
+//! channels ...`), so a command can print the message as is. Errors found
+//! without a file at hand (an image size that fits no layout) are given their
+//! file later with [`Error::in_file`].
+
+use std::fmt;
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// Result with this crate's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Everything that can go wrong loading, saving or building an environment map.
+///
+/// The messages are meant for users: they name the file, say what is wrong
+/// and, where there is a choice to make, how to make it.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A file could not be opened or read.
+    #[error("{}: cannot read: {source}", .path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: io::Error,
+    },
+
+    /// A file could not be written (including creating its temporary file
+    /// or renaming that into place).
+    #[error("{}: cannot write: {source}", .path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: io::Error,
+    },
+
+    /// A file's contents are not a valid image of its format (truncated,
+    /// corrupt, or a feature the decoder does not support).
+    #[error("{}: cannot decode {format}: {message}", .path.display())]
+    Decode {
+        /// The file.
+        path: PathBuf,
+        /// The format it was read as (`"PNG"`, `"OpenEXR"`, ...).
+        format: &'static str,
+        /// What the decoder reported.
+        message: String,
+    },
+
+    /// An image could not be encoded.
+    #[error("{}: cannot encode {format}: {message}", .path.display())]
+    Encode {
+        /// The file.
+        path: PathBuf,
+        /// The format (`"PNG"`, `"OpenEXR"`, ...).
+        format: &'static str,
+        /// What the encoder reported.
+        message: String,
+    },
+
+    /// The file name's extension names no format this crate reads or writes.
+    #[error("{}: {}; accepted: {accepted}", .path.display(), describe_extension(.extension))]
+    UnknownExtension {
+        /// The file.
+        path: PathBuf,
+        /// Its extension, if it has one.
+        extension: Option<String>,
+        /// The accepted extensions, comma-separated.
+        accepted: &'static str,
+    },
+
+    /// An OpenEXR file has no layer with R, G and B channels.
+    #[error("{}: no RGB channels (an R, G and B channel in one layer are needed; found: {found})", .path.display())]
+    MissingChannels {
+        /// The file.
+        path: PathBuf,
+        /// The channels the file has, comma-separated.
+        found: String,
+    },
+
+    /// An image is larger than the configured limit; checked before any
+    /// pixel memory is allocated.
+    #[error("image is {width}×{height} ({texels} texels), above the limit of {limit} texels")]
+    TooLarge {
+        /// Width in texels.
+        width: u64,
+        /// Height in texels.
+        height: u64,
+        /// `width × height` (times six for a six-file cube).
+        texels: u64,
+        /// The limit.
+        limit: u64,
+    },
+
+    /// An image's size or representation does not fit the layout asked for
+    /// or detected (wrong aspect ratio, an ambiguous square, a layout the
+    /// mapping does not have).
+    #[error("{0}")]
+    Layout(String),
+
+    /// A pixel buffer's length does not match the image's size.
+    #[error("{len} pixels given for a {width}×{height} image")]
+    PixelCount {
+        /// Width in texels.
+        width: u32,
+        /// Height in texels.
+        height: u32,
+        /// Length of the buffer given.
+        len: usize,
+    },
+
+    /// A face of a six-file cube is missing, not square, or not the size of
+    /// the others.
+    #[error("{}: {message}", .path.display())]
+    CubeFaces {
+        /// The offending face file.
+        path: PathBuf,
+        /// What is wrong with it.
+        message: String,
+    },
+
+    /// Saving would replace an input file, and that was not asked for.
+    #[error(
+        "{}: refusing to write over the input file (choose another output name, or ask to overwrite the input)",
+        .path.display()
+    )]
+    WouldOverwriteInput {
+        /// The output path that is also an input.
+        path: PathBuf,
+    },
+
+    /// A name given for a layout or option is not known.
+    #[error("unknown {what} {name:?}; expected one of: {expected}")]
+    UnknownName {
+        /// What kind of name (`"layout"`, `"mapping"`).
+        what: &'static str,
+        /// The name given.
+        name: String,
+        /// The accepted names, comma-separated.
+        expected: String,
+    },
+
+    /// An error that names no file, given the file it concerns.
+    #[error("{}: {source}", .path.display())]
+    InFile {
+        /// The file.
+        path: PathBuf,
+        /// The error.
+        source: Box<Error>,
+    },
+}
+
+impl Error {
+    /// This error, naming `path` if it names no file yet (errors that already
+    /// name one are returned unchanged).
+    #[must_use]
+    pub fn in_file(self, path: &Path) -> Error {
+        if self.path().is_some() {
+            self
+        } else {
+            Error::InFile {
+                path: path.to_path_buf(),
+                source: Box::new(self),
+            }
+        }
+    }
+
+    /// The file this error concerns, if any.
+    #[must_use]
+    pub fn path(&self) -> Option<&Path> {
+        match self {
+            Error::Read { path, .. }
+            | Error::Write { path, .. }
+            | Error::Decode { path, .. }
+            | Error::Encode { path, .. }
+            | Error::UnknownExtension { path, .. }
+            | Error::MissingChannels { path, .. }
+            | Error::CubeFaces { path, .. }
+            | Error::WouldOverwriteInput { path }
+            | Error::InFile { path, .. } => Some(path),
+            Error::TooLarge { .. }
+            | Error::Layout(_)
+            | Error::PixelCount { .. }
+            | Error::UnknownName { .. } => None,
+        }
+    }
+
+    pub(crate) fn layout(message: impl fmt::Display) -> Error {
+        Error::Layout(message.to_string())
+    }
+
+    pub(crate) fn read(path: &Path, source: io::Error) -> Error {
+        Error::Read {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    pub(crate) fn write(path: &Path, source: io::Error) -> Error {
+        Error::Write {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
+
+fn describe_extension(ext: &Option<String>) -> String {
+    match ext {
+        Some(e) => format!("unknown image extension \".{e}\""),
+        None => "no file extension to tell the image format".to_owned(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_name_the_file() {
+        let e = Error::MissingChannels {
+            path: "sky.exr".into(),
+            found: "Y".into(),
+        };
+        assert!(e.to_string().starts_with("sky.exr: no RGB channels"));
+        let e = Error::layout("image is 1000×333").in_file(Path::new("input.png"));
+        assert_eq!(e.to_string(), "input.png: image is 1000×333");
+        // Already named: unchanged.
+        let e = e.in_file(Path::new("other.png"));
+        assert_eq!(e.path(), Some(Path::new("input.png")));
+        let e = Error::write(
+            Path::new("out.png"),
+            io::Error::from(io::ErrorKind::PermissionDenied),
+        );
+        assert!(e
+            .to_string()
+            .starts_with("out.png: cannot write: permission denied"));
+    }
+}

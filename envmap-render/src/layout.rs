@@ -1,0 +1,512 @@
+//! Named layouts, and telling an image's representation from its size.
+//!
+//! | name | layout | mapping | aspect | atlas |
+//! | --- | --- | --- | --- | --- |
+//! | `latlong` | [`Layout::LatLong`] | latlong | 2:1 | [`Atlas::LATLONG`] |
+//! | `cross` | [`Layout::Cross`] | cube | 4:3 | [`Atlas::CUBE_HORIZONTAL_CROSS`] |
+//! | `vcross` | [`Layout::VCross`] | cube | 3:4 | [`Atlas::CUBE_VERTICAL_CROSS`] |
+//! | `strip` | [`Layout::Strip`] | cube | 6:1 | [`Atlas::CUBE_HORIZONTAL_STRIP`] |
+//! | `vstrip` | [`Layout::VStrip`] | cube | 1:6 | [`Atlas::CUBE_VERTICAL_STRIP`] |
+//! | `faces` | [`Layout::Faces`] | cube | six square files | in memory: [`Atlas::CUBE_HORIZONTAL_STRIP`] |
+//! | `square` | [`Layout::Square`] | sphere, sphere-gl, octahedral, octahedral-equal-area | 1:1 | [`Atlas::SINGLE_SQUARE`] |
+//! | `side-by-side` | [`Layout::SideBySide`] | paraboloid | 2:1 | [`Atlas::PARABOLOID_SIDE_BY_SIDE`] |
+//! | `stacked` | [`Layout::Stacked`] | tennisball | 3:2 | [`Atlas::TENNISBALL_STACKED`] |
+//!
+//! [`detect`] picks a representation from the aspect ratio alone. Two
+//! cases need the caller's word: a 2:1 image is taken as latlong, so a dual
+//! paraboloid (two disks side by side, also 2:1) needs its mapping named
+//! explicitly (`--from paraboloid`); and a square image could be any of four
+//! mappings, so [`detect`] refuses it and says how to choose. [`resolve`]
+//! takes an explicit mapping and/or layout and checks it against the size.
+
+use std::fmt;
+use std::str::FromStr;
+
+use envmap_core::{AnyMapping, Atlas, Frame, Mapping};
+
+use crate::error::{Error, Result};
+use crate::image::Representation;
+
+/// A named layout of a representation's charts, as the command line spells it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Layout {
+    /// `latlong`: one 2:1 image.
+    LatLong,
+    /// `cross`: cube, horizontal cross (4×3 faces).
+    Cross,
+    /// `vcross`: cube, vertical cross (3×4 faces, −z turned half a turn).
+    VCross,
+    /// `strip`: cube, six faces in a row (6×1), GL order.
+    Strip,
+    /// `vstrip`: cube, six faces in a column (1×6), GL order.
+    VStrip,
+    /// `faces`: cube, six square files `<stem>_+x.<ext>` ... `<stem>_-z.<ext>`;
+    /// held in memory as a [`Strip`](Layout::Strip).
+    Faces,
+    /// `square`: one square image (sphere maps, octahedral maps).
+    Square,
+    /// `side-by-side`: dual paraboloid, front disk left, back disk right (2:1).
+    SideBySide,
+    /// `stacked`: tennisball, two 3:1 strips stacked (3:2).
+    Stacked,
+}
+
+impl Layout {
+    /// Every layout, in the order of [`Layout::NAMES`].
+    pub const ALL: [Layout; 9] = [
+        Layout::LatLong,
+        Layout::Cross,
+        Layout::VCross,
+        Layout::Strip,
+        Layout::VStrip,
+        Layout::Faces,
+        Layout::Square,
+        Layout::SideBySide,
+        Layout::Stacked,
+    ];
+
+    /// The names [`FromStr`] accepts (case-insensitive), in the order of [`Layout::ALL`].
+    pub const NAMES: [&'static str; 9] = [
+        "latlong",
+        "cross",
+        "vcross",
+        "strip",
+        "vstrip",
+        "faces",
+        "square",
+        "side-by-side",
+        "stacked",
+    ];
+
+    /// The layout's name, as the command line spells it.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// The atlas that holds the image in memory. [`Layout::Faces`] is only an
+    /// on-disk layout: in memory its faces form a horizontal strip.
+    #[must_use]
+    pub const fn atlas(self) -> Atlas {
+        match self {
+            Layout::LatLong => Atlas::LATLONG,
+            Layout::Cross => Atlas::CUBE_HORIZONTAL_CROSS,
+            Layout::VCross => Atlas::CUBE_VERTICAL_CROSS,
+            Layout::Strip | Layout::Faces => Atlas::CUBE_HORIZONTAL_STRIP,
+            Layout::VStrip => Atlas::CUBE_VERTICAL_STRIP,
+            Layout::Square => Atlas::SINGLE_SQUARE,
+            Layout::SideBySide => Atlas::PARABOLOID_SIDE_BY_SIDE,
+            Layout::Stacked => Atlas::TENNISBALL_STACKED,
+        }
+    }
+
+    /// Whether this layout is six files rather than one image.
+    #[must_use]
+    pub const fn is_six_files(self) -> bool {
+        matches!(self, Layout::Faces)
+    }
+
+    /// The single-image layout whose atlas is `atlas` (never [`Layout::Faces`]).
+    #[must_use]
+    pub fn from_atlas(atlas: &Atlas) -> Option<Layout> {
+        Layout::ALL
+            .into_iter()
+            .filter(|l| !l.is_six_files())
+            .find(|l| l.atlas() == *atlas)
+    }
+
+    /// The mappings that can be stored in this layout.
+    #[must_use]
+    pub const fn mappings(self) -> &'static [AnyMapping] {
+        match self {
+            Layout::LatLong => &[AnyMapping::LatLong],
+            Layout::Cross | Layout::VCross | Layout::Strip | Layout::VStrip | Layout::Faces => {
+                &[AnyMapping::Cube]
+            }
+            Layout::Square => &SQUARE_MAPPINGS,
+            Layout::SideBySide => &[AnyMapping::DualParaboloid],
+            Layout::Stacked => &[AnyMapping::Tennisball],
+        }
+    }
+
+    /// The layouts a mapping can be stored in; the first is its default.
+    #[must_use]
+    pub const fn for_mapping(mapping: AnyMapping) -> &'static [Layout] {
+        match mapping {
+            AnyMapping::LatLong => &[Layout::LatLong],
+            AnyMapping::Cube => &[
+                Layout::Cross,
+                Layout::VCross,
+                Layout::Strip,
+                Layout::VStrip,
+                Layout::Faces,
+            ],
+            AnyMapping::SphereMap
+            | AnyMapping::SphereMapGl
+            | AnyMapping::Octahedral
+            | AnyMapping::EqualAreaOctahedral => &[Layout::Square],
+            AnyMapping::DualParaboloid => &[Layout::SideBySide],
+            AnyMapping::Tennisball => &[Layout::Stacked],
+        }
+    }
+
+    /// The aspect ratio of the whole image (`"4:3"`), or `"six square files"`.
+    #[must_use]
+    pub fn aspect_text(self) -> String {
+        if self.is_six_files() {
+            return "six square files".to_owned();
+        }
+        let (w, h) = self.atlas().image_aspect();
+        format!("{w}:{h}")
+    }
+}
+
+/// The square single-chart mappings, which a 1:1 image cannot tell apart.
+const SQUARE_MAPPINGS: [AnyMapping; 4] = [
+    AnyMapping::SphereMap,
+    AnyMapping::SphereMapGl,
+    AnyMapping::Octahedral,
+    AnyMapping::EqualAreaOctahedral,
+];
+
+impl fmt::Display for Layout {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Layout {
+    type Err = Error;
+
+    /// Parses the names in [`Layout::NAMES`] (case-insensitive), plus the
+    /// aliases `equirect`, `hcross`, `horizontal-cross`, `vertical-cross`,
+    /// `hstrip`, `horizontal-strip`, `vertical-strip`, `six-files`, `sphere`,
+    /// `octahedral`, `sidebyside`, `paraboloid` and `tennisball`.
+    fn from_str(s: &str) -> Result<Self> {
+        let eq = |a: &str| s.eq_ignore_ascii_case(a);
+        if let Some(l) = Layout::ALL.into_iter().find(|l| eq(l.name())) {
+            return Ok(l);
+        }
+        Ok(match () {
+            () if eq("equirect") => Layout::LatLong,
+            () if eq("hcross") || eq("horizontal-cross") => Layout::Cross,
+            () if eq("vertical-cross") => Layout::VCross,
+            () if eq("hstrip") || eq("horizontal-strip") => Layout::Strip,
+            () if eq("vertical-strip") => Layout::VStrip,
+            () if eq("six-files") => Layout::Faces,
+            () if eq("sphere") || eq("octahedral") => Layout::Square,
+            () if eq("sidebyside") || eq("paraboloid") => Layout::SideBySide,
+            () if eq("tennisball") => Layout::Stacked,
+            () => {
+                return Err(Error::UnknownName {
+                    what: "layout",
+                    name: s.to_owned(),
+                    expected: Layout::NAMES.join(", "),
+                })
+            }
+        })
+    }
+}
+
+/// The aspect ratios [`detect`] accepts, with what each is taken for.
+const DETECTED: [((u32, u32), AnyMapping, Layout, &str); 6] = [
+    ((2, 1), AnyMapping::LatLong, Layout::LatLong, "latlong"),
+    ((4, 3), AnyMapping::Cube, Layout::Cross, "cube cross"),
+    (
+        (3, 4),
+        AnyMapping::Cube,
+        Layout::VCross,
+        "cube vertical cross",
+    ),
+    ((6, 1), AnyMapping::Cube, Layout::Strip, "cube strip"),
+    (
+        (1, 6),
+        AnyMapping::Cube,
+        Layout::VStrip,
+        "cube vertical strip",
+    ),
+    (
+        (3, 2),
+        AnyMapping::Tennisball,
+        Layout::Stacked,
+        "tennisball",
+    ),
+];
+
+/// `w : h` reduced to lowest terms (`(0, 0)` for an empty image).
+#[must_use]
+pub fn aspect_ratio(width: u32, height: u32) -> (u32, u32) {
+    let (mut a, mut b) = (width, height);
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    match (width.checked_div(a), height.checked_div(a)) {
+        (Some(w), Some(h)) => (w, h),
+        _ => (0, 0),
+    }
+}
+
+fn accepted_ratios() -> String {
+    let mut s = String::new();
+    for ((w, h), _, _, what) in DETECTED {
+        s.push_str(&format!("{w}:{h} {what}, "));
+    }
+    s.push_str(
+        "1:1 sphere or octahedral (name the mapping); a dual paraboloid is 2:1 and needs \
+         its mapping named (--from paraboloid)",
+    );
+    s
+}
+
+fn size_text(width: u32, height: u32) -> String {
+    let (a, b) = aspect_ratio(width, height);
+    format!("{width}×{height} ({a}:{b})")
+}
+
+/// Picks a representation from the aspect ratio of a `width × height` image.
+///
+/// 2:1 is latlong (a dual paraboloid, also 2:1, must be named explicitly,
+/// see [`resolve`]), 4:3 a cube cross, 3:4 a vertical cross, 6:1 a strip,
+/// 1:6 a vertical strip, 3:2 a tennisball. A square image is an error that
+/// lists the four square mappings and says how to choose; any other size is
+/// an error naming its ratio and the accepted ones.
+///
+/// ```
+/// use envmap_core::{AnyMapping, Atlas};
+/// use envmap_render::layout::detect;
+/// assert_eq!(detect(4096, 3072).unwrap(), (AnyMapping::Cube, Atlas::CUBE_HORIZONTAL_CROSS));
+/// assert!(detect(512, 512).unwrap_err().to_string().contains("octahedral"));
+/// ```
+pub fn detect(width: u32, height: u32) -> Result<(AnyMapping, Atlas)> {
+    if width == 0 || height == 0 {
+        return Err(Error::layout(format!(
+            "image is {width}×{height}: an environment map cannot be empty"
+        )));
+    }
+    let ratio = aspect_ratio(width, height);
+    if let Some((_, m, l, _)) = DETECTED.iter().find(|(r, ..)| *r == ratio) {
+        return Ok((*m, l.atlas()));
+    }
+    if ratio == (1, 1) {
+        return Err(Error::layout(format!(
+            "image is {}: a square image can be a sphere map (sphere, or sphere-gl for \
+             GL_SPHERE_MAP) or an octahedral map (octahedral, octahedral-equal-area); \
+             name the mapping (e.g. --from octahedral)",
+            size_text(width, height)
+        )));
+    }
+    let hint = if ratio == (3, 1) {
+        " (a 3:1 image is one tennisball strip; a tennisball map stacks both strips, 3:2)"
+            .to_owned()
+    } else {
+        near_hint(width, height)
+    };
+    Err(Error::layout(format!(
+        "image is {}{hint}; no layout has this aspect ratio. Accepted: {}",
+        size_text(width, height),
+        accepted_ratios()
+    )))
+}
+
+/// A hint when a size is within 1 % of an accepted ratio but not exact.
+fn near_hint(width: u32, height: u32) -> String {
+    let r = f64::from(width) / f64::from(height);
+    let mut ratios: Vec<((u32, u32), &str)> =
+        DETECTED.iter().map(|(r, _, _, what)| (*r, *what)).collect();
+    ratios.push(((1, 1), "square"));
+    for ((a, b), what) in ratios {
+        let q = f64::from(a) / f64::from(b);
+        if (r / q - 1.0).abs() < 0.01 {
+            return format!(
+                " (close to {a}:{b}, {what}, but not exact: the charts must be whole texels)"
+            );
+        }
+    }
+    String::new()
+}
+
+/// Checks that `atlas` can hold `mapping` (one cell per chart, cells of the
+/// mapping's shape) and that a `width × height` image fits it.
+pub fn check_fits(mapping: AnyMapping, atlas: &Atlas, width: u32, height: u32) -> Result<()> {
+    check_compatible(mapping, atlas)?;
+    if atlas.cell_size(width, height).is_none() {
+        let (a, b) = atlas.image_aspect();
+        let mut msg = format!(
+            "{} needs {a}:{b}, this image is {}",
+            atlas.name,
+            size_text(width, height)
+        );
+        if aspect_ratio(width, height) == (a, b) {
+            // Right ratio, but the cells are not whole texels (e.g. 3:2 at 150×100).
+            msg.push_str(&format!(
+                " and its {}×{} cells are not whole texels",
+                atlas.cols, atlas.rows
+            ));
+        }
+        return Err(Error::layout(msg));
+    }
+    Ok(())
+}
+
+/// Checks that `atlas` can hold `mapping`: one cell per chart, each chart
+/// present once, and cells of the shape of the mapping's default atlas.
+pub fn check_compatible(mapping: AnyMapping, atlas: &Atlas) -> Result<()> {
+    let n = mapping.chart_count();
+    let default = mapping.atlas();
+    let shape = |a: &Atlas| aspect_ratio(a.cell_aspect_w, a.cell_aspect_h);
+    let charts_ok = atlas.cells.len() == n as usize
+        && (0..n).all(|c| atlas.cells.iter().filter(|cell| cell.chart == c).count() == 1)
+        && atlas
+            .cells
+            .iter()
+            .all(|c| c.col < atlas.cols && c.row < atlas.rows);
+    if !charts_ok || shape(atlas) != shape(&default) {
+        let names: Vec<&str> = Layout::for_mapping(mapping)
+            .iter()
+            .map(|l| l.name())
+            .collect();
+        return Err(Error::layout(format!(
+            "{mapping} cannot be laid out as {}; its layouts: {}",
+            atlas.name,
+            names.join(", ")
+        )));
+    }
+    Ok(())
+}
+
+/// The representation of a `width × height` image, from an explicit mapping
+/// and/or layout, or detected from the aspect ratio when neither is given.
+///
+/// * neither: [`detect`];
+/// * a mapping only: the mapping's layout that fits the size (a cube tries
+///   cross, vcross, strip, vstrip), or an error saying what it needs;
+/// * a layout only: the layout's mapping; `square` fits four mappings and
+///   is an error asking for the mapping;
+/// * both: the layout must be one of the mapping's and fit the size
+///   ("cross needs 4:3, this image is 2048×1024 (2:1)").
+///
+/// [`Layout::Faces`] describes six files, not one image, and is refused here
+/// (the loader assembles the faces into a strip first).
+pub fn resolve(
+    width: u32,
+    height: u32,
+    mapping: Option<AnyMapping>,
+    layout: Option<Layout>,
+) -> Result<(AnyMapping, Atlas)> {
+    if layout.is_some_and(Layout::is_six_files) {
+        return Err(Error::layout(
+            "faces is a layout of six files, not of one image; \
+             load a six-file cube by one face's name or a {face} pattern",
+        ));
+    }
+    match (mapping, layout) {
+        (None, None) => detect(width, height),
+        (Some(m), None) => {
+            let layouts: Vec<Layout> = Layout::for_mapping(m)
+                .iter()
+                .copied()
+                .filter(|l| !l.is_six_files())
+                .collect();
+            if let Some(l) = layouts
+                .iter()
+                .find(|l| l.atlas().cell_size(width, height).is_some())
+            {
+                return Ok((m, l.atlas()));
+            }
+            let needs: Vec<String> = layouts
+                .iter()
+                .map(|l| format!("{} ({l})", l.aspect_text()))
+                .collect();
+            Err(Error::layout(format!(
+                "{m} needs {}, this image is {}",
+                join_or(&needs),
+                size_text(width, height)
+            )))
+        }
+        (None, Some(l)) => match l.mappings() {
+            [m] => {
+                check_fits(*m, &l.atlas(), width, height)?;
+                Ok((*m, l.atlas()))
+            }
+            many => {
+                let names: Vec<String> = many.iter().map(ToString::to_string).collect();
+                Err(Error::layout(format!(
+                    "the {l} layout holds {}; name the mapping (e.g. --from {})",
+                    join_or(&names),
+                    names[0]
+                )))
+            }
+        },
+        (Some(m), Some(l)) => {
+            if !Layout::for_mapping(m).contains(&l) {
+                let names: Vec<&str> = Layout::for_mapping(m).iter().map(|l| l.name()).collect();
+                return Err(Error::layout(format!(
+                    "{m} has no {l} layout; its layouts: {}",
+                    names.join(", ")
+                )));
+            }
+            check_fits(m, &l.atlas(), width, height)?;
+            Ok((m, l.atlas()))
+        }
+    }
+}
+
+/// [`resolve`], packaged with a frame as a [`Representation`].
+pub fn representation(
+    width: u32,
+    height: u32,
+    mapping: Option<AnyMapping>,
+    layout: Option<Layout>,
+    frame: Frame,
+) -> Result<Representation> {
+    let (mapping, atlas) = resolve(width, height, mapping, layout)?;
+    Ok(Representation {
+        mapping,
+        atlas,
+        frame,
+    })
+}
+
+fn join_or(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [init @ .., last] => format!("{} or {last}", init.join(", ")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for l in Layout::ALL {
+            assert_eq!(l.name().parse::<Layout>().unwrap(), l);
+            assert_eq!(l.name().to_uppercase().parse::<Layout>().unwrap(), l);
+            if !l.is_six_files() {
+                assert_eq!(Layout::from_atlas(&l.atlas()), Some(l));
+            }
+            for m in l.mappings() {
+                assert!(Layout::for_mapping(*m).contains(&l));
+                check_compatible(*m, &l.atlas()).unwrap();
+            }
+        }
+        let e = "diagonal".parse::<Layout>().unwrap_err().to_string();
+        assert!(e.contains("vcross") && e.contains("diagonal"), "{e}");
+    }
+
+    #[test]
+    fn join() {
+        let v = |s: &[&str]| s.iter().map(|s| (*s).to_owned()).collect::<Vec<_>>();
+        assert_eq!(join_or(&v(&["a"])), "a");
+        assert_eq!(join_or(&v(&["a", "b", "c"])), "a, b or c");
+    }
+
+    #[test]
+    fn aspect() {
+        assert_eq!(aspect_ratio(4096, 3072), (4, 3));
+        assert_eq!(aspect_ratio(1000, 333), (1000, 333));
+        assert_eq!(aspect_ratio(0, 0), (0, 0));
+    }
+}
