@@ -158,6 +158,29 @@ pub fn select_face(d: Vec3) -> Option<(CubeFace, f32, f32, f32)> {
     Some(r)
 }
 
+/// The (unnormalised) direction through face coordinates `(sc, tc)` of
+/// `face`, with `|ma| = 1`: the face table solved for x, y, z. Coordinates
+/// outside `[−1, 1]` give points on the face's plane beyond its edges, which
+/// is how a seamless cube filter finds the texels across an edge.
+///
+/// ```
+/// use envmap_core::cube::{face_direction, CubeFace};
+/// use glam::Vec3;
+/// assert_eq!(face_direction(CubeFace::PosZ, 0.5, -0.25), Vec3::new(0.5, 0.25, 1.0));
+/// ```
+#[inline]
+#[must_use]
+pub const fn face_direction(face: CubeFace, sc: f32, tc: f32) -> Vec3 {
+    match face {
+        CubeFace::PosX => Vec3::new(1.0, -tc, -sc),
+        CubeFace::NegX => Vec3::new(-1.0, -tc, sc),
+        CubeFace::PosY => Vec3::new(sc, 1.0, tc),
+        CubeFace::NegY => Vec3::new(sc, -1.0, -tc),
+        CubeFace::PosZ => Vec3::new(sc, -tc, 1.0),
+        CubeFace::NegZ => Vec3::new(-sc, -tc, -1.0),
+    }
+}
+
 /// The cube mapping; see the [module docs](self).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Cube;
@@ -191,14 +214,7 @@ impl Cube {
         }
         let sc = 2.0 * c.u - 1.0;
         let tc = 2.0 * c.v - 1.0;
-        let d = match face {
-            CubeFace::PosX => Vec3::new(1.0, -tc, -sc),
-            CubeFace::NegX => Vec3::new(-1.0, -tc, sc),
-            CubeFace::PosY => Vec3::new(sc, 1.0, tc),
-            CubeFace::NegY => Vec3::new(sc, -1.0, -tc),
-            CubeFace::PosZ => Vec3::new(sc, -tc, 1.0),
-            CubeFace::NegZ => Vec3::new(-sc, -tc, -1.0),
-        };
+        let d = face_direction(face, sc, tc);
         Some(d / crate::math::sqrt(d.length_squared()))
     }
 }

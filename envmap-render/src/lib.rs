@@ -6,16 +6,23 @@
 //!   an image's size ([`layout::detect`], [`layout::resolve`]).
 //! * [`io`]: loading and saving PNG, JPEG, Radiance HDR and OpenEXR, cubes as
 //!   six files, with atomic writes ([`io::load`], [`io::save`]).
+//! * [`sample`]: nearest and bilinear sampling with each representation's
+//!   edge rule ([`sample::Sampler`]).
+//! * [`convert`]: any representation to any other, one generic loop
+//!   ([`convert::convert`]).
+//! * [`procedural`]: environments defined by a function of direction.
 //! * [`error`]: the crate's [`Error`], whose messages name the file.
 #![forbid(unsafe_code)]
 
+pub mod convert;
 pub mod error;
 pub mod image;
 pub mod io;
 pub mod layout;
+pub mod procedural;
+pub mod sample;
 
 pub use crate::error::{Error, Result};
 pub use crate::image::{EnvImage, Representation, RgbImage, Stats};
 pub use crate::io::{load, save, LoadOptions, SaveOptions};
 pub use crate::layout::Layout;
-pub mod procedural;

@@ -1,0 +1,153 @@
+//! Conversion between any two representations: one generic loop.
+//!
+//! For each output texel inside a chart: its centre, or N×N stratified
+//! sub-sample points, are inverse-mapped to directions (envmap-simd, eight at
+//! a time), carried from the output's frame into the input's (with an
+//! optional rotation on the way), forward-mapped into the input's charts and
+//! filtered there ([`Sampler`]). Texels outside every chart (cross corners,
+//! the corners around a disk) are black. Rows run in parallel (rayon).
+
+use envmap_core::glam::{Mat3, Vec3};
+use envmap_core::texel::texel_center;
+use envmap_core::{ChartUv, Frame, Mapping};
+use envmap_simd::{forward_slice, inverse_slice, Fine};
+use rayon::prelude::*;
+
+use crate::error::Result;
+use crate::image::{EnvImage, Representation};
+use crate::sample::{Filter, Sampler};
+
+/// Per-thread scratch: sample points, the output column each belongs to,
+/// their directions, their input chart points, and sub-samples per column.
+type Buffers = (Vec<ChartUv>, Vec<u32>, Vec<Vec3>, Vec<ChartUv>, Vec<u32>);
+
+/// How to convert.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ConvertOptions {
+    /// Reconstruction filter in the input.
+    pub filter: Filter,
+    /// Sub-samples per output texel side (N×N per texel); `None` chooses
+    /// automatically from the ratio of texel counts (see [`auto_samples`]).
+    pub samples: Option<u32>,
+    /// A rotation applied on the way: an output direction `d` (in the output's
+    /// own axes) reads the input at `rotation.to_canonical(d)`.
+    pub rotation: Option<Frame>,
+}
+
+/// Automatic supersampling: `round(√(input texels / output texels))`,
+/// clamped to 1..=8, so that every input texel is visited about once when the
+/// output is smaller than the input.
+#[must_use]
+pub fn auto_samples(input_texels: u64, output_texels: u64) -> u32 {
+    if output_texels == 0 {
+        return 1;
+    }
+    let r = (input_texels as f64 / output_texels as f64).sqrt().round();
+    r.clamp(1.0, 8.0) as u32
+}
+
+/// Converts `src` into `repr` at `width × height` (which must fit the
+/// representation's atlas). `progress` is called with the number of rows
+/// finished, from worker threads.
+pub fn convert(
+    src: &EnvImage,
+    repr: Representation,
+    width: u32,
+    height: u32,
+    opts: &ConvertOptions,
+    progress: Option<&(dyn Fn(u32) + Sync)>,
+) -> Result<EnvImage> {
+    let mut out = EnvImage::new(width, height, repr)?;
+    let n = opts.samples.unwrap_or_else(|| {
+        auto_samples(
+            u64::from(src.width()) * u64::from(src.height()),
+            u64::from(width) * u64::from(height),
+        )
+    });
+    let n = n.clamp(1, 16);
+    // Output canonical → caller's axes → (rotation) → input canonical.
+    let rot = opts.rotation.map_or(Mat3::IDENTITY, Frame::matrix);
+    let m = src.representation().frame.matrix() * rot * repr.frame.matrix().transpose();
+    let transform = (m - Mat3::IDENTITY)
+        .to_cols_array()
+        .iter()
+        .any(|e| e.abs() > 1e-7);
+    let sampler = Sampler::new(src);
+    let dst_mapping = repr.mapping;
+    let atlas = repr.atlas;
+    let src_mapping = src.mapping();
+    let filter = opts.filter;
+
+    out.pixels_mut()
+        .par_chunks_mut(width as usize)
+        .enumerate()
+        .for_each_init(
+            || (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new()),
+            |(points, owner, dirs, coords, count): &mut Buffers, (y, row)| {
+                let y = y as u32;
+                points.clear();
+                owner.clear();
+                for x in 0..width {
+                    let Some(t) = atlas.texel_to_chart(x, y, width, height) else {
+                        continue;
+                    };
+                    for b in 0..n {
+                        for a in 0..n {
+                            let u = if n == 1 {
+                                texel_center(t.i, t.w)
+                            } else {
+                                ((f64::from(t.i) + (f64::from(a) + 0.5) / f64::from(n))
+                                    / f64::from(t.w)) as f32
+                            };
+                            let v = if n == 1 {
+                                texel_center(t.j, t.h)
+                            } else {
+                                ((f64::from(t.j) + (f64::from(b) + 0.5) / f64::from(n))
+                                    / f64::from(t.h)) as f32
+                            };
+                            if dst_mapping.in_chart(t.chart, u, v) {
+                                points.push(ChartUv::new(t.chart, u, v));
+                                owner.push(x);
+                            }
+                        }
+                    }
+                }
+                dirs.resize(points.len(), Vec3::ZERO);
+                inverse_slice::<_, Fine>(&dst_mapping, points, dirs);
+                if transform {
+                    for d in dirs.iter_mut() {
+                        *d = m * *d;
+                    }
+                }
+                coords.resize(points.len(), ChartUv::default());
+                forward_slice::<_, Fine>(&src_mapping, dirs, coords);
+                count.clear();
+                count.resize(row.len(), 0u32);
+                for px in row.iter_mut() {
+                    *px = [0.0; 3];
+                }
+                for (c, &x) in coords.iter().zip(owner.iter()) {
+                    let s = sampler.sample(*c, filter);
+                    let px = &mut row[x as usize];
+                    px[0] += s[0];
+                    px[1] += s[1];
+                    px[2] += s[2];
+                    count[x as usize] += 1;
+                }
+                // Average over the sub-samples inside the chart (a disk's rim
+                // texels have fewer).
+                for (px, &k) in row.iter_mut().zip(count.iter()) {
+                    if k > 1 {
+                        let r = 1.0 / k as f32;
+                        px[0] *= r;
+                        px[1] *= r;
+                        px[2] *= r;
+                    }
+                }
+                if let Some(p) = progress {
+                    p(1);
+                }
+            },
+        );
+    Ok(out)
+}

@@ -1,0 +1,75 @@
+//! Environments defined by a function of direction, evaluated into any
+//! representation.
+
+use envmap_core::glam::Vec3;
+use envmap_core::texel::texel_center;
+use envmap_core::ChartUv;
+use rayon::prelude::*;
+
+use crate::error::Result;
+use crate::image::{EnvImage, Representation};
+
+/// Evaluates `f` at every texel centre of a `width × height` image in `repr`
+/// (the direction given to `f` is in the caller's axes: the representation's
+/// frame is undone). Texels outside every chart are black.
+pub fn fill(
+    repr: Representation,
+    width: u32,
+    height: u32,
+    f: impl Fn(Vec3) -> [f32; 3] + Sync,
+) -> Result<EnvImage> {
+    let mut img = EnvImage::new(width, height, repr)?;
+    let atlas = repr.atlas;
+    let mapping = repr.mapping;
+    let frame = repr.frame;
+    img.pixels_mut()
+        .par_chunks_mut(width as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, px) in row.iter_mut().enumerate() {
+                let Some(t) = atlas.texel_to_chart(x as u32, y as u32, width, height) else {
+                    continue;
+                };
+                let c = ChartUv::new(t.chart, texel_center(t.i, t.w), texel_center(t.j, t.h));
+                if let Some(d) = mapping.inverse(c) {
+                    *px = f(frame.from_canonical(d));
+                }
+            }
+        });
+    Ok(img)
+}
+
+/// A smooth test environment: colour varies with direction at a few
+/// frequencies, positive everywhere, no discontinuity. Useful for measuring
+/// conversion error (its exact value is known everywhere).
+#[must_use]
+pub fn smooth(d: Vec3) -> [f32; 3] {
+    let d = d.normalize_or_zero();
+    [
+        0.6 + 0.4 * d.x + 0.2 * (3.0 * d.y).sin() * d.z,
+        0.6 + 0.4 * d.y + 0.2 * (2.0 * d.z + d.x).cos(),
+        0.6 + 0.4 * d.z + 0.1 * (4.0 * d.x * d.y).sin(),
+    ]
+}
+
+/// Peak signal-to-noise ratio in dB of `a` against the reference `b` over
+/// the texels where `mask` is true, with peak `peak`.
+#[must_use]
+pub fn psnr(a: &[[f32; 3]], b: &[[f32; 3]], mask: impl Fn(usize) -> bool, peak: f64) -> f64 {
+    let mut se = 0.0f64;
+    let mut n = 0u64;
+    for (k, (p, q)) in a.iter().zip(b).enumerate() {
+        if !mask(k) {
+            continue;
+        }
+        for c in 0..3 {
+            let e = f64::from(p[c]) - f64::from(q[c]);
+            se += e * e;
+        }
+        n += 3;
+    }
+    if n == 0 || se == 0.0 {
+        return f64::INFINITY;
+    }
+    10.0 * (peak * peak / (se / n as f64)).log10()
+}

@@ -1,0 +1,256 @@
+//! Sampling an environment map at a chart point, with each representation's
+//! own edge rule.
+//!
+//! | representation | a bilinear footprint that leaves the chart ... |
+//! | --- | --- |
+//! | latlong | wraps in u; across a pole it continues half a turn round (row −1 is row 0 shifted by w/2) |
+//! | cube | steps onto the neighbouring face (the texel whose centre the extended face plane points at), as GL's seamless cube maps do; at a corner the missing texel is the average of the three texels that meet there |
+//! | sphere maps, paraboloid | stays inside the rim: texels whose centres lie outside the disk get no weight (the rest are renormalised), and points are pulled inside the last ring of texels |
+//! | tennisball | is clamped to its own strip (the strips overlap, so the texels needed exist inside it) |
+//! | octahedral maps | folds across the square's edges, which is where the unfolded octahedron continues: row −1 at column i is row 0 at column w − 1 − i |
+//!
+//! Nearest sampling picks the texel containing the point (clamped, never out
+//! of range).
+
+use envmap_core::cube::{face_direction, CubeFace};
+use envmap_core::texel::{bilinear_footprint, texel_index};
+use envmap_core::{AnyMapping, ChartUv, Cube, Mapping};
+
+use crate::image::EnvImage;
+use envmap_core::atlas::Turn;
+
+/// Reconstruction filter.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Filter {
+    /// The texel containing the point.
+    Nearest,
+    /// Bilinear interpolation of the four nearest texel centres, with the
+    /// representation's edge rule.
+    #[default]
+    Bilinear,
+}
+
+impl core::str::FromStr for Filter {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "nearest" => Ok(Filter::Nearest),
+            "bilinear" | "linear" => Ok(Filter::Bilinear),
+            _ => Err(format!(
+                "unknown filter '{s}'; expected nearest or bilinear"
+            )),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Rect {
+    x0: u32,
+    y0: u32,
+    turn: Turn,
+}
+
+/// A read-only view of an [`EnvImage`] that samples chart points.
+#[derive(Debug)]
+pub struct Sampler<'a> {
+    pixels: &'a [[f32; 3]],
+    width: usize,
+    mapping: AnyMapping,
+    /// Chart size in texels (all charts of an atlas have one size).
+    cw: u32,
+    ch: u32,
+    rects: [Rect; 6],
+    charts: u32,
+}
+
+impl<'a> Sampler<'a> {
+    /// A sampler over `img`.
+    #[must_use]
+    pub fn new(img: &'a EnvImage) -> Self {
+        let (cw, ch) = img.cell_size();
+        let atlas = img.atlas();
+        let mut rects = [Rect {
+            x0: 0,
+            y0: 0,
+            turn: Turn::None,
+        }; 6];
+        let charts = img.mapping().chart_count().min(6);
+        for c in 0..charts {
+            if let Some(cell) = atlas.cell_of(c) {
+                rects[c as usize] = Rect {
+                    x0: cell.col * cw,
+                    y0: cell.row * ch,
+                    turn: cell.turn,
+                };
+            }
+        }
+        Self {
+            pixels: img.pixels(),
+            width: img.width() as usize,
+            mapping: img.mapping(),
+            cw,
+            ch,
+            rects,
+            charts,
+        }
+    }
+
+    /// The texel `(i, j)` of `chart`, with `i < w`, `j < h`.
+    #[inline]
+    fn texel(&self, chart: u32, i: u32, j: u32) -> [f32; 3] {
+        let r = self.rects[chart.min(self.charts - 1) as usize];
+        let (x, y) = match r.turn {
+            Turn::None => (r.x0 + i, r.y0 + j),
+            Turn::Half => (r.x0 + self.cw - 1 - i, r.y0 + self.ch - 1 - j),
+        };
+        self.pixels[y as usize * self.width + x as usize]
+    }
+
+    /// Samples at a chart point; `None` charts or NaN give black.
+    #[inline]
+    #[must_use]
+    pub fn sample(&self, c: ChartUv, filter: Filter) -> [f32; 3] {
+        if c.chart >= self.charts || c.u.is_nan() || c.v.is_nan() {
+            return [0.0; 3];
+        }
+        match filter {
+            Filter::Nearest => self.texel(
+                c.chart,
+                texel_index(c.u, self.cw),
+                texel_index(c.v, self.ch),
+            ),
+            Filter::Bilinear => self.bilinear(c),
+        }
+    }
+
+    fn bilinear(&self, c: ChartUv) -> [f32; 3] {
+        let (mut u, mut v) = (c.u, c.v);
+        let disk = matches!(
+            self.mapping,
+            AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid
+        );
+        if disk {
+            // Pull the point inside the last ring of texel centres.
+            let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+            let r = (x * x + y * y).sqrt();
+            let rmax = 1.0 - 1.0 / self.cw as f32;
+            if r > rmax {
+                let k = rmax / r;
+                u = 0.5 * (x * k) + 0.5;
+                v = 0.5 * (y * k) + 0.5;
+            }
+        }
+        let (i0, i1, fx) = bilinear_footprint(u, self.cw);
+        let (j0, j1, fy) = bilinear_footprint(v, self.ch);
+        let taps = [
+            (i0, j0, (1.0 - fx) * (1.0 - fy)),
+            (i1, j0, fx * (1.0 - fy)),
+            (i0, j1, (1.0 - fx) * fy),
+            (i1, j1, fx * fy),
+        ];
+        let mut acc = [0.0f32; 3];
+        let mut wsum = 0.0f32;
+        for (i, j, w) in taps {
+            if w == 0.0 {
+                continue;
+            }
+            let Some(t) = self.fetch(c.chart, i, j, disk) else {
+                continue;
+            };
+            for k in 0..3 {
+                acc[k] += w * t[k];
+            }
+            wsum += w;
+        }
+        if wsum > 0.0 && wsum != 1.0 {
+            for a in &mut acc {
+                *a /= wsum;
+            }
+        }
+        if wsum == 0.0 {
+            // Only possible on a disk with no texel centre inside it nearby.
+            return self.sample(c, Filter::Nearest);
+        }
+        acc
+    }
+
+    /// Texel `(i, j)` of `chart` with the edge rule applied to indices
+    /// outside the chart; `None` for a disk texel whose centre is outside.
+    fn fetch(&self, chart: u32, i: i64, j: i64, disk: bool) -> Option<[f32; 3]> {
+        let (w, h) = (i64::from(self.cw), i64::from(self.ch));
+        let inside = (0..w).contains(&i) && (0..h).contains(&j);
+        if inside && !disk {
+            return Some(self.texel(chart, i as u32, j as u32));
+        }
+        match self.mapping {
+            AnyMapping::LatLong => {
+                let (mut i, mut j) = (i, j);
+                if j < 0 || j >= h {
+                    j = if j < 0 { -1 - j } else { 2 * h - 1 - j };
+                    i += w / 2;
+                }
+                Some(self.texel(0, i.rem_euclid(w) as u32, j.clamp(0, h - 1) as u32))
+            }
+            AnyMapping::Cube => Some(self.cube_fetch(chart, i, j)),
+            AnyMapping::Tennisball => {
+                Some(self.texel(chart, i.clamp(0, w - 1) as u32, j.clamp(0, h - 1) as u32))
+            }
+            AnyMapping::Octahedral | AnyMapping::EqualAreaOctahedral => {
+                let (mut i, mut j) = (i, j);
+                if j < 0 || j >= h {
+                    j = if j < 0 { -1 - j } else { 2 * h - 1 - j };
+                    i = w - 1 - i;
+                }
+                if i < 0 || i >= w {
+                    i = if i < 0 { -1 - i } else { 2 * w - 1 - i };
+                    j = h - 1 - j;
+                }
+                Some(self.texel(0, i.clamp(0, w - 1) as u32, j.clamp(0, h - 1) as u32))
+            }
+            AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid => {
+                if !inside {
+                    return None;
+                }
+                let u = (i as f32 + 0.5) / self.cw as f32;
+                let v = (j as f32 + 0.5) / self.ch as f32;
+                self.mapping
+                    .in_chart(chart, u, v)
+                    .then(|| self.texel(chart, i as u32, j as u32))
+            }
+        }
+    }
+
+    /// A cube texel index possibly beyond the face: follows the face plane
+    /// onto the neighbouring face; at corners averages the three texels.
+    fn cube_fetch(&self, face: u32, i: i64, j: i64) -> [f32; 3] {
+        let (w, h) = (i64::from(self.cw), i64::from(self.ch));
+        let iout = !(0..w).contains(&i);
+        let jout = !(0..h).contains(&j);
+        if iout && jout {
+            let ic = i.clamp(0, w - 1);
+            let jc = j.clamp(0, h - 1);
+            let a = self.cube_fetch(face, i, jc);
+            let b = self.cube_fetch(face, ic, j);
+            let c = self.texel(face, ic as u32, jc as u32);
+            return [
+                (a[0] + b[0] + c[0]) / 3.0,
+                (a[1] + b[1] + c[1]) / 3.0,
+                (a[2] + b[2] + c[2]) / 3.0,
+            ];
+        }
+        if !iout && !jout {
+            return self.texel(face, i as u32, j as u32);
+        }
+        let sc = 2.0 * ((i as f32 + 0.5) / self.cw as f32) - 1.0;
+        let tc = 2.0 * ((j as f32 + 0.5) / self.ch as f32) - 1.0;
+        let f = CubeFace::from_index(face).unwrap_or(CubeFace::PosX);
+        match Cube::forward(face_direction(f, sc, tc)) {
+            Some(p) => self.texel(
+                p.chart,
+                texel_index(p.u, self.cw),
+                texel_index(p.v, self.ch),
+            ),
+            None => [0.0; 3],
+        }
+    }
+}
