@@ -2,8 +2,9 @@
 //!
 //! For each output texel inside a chart: its centre, or N×N stratified
 //! sub-sample points, are inverse-mapped to directions (envmap-simd, eight at
-//! a time), carried from the output's frame into the input's (with an
-//! optional rotation on the way), forward-mapped into the input's charts and
+//! a time), carried from the output's axes through the world (z up) into the
+//! input's axes (with an optional rotation on the way; see
+//! [`Representation::frame`]), forward-mapped into the input's charts and
 //! filtered there ([`Sampler`]). Texels outside every chart (cross corners,
 //! the corners around a disk) are black. Rows run in parallel (rayon).
 
@@ -29,8 +30,8 @@ pub struct ConvertOptions {
     /// Sub-samples per output texel side (N×N per texel); `None` chooses
     /// automatically from the ratio of texel counts (see [`auto_samples`]).
     pub samples: Option<u32>,
-    /// A rotation applied on the way: an output direction `d` (in the output's
-    /// own axes) reads the input at `rotation.to_canonical(d)`.
+    /// A rotation of the world applied on the way: the output's direction
+    /// `w` (in world axes, z up) reads the input at `rotation.to_canonical(w)`.
     pub rotation: Option<Frame>,
 }
 
@@ -65,9 +66,9 @@ pub fn convert(
         )
     });
     let n = n.clamp(1, 16);
-    // Output canonical → caller's axes → (rotation) → input canonical.
+    // Output map's axes → world (z-up) → rotation → input map's axes.
     let rot = opts.rotation.map_or(Mat3::IDENTITY, Frame::matrix);
-    let m = src.representation().frame.matrix() * rot * repr.frame.matrix().transpose();
+    let m = src.representation().frame.matrix().transpose() * rot * repr.frame.matrix();
     let transform = (m - Mat3::IDENTITY)
         .to_cols_array()
         .iter()

@@ -58,7 +58,11 @@ pub struct Representation {
     pub mapping: AnyMapping,
     /// Where each chart lies in the image.
     pub atlas: Atlas,
-    /// The caller's axes relative to the mapping's canonical frame.
+    /// The axes the map was made in: the mapping's formulas are applied to
+    /// directions expressed in these axes, and `frame.to_canonical` takes
+    /// them to envmap's canonical z-up, right-handed world. A z-up map (seed
+    /// `000`, Blender) has [`Frame::Z_UP_RH`]; a cube map for GL, Vulkan or
+    /// wgpu, whose +y face is up, has [`Frame::Y_UP_RH`].
     pub frame: Frame,
 }
 

@@ -10,8 +10,8 @@ use crate::error::Result;
 use crate::image::{EnvImage, Representation};
 
 /// Evaluates `f` at every texel centre of a `width × height` image in `repr`
-/// (the direction given to `f` is in the caller's axes: the representation's
-/// frame is undone). Texels outside every chart are black.
+/// (the direction given to `f` is in world axes, z up: the representation's
+/// frame is applied). Texels outside every chart are black.
 pub fn fill(
     repr: Representation,
     width: u32,
@@ -32,7 +32,7 @@ pub fn fill(
                 };
                 let c = ChartUv::new(t.chart, texel_center(t.i, t.w), texel_center(t.j, t.h));
                 if let Some(d) = mapping.inverse(c) {
-                    *px = f(frame.from_canonical(d));
+                    *px = f(frame.to_canonical(d));
                 }
             }
         });

@@ -228,3 +228,36 @@ fn rotation_on_the_way() {
     let p = psnr(got.pixels(), want.pixels(), |_| true, 1.0);
     assert!(p > 45.0, "{p:.1} dB");
 }
+
+/// A z-up latlong converted to a cube for GL (y up): the cube's +y face shows
+/// the latlong's top row (the sky), its +z face what the latlong has at −y.
+#[test]
+fn frames_put_up_where_each_convention_has_it() {
+    let rl = Representation::default_for(AnyMapping::LatLong);
+    let src = fill(rl, 512, 256, direction_colour).unwrap();
+    let rc = Representation::new(
+        AnyMapping::Cube,
+        Atlas::CUBE_HORIZONTAL_STRIP,
+        Frame::Y_UP_RH,
+    )
+    .unwrap();
+    let n = 9; // odd, so the middle texel is the face centre
+    let cube = convert(&src, rc, 6 * n, n, &ConvertOptions::default(), None).unwrap();
+    let centre =
+        |face: u32| Vec3::from(cube.pixels()[((n / 2) * 6 * n + face * n + n / 2) as usize]);
+    // GL +y face (2) sees world +z (up); GL +z (4) sees world −y.
+    assert!(
+        (centre(2) - Vec3::new(0.0, 0.0, 1.0)).length() < 1e-2,
+        "{}",
+        centre(2)
+    );
+    assert!(
+        (centre(4) - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-2,
+        "{}",
+        centre(4)
+    );
+    // And fill agrees: the same cube made directly.
+    let direct = fill(rc, 6 * n, n, direction_colour).unwrap();
+    let p = psnr(cube.pixels(), direct.pixels(), |_| true, 1.0);
+    assert!(p > 40.0, "{p:.1} dB");
+}

@@ -1,0 +1,632 @@
+//! The `envmap` command: convert environment maps between representations,
+//! inspect them, and map directions to texture coordinates and back.
+//!
+//! Exit codes: 0 success; 1 a runtime error (a file that cannot be read,
+//! decoded or written, an image that fits no layout, a bad input line);
+//! 2 a usage error (unknown flag or value, reported by the argument parser).
+
+use std::io::{BufRead, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+use clap::{Args, Parser, Subcommand};
+use envmap_core::glam::Vec3;
+use envmap_core::texel::texel_index;
+use envmap_core::{AnyMapping, ChartUv, Frame, Framed, Mapping};
+use envmap_render::convert::{auto_samples, convert, ConvertOptions};
+use envmap_render::image::{EnvImage, Representation};
+use envmap_render::io::{load_detailed, save, ExrPrecision, LoadOptions, SaveOptions};
+use envmap_render::layout::Layout;
+use envmap_render::sample::Filter;
+use indicatif::{ProgressBar, ProgressStyle};
+
+#[derive(Parser)]
+#[command(
+    name = "envmap",
+    version,
+    about = "Environment maps: convert between every representation, inspect, map directions.",
+    long_about = None
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Convert an environment map into another representation.
+    ///
+    /// Example: envmap convert studio.hdr studio_cube.exr --to cube --layout cross --size 1024
+    Convert(ConvertArgs),
+    /// Describe an environment map file: size, format, representation, radiance.
+    Info(InfoArgs),
+    /// Map directions (one `x y z` or `x,y,z` per line) to `chart,u,v` (CSV).
+    Map(MapArgs),
+    /// Map `chart,u,v` lines (as `map` prints them) back to unit directions `x,y,z`.
+    Unmap(UnmapArgs),
+}
+
+/// The mapping names the command accepts.
+fn parse_mapping(s: &str) -> Result<AnyMapping, String> {
+    s.parse::<AnyMapping>().map_err(|e| e.to_string())
+}
+
+fn parse_layout(s: &str) -> Result<Layout, String> {
+    s.parse::<Layout>().map_err(|e| e.to_string())
+}
+
+fn parse_frame(s: &str) -> Result<Frame, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "z-up" | "zup" | "z-up-rh" => Ok(Frame::Z_UP_RH),
+        "y-up" | "yup" | "y-up-rh" | "gl" | "gltf" => Ok(Frame::Y_UP_RH),
+        "y-up-lh" | "d3d" | "unity" => Ok(Frame::Y_UP_LH),
+        _ => Err(format!(
+            "unknown frame '{s}'; expected z-up, y-up (OpenGL, glTF) or y-up-lh (Direct3D, Unity)"
+        )),
+    }
+}
+
+/// `yaw,pitch,roll` in degrees.
+fn parse_rotation(s: &str) -> Result<Frame, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let v: Result<Vec<f32>, _> = parts.iter().map(|p| p.parse::<f32>()).collect();
+    match v {
+        Ok(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => Ok(Frame::from_yaw_pitch_roll(
+            v[0].to_radians(),
+            v[1].to_radians(),
+            v[2].to_radians(),
+        )),
+        _ => Err(format!(
+            "expected yaw,pitch,roll in degrees (e.g. 90,0,0), got '{s}'"
+        )),
+    }
+}
+
+#[derive(Args)]
+struct ConvertArgs {
+    /// Input file (.png, .jpg, .hdr, .exr; a six-file cube by one face's name).
+    input: PathBuf,
+    /// Output file (.png, .hdr, .exr); `{face}` in the name, or --layout faces, writes six files.
+    output: PathBuf,
+    /// Output mapping: latlong, cube, sphere, sphere-gl, paraboloid, tennisball, octahedral, octahedral-equal-area.
+    #[arg(long, value_parser = parse_mapping)]
+    to: AnyMapping,
+    /// Output layout (cube: cross, vcross, strip, vstrip, faces); default: the mapping's own.
+    #[arg(long, value_parser = parse_layout)]
+    layout: Option<Layout>,
+    /// Face edge of a cube, width of any other atlas, in texels (default: about the input's texel count).
+    #[arg(long)]
+    size: Option<u32>,
+    /// Input mapping, when the aspect ratio does not say (e.g. a square image).
+    #[arg(long, value_parser = parse_mapping)]
+    from: Option<AnyMapping>,
+    /// Input layout, when the aspect ratio does not say.
+    #[arg(long, value_parser = parse_layout)]
+    from_layout: Option<Layout>,
+    /// Axis convention of the input's directions.
+    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
+    from_frame: Frame,
+    /// Axis convention of the output's directions.
+    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
+    to_frame: Frame,
+    /// Reconstruction filter: nearest or bilinear.
+    #[arg(long, default_value = "bilinear")]
+    filter: Filter,
+    /// Sub-samples per output texel side (N×N); default: automatic from the size ratio.
+    #[arg(long)]
+    samples: Option<u32>,
+    /// Rotation on the way, yaw,pitch,roll in degrees (about z, y, x).
+    #[arg(long, value_parser = parse_rotation, allow_hyphen_values = true)]
+    rotate: Option<Frame>,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Exposure in stops for 8-bit outputs (PNG).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    exposure: f32,
+    /// Write OpenEXR as 16-bit half floats.
+    #[arg(long)]
+    half: bool,
+    /// Allow the output to replace the input file.
+    #[arg(long)]
+    overwrite_input: bool,
+    /// Largest image accepted, in millions of texels.
+    #[arg(long, default_value_t = 268)]
+    max_megatexels: u64,
+    /// No progress bar or summary.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct InfoArgs {
+    /// The file.
+    file: PathBuf,
+    /// Mapping, when the aspect ratio does not say.
+    #[arg(long, value_parser = parse_mapping)]
+    from: Option<AnyMapping>,
+    /// Layout, when the aspect ratio does not say.
+    #[arg(long, value_parser = parse_layout)]
+    layout: Option<Layout>,
+}
+
+#[derive(Args)]
+struct MapArgs {
+    /// The mapping.
+    #[arg(long, value_parser = parse_mapping)]
+    mapping: AnyMapping,
+    /// Axis convention of the input directions.
+    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
+    frame: Frame,
+    /// Also print the texel x,y in an atlas of this size (cube: face edge; others: width).
+    #[arg(long)]
+    size: Option<u32>,
+    /// Atlas layout for --size (default: the mapping's own).
+    #[arg(long, value_parser = parse_layout)]
+    layout: Option<Layout>,
+    /// Read from this file instead of standard input.
+    input: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct UnmapArgs {
+    /// The mapping.
+    #[arg(long, value_parser = parse_mapping)]
+    mapping: AnyMapping,
+    /// Axis convention of the output directions.
+    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
+    frame: Frame,
+    /// Read from this file instead of standard input.
+    input: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Convert(a) => run_convert(&a),
+        Command::Info(a) => run_info(&a),
+        Command::Map(a) => run_map(&a),
+        Command::Unmap(a) => run_unmap(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("envmap: error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+type CliResult = Result<(), String>;
+
+/// The image size for `--size` in a representation: a cube's face edge, any
+/// other atlas's width.
+fn output_size(repr: &Representation, size: u32) -> Result<(u32, u32), String> {
+    let atlas = repr.atlas;
+    let cell = if repr.mapping == AnyMapping::Cube {
+        size
+    } else {
+        if !size.is_multiple_of(atlas.cols) {
+            return Err(format!(
+                "--size {size}: the {} layout needs a width divisible by {}",
+                atlas.name, atlas.cols
+            ));
+        }
+        size / atlas.cols
+    };
+    atlas.image_size_for_cell_width(cell).ok_or_else(|| {
+        format!(
+            "--size {size}: a {} {} needs a cell width divisible by {}",
+            repr.mapping, atlas.name, atlas.cell_aspect_w
+        )
+    })
+}
+
+/// Default `--size`: about as many texels as the input.
+fn default_size(repr: &Representation, input_texels: u64) -> u32 {
+    let a = repr.atlas;
+    let (aw, ah) = (
+        f64::from(a.cols * a.cell_aspect_w),
+        f64::from(a.rows * a.cell_aspect_h),
+    );
+    // width × height = texels with width : height = aw : ah
+    let width = (input_texels as f64 * aw / ah).sqrt();
+    let unit = f64::from(a.cols * a.cell_aspect_w);
+    let cells = (width / unit).round().max(1.0);
+    let width = (cells * unit) as u32;
+    if repr.mapping == AnyMapping::Cube {
+        width / a.cols
+    } else {
+        width
+    }
+}
+
+fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), String> {
+    let layout = a.layout.unwrap_or_else(|| {
+        if a.output.to_string_lossy().contains("{face}") && a.to == AnyMapping::Cube {
+            Layout::Faces
+        } else {
+            Layout::for_mapping(a.to)[0]
+        }
+    });
+    if !Layout::for_mapping(a.to).contains(&layout) {
+        let names: Vec<&str> = Layout::for_mapping(a.to).iter().map(|l| l.name()).collect();
+        return Err(format!(
+            "--layout {}: {} has no such layout; its layouts: {}",
+            layout.name(),
+            a.to,
+            names.join(", ")
+        ));
+    }
+    let six = layout.is_six_files();
+    Ok((
+        Representation::new(a.to, layout.atlas(), a.to_frame).map_err(|e| e.to_string())?,
+        six,
+    ))
+}
+
+fn run_convert(a: &ConvertArgs) -> CliResult {
+    if let Some(n) = a.threads {
+        if n == 0 {
+            return Err("--threads must be at least 1".into());
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| format!("--threads {n}: {e}"))?;
+    }
+    if a.samples == Some(0) || a.samples.is_some_and(|s| s > 16) {
+        return Err("--samples must be between 1 and 16".into());
+    }
+    let t0 = Instant::now();
+    let opts = LoadOptions {
+        mapping: a.from,
+        layout: a.from_layout,
+        frame: a.from_frame,
+        max_texels: a.max_megatexels.saturating_mul(1_000_000),
+    };
+    let loaded = load_detailed(&a.input, &opts).map_err(|e| e.to_string())?;
+    let src = &loaded.image;
+    let t_load = t0.elapsed();
+    let (repr, six) = output_representation(a)?;
+    let in_texels = u64::from(src.width()) * u64::from(src.height());
+    let size = a.size.unwrap_or_else(|| default_size(&repr, in_texels));
+    if size == 0 {
+        return Err("--size must be at least 1".into());
+    }
+    let (w, h) = output_size(&repr, size)?;
+    let need = EnvImage::memory_bytes_for(w, h);
+    if u64::from(w) * u64::from(h) > a.max_megatexels.saturating_mul(1_000_000) {
+        return Err(format!(
+            "output {w}×{h} ({:.1} Mtexels, {:.1} GiB) exceeds --max-megatexels {}",
+            f64::from(w) * f64::from(h) / 1e6,
+            need as f64 / f64::from(1u32 << 30),
+            a.max_megatexels
+        ));
+    }
+    let copts = ConvertOptions {
+        filter: a.filter,
+        samples: a.samples,
+        rotation: a.rotate,
+    };
+    let samples = a
+        .samples
+        .unwrap_or_else(|| auto_samples(in_texels, u64::from(w) * u64::from(h)));
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::new(u64::from(h));
+        b.set_style(
+            ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} rows ({eta})")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        b.set_message("converting");
+        b
+    };
+    let done = AtomicU64::new(0);
+    let tick = |k: u32| {
+        let n = done.fetch_add(u64::from(k), Ordering::Relaxed) + u64::from(k);
+        if n.is_multiple_of(64) {
+            bar.set_position(n);
+        }
+    };
+    let t1 = Instant::now();
+    let out = convert(src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
+    let t_convert = t1.elapsed();
+    bar.finish_and_clear();
+    let sopts = SaveOptions {
+        exposure: a.exposure,
+        exr_precision: if a.half {
+            ExrPrecision::F16
+        } else {
+            ExrPrecision::F32
+        },
+        six_files: six,
+        inputs: loaded.files.clone(),
+        overwrite_input: a.overwrite_input,
+    };
+    let t2 = Instant::now();
+    let written = save(&out, &a.output, &sopts).map_err(|e| e.to_string())?;
+    let t_save = t2.elapsed();
+    if !a.quiet {
+        eprintln!(
+            "{} {}×{} {} -> {} {}×{} {} ({}, {}×{} samples): load {:.0} ms, convert {:.0} ms, save {:.0} ms",
+            a.input.display(),
+            src.width(),
+            src.height(),
+            src.mapping(),
+            written
+                .first()
+                .map_or_else(|| a.output.display().to_string(), |p| p.display().to_string()),
+            w,
+            h,
+            repr.mapping,
+            match a.filter {
+                Filter::Nearest => "nearest",
+                Filter::Bilinear => "bilinear",
+            },
+            samples,
+            samples,
+            t_load.as_secs_f64() * 1e3,
+            t_convert.as_secs_f64() * 1e3,
+            t_save.as_secs_f64() * 1e3,
+        );
+    }
+    Ok(())
+}
+
+fn run_info(a: &InfoArgs) -> CliResult {
+    let opts = LoadOptions {
+        mapping: a.from,
+        layout: a.layout,
+        ..LoadOptions::default()
+    };
+    let loaded = load_detailed(&a.file, &opts).map_err(|e| e.to_string())?;
+    let img = &loaded.image;
+    let repr = img.representation();
+    let s = img.stats();
+    let mut out = std::io::stdout().lock();
+    let p = |out: &mut dyn Write, k: &str, v: String| writeln!(out, "{k:<16} {v}");
+    let files: Vec<String> = loaded
+        .files
+        .iter()
+        .map(|f| f.display().to_string())
+        .collect();
+    let r = (|| -> std::io::Result<()> {
+        p(&mut out, "file", files.join(", "))?;
+        p(
+            &mut out,
+            "dimensions",
+            format!("{} × {}", img.width(), img.height()),
+        )?;
+        p(
+            &mut out,
+            "pixel format",
+            format!("{:?}, {}", loaded.source.format, loaded.source.pixel_format),
+        )?;
+        p(&mut out, "mapping", repr.mapping.to_string())?;
+        let (cw, ch) = img.cell_size();
+        p(
+            &mut out,
+            "layout",
+            format!(
+                "{} ({} chart{} of {cw} × {ch})",
+                repr.atlas.name,
+                repr.mapping.chart_count(),
+                if repr.mapping.chart_count() == 1 {
+                    ""
+                } else {
+                    "s"
+                }
+            ),
+        )?;
+        p(
+            &mut out,
+            "texels",
+            format!(
+                "{} in charts (of {} in the image)",
+                s.texels,
+                u64::from(img.width()) * u64::from(img.height())
+            ),
+        )?;
+        p(
+            &mut out,
+            "radiance min",
+            format!(
+                "{:.6} {:.6} {:.6} (luminance {:.6})",
+                s.min[0], s.min[1], s.min[2], s.min_luminance
+            ),
+        )?;
+        p(
+            &mut out,
+            "radiance max",
+            format!(
+                "{:.6} {:.6} {:.6} (luminance {:.6})",
+                s.max[0], s.max[1], s.max[2], s.max_luminance
+            ),
+        )?;
+        p(
+            &mut out,
+            "radiance mean",
+            format!(
+                "{:.6} {:.6} {:.6} (luminance {:.6})",
+                s.mean[0], s.mean[1], s.mean[2], s.mean_luminance
+            ),
+        )?;
+        p(&mut out, "NaN texels", s.nan.to_string())?;
+        p(&mut out, "Inf texels", s.inf.to_string())?;
+        p(
+            &mut out,
+            "memory",
+            format!(
+                "{:.1} MiB as linear f32 RGB (a conversion needs this plus its output)",
+                img.memory_bytes() as f64 / f64::from(1u32 << 20)
+            ),
+        )?;
+        Ok(())
+    })();
+    r.map_err(|e| format!("<stdout>: {e}"))
+}
+
+/// Lines of the input (a file or standard input), with its display name.
+fn read_lines(input: Option<&Path>) -> Result<(String, Vec<String>), String> {
+    match input {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
+            Ok((
+                p.display().to_string(),
+                text.lines().map(str::to_owned).collect(),
+            ))
+        }
+        None => {
+            let mut lines = Vec::new();
+            for l in std::io::stdin().lock().lines() {
+                lines.push(l.map_err(|e| format!("<stdin>: cannot read: {e}"))?);
+            }
+            Ok(("<stdin>".to_owned(), lines))
+        }
+    }
+}
+
+/// Parses up to `n` numbers separated by commas and/or white space.
+fn numbers(line: &str) -> Result<Vec<f32>, String> {
+    line.split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|t| !t.is_empty())
+        .map(|t| {
+            t.parse::<f32>()
+                .map_err(|_| format!("'{t}' is not a number"))
+        })
+        .collect()
+}
+
+/// Whether a line is to be skipped: empty, a `#` comment, or a CSV header.
+fn skip(line: &str) -> bool {
+    let t = line.trim();
+    t.is_empty() || t.starts_with('#') || t.starts_with(|c: char| c.is_ascii_alphabetic())
+}
+
+fn run_map(a: &MapArgs) -> CliResult {
+    let (name, lines) = read_lines(a.input.as_deref())?;
+    let m = Framed::new(a.mapping, a.frame);
+    let atlas = match a.layout {
+        Some(l) if !Layout::for_mapping(a.mapping).contains(&l) || l.is_six_files() => {
+            return Err(format!(
+                "--layout {}: not a single-image layout of {}",
+                l.name(),
+                a.mapping
+            ));
+        }
+        Some(l) => l.atlas(),
+        None => a.mapping.atlas(),
+    };
+    let size = match a.size {
+        Some(n) => {
+            let repr = Representation::new(a.mapping, atlas, a.frame).map_err(|e| e.to_string())?;
+            Some(output_size(&repr, n)?)
+        }
+        None => None,
+    };
+    let stdout = std::io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    let w = |out: &mut BufWriter<_>, s: String| {
+        writeln!(out, "{s}").map_err(|e| format!("<stdout>: {e}"))
+    };
+    w(
+        &mut out,
+        if size.is_some() {
+            "chart,u,v,x,y".into()
+        } else {
+            "chart,u,v".into()
+        },
+    )?;
+    for (k, line) in lines.iter().enumerate() {
+        if skip(line) {
+            continue;
+        }
+        let v = numbers(line).map_err(|e| format!("{name}:{}: {e}", k + 1))?;
+        if v.len() != 3 {
+            return Err(format!(
+                "{name}:{}: expected a direction 'x y z' or 'x,y,z', got {} number{}",
+                k + 1,
+                v.len(),
+                if v.len() == 1 { "" } else { "s" }
+            ));
+        }
+        let d = Vec3::new(v[0], v[1], v[2]);
+        let Some(c) = m.forward(d) else {
+            return Err(format!(
+                "{name}:{}: ({}, {}, {}) has no direction (zero, NaN or infinite)",
+                k + 1,
+                v[0],
+                v[1],
+                v[2]
+            ));
+        };
+        let mut row = format!("{},{},{}", c.chart, c.u, c.v);
+        if let Some((iw, ih)) = size {
+            let (cw, ch) = atlas.cell_size(iw, ih).unwrap_or((iw, ih));
+            let (i, j) = (texel_index(c.u, cw), texel_index(c.v, ch));
+            if let Some((x, y)) = atlas.chart_to_texel(c.chart, i, j, iw, ih) {
+                row.push_str(&format!(",{x},{y}"));
+            }
+        }
+        w(&mut out, row)?;
+    }
+    out.flush().map_err(|e| format!("<stdout>: {e}"))
+}
+
+fn run_unmap(a: &UnmapArgs) -> CliResult {
+    let (name, lines) = read_lines(a.input.as_deref())?;
+    let m = Framed::new(a.mapping, a.frame);
+    let stdout = std::io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    writeln!(out, "x,y,z").map_err(|e| format!("<stdout>: {e}"))?;
+    for (k, line) in lines.iter().enumerate() {
+        if skip(line) {
+            continue;
+        }
+        let v = numbers(line).map_err(|e| format!("{name}:{}: {e}", k + 1))?;
+        if v.len() < 3 {
+            return Err(format!(
+                "{name}:{}: expected 'chart,u,v', got {} number{}",
+                k + 1,
+                v.len(),
+                if v.len() == 1 { "" } else { "s" }
+            ));
+        }
+        let chart = v[0];
+        if chart < 0.0 || chart.fract() != 0.0 || chart >= m.chart_count() as f32 {
+            return Err(format!(
+                "{name}:{}: chart {chart} does not exist; {} has charts 0 to {}",
+                k + 1,
+                a.mapping,
+                m.chart_count() - 1
+            ));
+        }
+        let c = ChartUv::new(chart as u32, v[1], v[2]);
+        let Some(d) = m.inverse(c) else {
+            return Err(format!(
+                "{name}:{}: ({}, {}) lies outside chart {} of {} (u and v must be in [0, 1]{})",
+                k + 1,
+                v[1],
+                v[2],
+                c.chart,
+                a.mapping,
+                if matches!(
+                    a.mapping,
+                    AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid
+                ) {
+                    ", inside the disk"
+                } else {
+                    ""
+                }
+            ));
+        };
+        writeln!(out, "{},{},{}", d.x, d.y, d.z).map_err(|e| format!("<stdout>: {e}"))?;
+    }
+    out.flush().map_err(|e| format!("<stdout>: {e}"))
+}
