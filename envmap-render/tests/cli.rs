@@ -1,0 +1,310 @@
+//! The `envmap` command run as a user runs it: happy paths and mistakes.
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+use envmap_core::AnyMapping;
+use envmap_render::image::Representation;
+use envmap_render::io::{save, SaveOptions};
+use envmap_render::procedural::{fill, smooth};
+
+fn envmap(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_envmap"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run envmap")
+}
+
+fn envmap_stdin(args: &[&str], dir: &Path, input: &str) -> Output {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_envmap"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run envmap");
+    child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(input.as_bytes())
+        .expect("write stdin");
+    child.wait_with_output().expect("wait")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Asserts a user-facing failure: exit code, message naming `needle`, no panic.
+fn assert_fails(o: &Output, code: i32, needle: &str) {
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(code), "stderr: {err}");
+    assert!(err.contains(needle), "expected '{needle}' in: {err}");
+    assert!(
+        !err.contains("panicked") && !err.contains("backtrace"),
+        "{err}"
+    );
+}
+
+fn latlong_file(dir: &Path, name: &str, w: u32) {
+    let img = fill(
+        Representation::default_for(AnyMapping::LatLong),
+        w,
+        w / 2,
+        smooth,
+    )
+    .unwrap();
+    save(&img, dir.join(name), &SaveOptions::default()).unwrap();
+}
+
+#[test]
+fn convert_and_info_happy_paths() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    latlong_file(d, "sky.hdr", 256);
+    let o = envmap(
+        &[
+            "convert", "sky.hdr", "cube.exr", "--to", "cube", "--layout", "cross", "--size", "32",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = envmap(&["info", "cube.exr"], d);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let info = text(&o.stdout);
+    assert!(
+        info.contains("128 × 96") && info.contains("cube") && info.contains("cross"),
+        "{info}"
+    );
+    assert!(info.contains("NaN texels       0"), "{info}");
+    // Six files, and back to a latlong PNG with a rotation.
+    let o = envmap(
+        &[
+            "convert",
+            "cube.exr",
+            "face_{face}.png",
+            "--to",
+            "cube",
+            "--size",
+            "16",
+            "-q",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for f in ["+x", "-x", "+y", "-y", "+z", "-z"] {
+        assert!(d.join(format!("face_{f}.png")).exists(), "{f}");
+    }
+    let o = envmap(
+        &[
+            "convert",
+            "face_+x.png",
+            "back.png",
+            "--to",
+            "latlong",
+            "--size",
+            "64",
+            "--rotate",
+            "90,-10,0",
+            "--threads",
+            "2",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = envmap(&["info", "back.png"], d);
+    assert!(text(&o.stdout).contains("64 × 32"));
+    // Every other mapping.
+    for (m, size) in [
+        ("sphere", "48"),
+        ("paraboloid", "64"),
+        ("tennisball", "48"),
+        ("octahedral-equal-area", "32"),
+    ] {
+        let o = envmap(
+            &[
+                "convert",
+                "sky.hdr",
+                &format!("{m}.exr"),
+                "--to",
+                m,
+                "--size",
+                size,
+                "-q",
+            ],
+            d,
+        );
+        assert!(o.status.success(), "{m}: {}", text(&o.stderr));
+    }
+    // A square image needs --from; with it, info works.
+    let o = envmap(&["info", "sphere.exr"], d);
+    assert_fails(&o, 1, "sphere.exr");
+    let o = envmap(&["info", "sphere.exr", "--from", "sphere"], d);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+}
+
+#[test]
+fn map_and_unmap_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = "# directions\n1 0 0\n0,1,0\n-0.3, 0.5, 0.8\n0 0 -1\n";
+    for m in AnyMapping::NAMES {
+        let o = envmap_stdin(&["map", "--mapping", m], d, input);
+        assert!(o.status.success(), "{m}: {}", text(&o.stderr));
+        let coords = text(&o.stdout);
+        assert!(coords.starts_with("chart,u,v\n"), "{coords}");
+        let o = envmap_stdin(&["unmap", "--mapping", m], d, &coords);
+        assert!(o.status.success(), "{m}: {}", text(&o.stderr));
+        let dirs: Vec<Vec<f32>> = text(&o.stdout)
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|t| t.parse().unwrap()).collect())
+            .collect();
+        let want = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [-0.3, 0.5, 0.8],
+            [0.0, 0.0, -1.0],
+        ];
+        assert_eq!(dirs.len(), 4, "{m}");
+        for (g, w) in dirs.iter().zip(want) {
+            let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2] as f32).sqrt();
+            for k in 0..3 {
+                assert!((g[k] - w[k] / n).abs() < 1e-5, "{m}: {g:?} vs {w:?}");
+            }
+        }
+    }
+    // Texel coordinates with --size: +x is face 0, centre texel of a 4-wide face in a cross.
+    let o = envmap_stdin(&["map", "--mapping", "cube", "--size", "4"], d, "1 0 0\n");
+    assert_eq!(text(&o.stdout), "chart,u,v,x,y\n0,0.5,0.5,10,6\n");
+    // A y-up frame: +y is the latlong's top row.
+    let o = envmap_stdin(
+        &["map", "--mapping", "latlong", "--frame", "y-up"],
+        d,
+        "0 1 0\n",
+    );
+    assert!(
+        text(&o.stdout).lines().nth(1).unwrap().ends_with(",0"),
+        "{}",
+        text(&o.stdout)
+    );
+}
+
+#[test]
+fn mistakes_get_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Missing file.
+    let o = envmap(&["info", "nope.exr"], d);
+    assert_fails(&o, 1, "nope.exr");
+    // Unknown extension.
+    std::fs::write(d.join("sky.tga"), b"not an image").unwrap();
+    let o = envmap(&["convert", "sky.tga", "out.png", "--to", "cube"], d);
+    assert_fails(&o, 1, "sky.tga");
+    // Corrupt file with a known extension.
+    std::fs::write(d.join("bad.png"), b"\x89PNG\r\n\x1a\nbroken").unwrap();
+    let o = envmap(&["info", "bad.png"], d);
+    assert_fails(&o, 1, "bad.png");
+    // Wrong aspect ratio.
+    let img = fill(
+        Representation::default_for(AnyMapping::LatLong),
+        64,
+        32,
+        smooth,
+    )
+    .unwrap();
+    let rgb = envmap_render::RgbImage {
+        width: 50,
+        height: 30,
+        pixels: img.pixels()[..1500].to_vec(),
+    };
+    envmap_render::io::write_rgb(&rgb, d.join("odd.png"), &SaveOptions::default()).unwrap();
+    let o = envmap(&["convert", "odd.png", "out.exr", "--to", "cube"], d);
+    assert_fails(&o, 1, "odd.png");
+    assert!(!d.join("out.exr").exists());
+    // Faces of different sizes.
+    latlong_file(d, "sky.hdr", 64);
+    let o = envmap(
+        &[
+            "convert",
+            "sky.hdr",
+            "f_{face}.png",
+            "--to",
+            "cube",
+            "--size",
+            "8",
+            "-q",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let small = fill(
+        Representation::default_for(AnyMapping::Octahedral),
+        4,
+        4,
+        smooth,
+    )
+    .unwrap();
+    save(&small, d.join("f_-y.png"), &SaveOptions::default()).unwrap();
+    let o = envmap(&["info", "f_+x.png"], d);
+    assert_fails(&o, 1, "f_-y.png");
+    // Writing over the input is refused, and the input is untouched.
+    let before = std::fs::read(d.join("sky.hdr")).unwrap();
+    let o = envmap(
+        &[
+            "convert", "sky.hdr", "sky.hdr", "--to", "latlong", "--size", "32",
+        ],
+        d,
+    );
+    assert_fails(&o, 1, "sky.hdr");
+    assert_eq!(std::fs::read(d.join("sky.hdr")).unwrap(), before);
+    // Bad values.
+    let o = envmap(
+        &[
+            "convert",
+            "sky.hdr",
+            "o.png",
+            "--to",
+            "tennisball",
+            "--size",
+            "100",
+        ],
+        d,
+    );
+    assert_fails(&o, 1, "divisible by 3");
+    let o = envmap(
+        &[
+            "convert",
+            "sky.hdr",
+            "o.png",
+            "--to",
+            "cube",
+            "--samples",
+            "0",
+        ],
+        d,
+    );
+    assert_fails(&o, 1, "--samples");
+    let o = envmap(&["convert", "sky.hdr", "o.png", "--to", "cubic"], d);
+    assert_fails(&o, 2, "unknown mapping");
+    let o = envmap(
+        &[
+            "convert", "sky.hdr", "o.png", "--to", "latlong", "--layout", "cross",
+        ],
+        d,
+    );
+    assert_fails(&o, 1, "cross");
+    // Bad map input names the line.
+    let o = envmap_stdin(&["map", "--mapping", "cube"], d, "1 0 0\n1 two 3\n");
+    assert_fails(&o, 1, "<stdin>:2");
+    let o = envmap_stdin(&["map", "--mapping", "cube"], d, "0 0 0\n");
+    assert_fails(&o, 1, "<stdin>:1");
+    let o = envmap_stdin(&["unmap", "--mapping", "cube"], d, "7,0.5,0.5\n");
+    assert_fails(&o, 1, "chart 7");
+    let o = envmap_stdin(&["unmap", "--mapping", "sphere"], d, "0,0.01,0.01\n");
+    assert_fails(&o, 1, "outside");
+}
