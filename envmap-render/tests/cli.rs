@@ -172,7 +172,7 @@ fn map_and_unmap_round_trip() {
         ];
         assert_eq!(dirs.len(), 4, "{m}");
         for (g, w) in dirs.iter().zip(want) {
-            let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2] as f32).sqrt();
+            let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
             for k in 0..3 {
                 assert!((g[k] - w[k] / n).abs() < 1e-5, "{m}: {g:?} vs {w:?}");
             }
