@@ -164,7 +164,7 @@ fn map_and_unmap_round_trip() {
             .skip(1)
             .map(|l| l.split(',').map(|t| t.parse().unwrap()).collect())
             .collect();
-        let want = [
+        let want: [[f32; 3]; 4] = [
             [1.0, 0.0, 0.0],
             [0.0, 1.0, 0.0],
             [-0.3, 0.5, 0.8],
