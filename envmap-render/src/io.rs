@@ -788,7 +788,7 @@ pub fn save(image: &EnvImage, path: impl AsRef<Path>, opts: &SaveOptions) -> Res
         }
         let paths = face_paths(path)?;
         for p in &paths {
-            check_not_input(p, opts)?;
+            check_target(p, opts)?;
         }
         let mut temps = Vec::with_capacity(6);
         for (chart, p) in (0u32..).zip(&paths) {
@@ -807,7 +807,7 @@ pub fn save(image: &EnvImage, path: impl AsRef<Path>, opts: &SaveOptions) -> Res
         }
         return Ok(paths.to_vec());
     }
-    check_not_input(path, opts)?;
+    check_target(path, opts)?;
     let view = View {
         width: image.width(),
         height: image.height(),
@@ -834,7 +834,7 @@ pub fn write_rgb(image: &RgbImage, path: impl AsRef<Path>, opts: &SaveOptions) -
         }
         .in_file(path));
     }
-    check_not_input(path, opts)?;
+    check_target(path, opts)?;
     let view = View {
         width: image.width,
         height: image.height,
@@ -842,6 +842,18 @@ pub fn write_rgb(image: &RgbImage, path: impl AsRef<Path>, opts: &SaveOptions) -
     };
     let temp = write_temp(path, format, view, opts)?;
     persist(temp, path)
+}
+
+/// Checks a target before any encoding: not a directory (so that a six-file
+/// write does not fail halfway through its renames), not an input.
+fn check_target(target: &Path, opts: &SaveOptions) -> Result<()> {
+    if target.is_dir() {
+        return Err(Error::write(
+            target,
+            std::io::Error::new(std::io::ErrorKind::IsADirectory, "is a directory"),
+        ));
+    }
+    check_not_input(target, opts)
 }
 
 /// Refuses `target` if it is one of `opts.inputs` (same canonical path, or
@@ -909,9 +921,14 @@ fn write_temp(
         use std::os::unix::fs::PermissionsExt;
         builder.permissions(fs::Permissions::from_mode(0o666));
     }
+    if !dir.is_dir() {
+        let msg = format!("directory {} does not exist", dir.display());
+        let e = std::io::Error::new(std::io::ErrorKind::NotFound, msg);
+        return Err(Error::write(path, e));
+    }
     let mut temp = builder
         .tempfile_in(dir)
-        .map_err(|e| Error::write(path, e))?;
+        .map_err(|e| Error::write(path, plain_io_error(e)))?;
     {
         let mut out = BufWriter::with_capacity(1 << 20, temp.as_file_mut());
         encode(path, format, view, opts, &mut out)?;
@@ -929,12 +946,33 @@ fn write_temp(
     Ok(temp)
 }
 
+/// The operating system's error inside one of `tempfile`'s, which adds the
+/// temporary file's name (of no interest to the user, who named the target).
+fn plain_io_error(e: std::io::Error) -> std::io::Error {
+    if e.get_ref().is_none() {
+        return e; // a plain operating-system error
+    }
+    // tempfile's wrapper displays as "<error> at path \"<temporary file>\"".
+    let msg = e.to_string();
+    let inner = msg
+        .rsplit_once(" at path ")
+        .map_or(msg.as_str(), |(m, _)| m);
+    let code = inner
+        .strip_suffix(')')
+        .and_then(|m| m.rsplit_once("(os error "))
+        .and_then(|(_, n)| n.parse::<i32>().ok());
+    match code {
+        Some(code) => std::io::Error::from_raw_os_error(code),
+        None => std::io::Error::new(e.kind(), inner.to_owned()),
+    }
+}
+
 /// Renames a finished temporary file over `path`; on failure the temporary
 /// file is removed.
 fn persist(temp: NamedTempFile, path: &Path) -> Result<()> {
     temp.persist(path)
         .map(drop)
-        .map_err(|e| Error::write(path, e.error))
+        .map_err(|e| Error::write(path, plain_io_error(e.error)))
 }
 
 fn encode<W: Write + Seek>(

@@ -296,13 +296,12 @@ pub fn detect(width: u32, height: u32) -> Result<(AnyMapping, Atlas)> {
         )));
     }
     let hint = if ratio == (3, 1) {
-        " (a 3:1 image is one tennisball strip; a tennisball map stacks both strips, 3:2)"
-            .to_owned()
+        " (3:1 is one tennisball strip; a tennisball map stacks both strips, 3:2)".to_owned()
     } else {
         near_hint(width, height)
     };
     Err(Error::layout(format!(
-        "image is {}{hint}; no layout has this aspect ratio. Accepted: {}",
+        "image is {}: no layout has this aspect ratio{hint}. Accepted: {}",
         size_text(width, height),
         accepted_ratios()
     )))
@@ -317,9 +316,7 @@ fn near_hint(width: u32, height: u32) -> String {
     for ((a, b), what) in ratios {
         let q = f64::from(a) / f64::from(b);
         if (r / q - 1.0).abs() < 0.01 {
-            return format!(
-                " (close to {a}:{b}, {what}, but not exact: the charts must be whole texels)"
-            );
+            return format!(" (close to {a}:{b}, {what}, but charts must be whole texels)");
         }
     }
     String::new()
