@@ -492,6 +492,12 @@ impl EnvImage {
             let Some(r) = self.chart_rect(chart) else {
                 continue;
             };
+            // A domain that holds its corner texels holds them all (the
+            // domains are convex): test each texel only for disks.
+            let corners = [(0, 0), (r.w - 1, 0), (0, r.h - 1), (r.w - 1, r.h - 1)];
+            let whole = corners
+                .iter()
+                .all(|&(i, j)| mapping.in_chart(chart, texel_center(i, r.w), texel_center(j, r.h)));
             for j in 0..r.h {
                 let row = self.stored_row(&r, j);
                 let v = texel_center(j, r.h);
@@ -500,7 +506,7 @@ impl EnvImage {
                         Turn::None => k as u32,
                         Turn::Half => r.w - 1 - k as u32,
                     };
-                    if !mapping.in_chart(chart, texel_center(i, r.w), v) {
+                    if !whole && !mapping.in_chart(chart, texel_center(i, r.w), v) {
                         continue;
                     }
                     s.texels += 1;
