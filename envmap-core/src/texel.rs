@@ -66,7 +66,11 @@ pub fn texel_bounds(i: u32, n: u32) -> (f64, f64) {
 #[must_use]
 pub fn bilinear_footprint(u: f32, n: u32) -> (i64, i64, f32) {
     let x = u * n as f32 - 0.5;
-    let f = libm::floorf(x);
-    let i0 = if x.is_finite() { f as i64 } else { 0 };
-    (i0, i0 + 1, if x.is_finite() { x - f } else { 0.0 })
+    if !x.is_finite() {
+        return (0, 1, 0.0);
+    }
+    // floor without a libm call: truncate, then step down for negatives.
+    let t = x as i64;
+    let i0 = if (t as f32) > x { t - 1 } else { t };
+    (i0, i0 + 1, x - i0 as f32)
 }

@@ -8,8 +8,8 @@
 //! filtered there ([`Sampler`]). Texels outside every chart (cross corners,
 //! the corners around a disk) are black. Rows run in parallel (rayon).
 
+use envmap_core::atlas::Turn;
 use envmap_core::glam::{Mat3, Vec3};
-use envmap_core::texel::texel_center;
 use envmap_core::{ChartUv, Frame, Mapping};
 use envmap_simd::{forward_slice, inverse_slice, Fine};
 use rayon::prelude::*;
@@ -74,6 +74,24 @@ pub fn convert(
         .iter()
         .any(|e| e.abs() > 1e-7);
     let sampler = Sampler::new(src);
+    let (cw, ch) = out.cell_size();
+    // Sub-sample coordinates along u and v: texel i, sub-sample a at
+    // (i + (a + ½)/n) / w, each rounded once from f64.
+    let offsets = |len: u32| -> Vec<f32> {
+        (0..len * n)
+            .map(|k| {
+                let (i, a) = (k / n, k % n);
+                ((f64::from(i) + (f64::from(a) + 0.5) / f64::from(n)) / f64::from(len)) as f32
+            })
+            .collect()
+    };
+    let (offsets_u, offsets_v) = (offsets(cw), offsets(ch));
+    let disk = matches!(
+        repr.mapping,
+        envmap_core::AnyMapping::SphereMap
+            | envmap_core::AnyMapping::SphereMapGl
+            | envmap_core::AnyMapping::DualParaboloid
+    );
     let dst_mapping = repr.mapping;
     let atlas = repr.atlas;
     let src_mapping = src.mapping();
@@ -88,27 +106,26 @@ pub fn convert(
                 let y = y as u32;
                 points.clear();
                 owner.clear();
-                for x in 0..width {
-                    let Some(t) = atlas.texel_to_chart(x, y, width, height) else {
+                // Walk the atlas cells this row crosses; within a cell the
+                // chart row is fixed and u steps along precomputed offsets.
+                let (gy, ly) = (y / ch, y % ch);
+                for gx in 0..atlas.cols {
+                    let Some(cell) = atlas.cell_at(gx, gy) else {
                         continue;
                     };
+                    let half = cell.turn == Turn::Half;
+                    let j = if half { ch - 1 - ly } else { ly };
                     for b in 0..n {
-                        for a in 0..n {
-                            let u = if n == 1 {
-                                texel_center(t.i, t.w)
-                            } else {
-                                ((f64::from(t.i) + (f64::from(a) + 0.5) / f64::from(n))
-                                    / f64::from(t.w)) as f32
-                            };
-                            let v = if n == 1 {
-                                texel_center(t.j, t.h)
-                            } else {
-                                ((f64::from(t.j) + (f64::from(b) + 0.5) / f64::from(n))
-                                    / f64::from(t.h)) as f32
-                            };
-                            if dst_mapping.in_chart(t.chart, u, v) {
-                                points.push(ChartUv::new(t.chart, u, v));
-                                owner.push(x);
+                        let v = offsets_v[(j * n + b) as usize];
+                        for lx in 0..cw {
+                            let i = if half { cw - 1 - lx } else { lx };
+                            let x = gx * cw + lx;
+                            for a in 0..n {
+                                let u = offsets_u[(i * n + a) as usize];
+                                if !disk || dst_mapping.in_chart(cell.chart, u, v) {
+                                    points.push(ChartUv::new(cell.chart, u, v));
+                                    owner.push(x);
+                                }
                             }
                         }
                     }

@@ -142,6 +142,25 @@ impl<'a> Sampler<'a> {
         }
         let (i0, i1, fx) = bilinear_footprint(u, self.cw);
         let (j0, j1, fy) = bilinear_footprint(v, self.ch);
+        let (w, h) = (i64::from(self.cw), i64::from(self.ch));
+        if !disk && i0 >= 0 && j0 >= 0 && i1 < w && j1 < h {
+            // The common case: all four taps inside the chart.
+            let (a, b) = (
+                self.texel(c.chart, i0 as u32, j0 as u32),
+                self.texel(c.chart, i1 as u32, j0 as u32),
+            );
+            let (p, q) = (
+                self.texel(c.chart, i0 as u32, j1 as u32),
+                self.texel(c.chart, i1 as u32, j1 as u32),
+            );
+            let mut out = [0.0f32; 3];
+            for k in 0..3 {
+                let top = a[k] + fx * (b[k] - a[k]);
+                let bottom = p[k] + fx * (q[k] - p[k]);
+                out[k] = top + fy * (bottom - top);
+            }
+            return out;
+        }
         let taps = [
             (i0, j0, (1.0 - fx) * (1.0 - fy)),
             (i1, j0, fx * (1.0 - fy)),

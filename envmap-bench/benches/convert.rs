@@ -1,0 +1,59 @@
+//! Conversion speed: latlong 4096×2048 → cube 6×1024², bilinear, one sample
+//! per texel, f32 RGB, on one and on two threads, beside a plain copy of the
+//! input's bytes.
+//!
+//! ```text
+//! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench convert
+//! ```
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use envmap_core::{AnyMapping, Atlas, Frame};
+use envmap_render::convert::{convert, ConvertOptions};
+use envmap_render::image::Representation;
+use envmap_render::procedural::{fill, smooth};
+use envmap_render::sample::Filter;
+
+fn bench(c: &mut Criterion) {
+    let src = fill(
+        Representation::default_for(AnyMapping::LatLong),
+        4096,
+        2048,
+        smooth,
+    )
+    .unwrap();
+    let repr = Representation::new(
+        AnyMapping::Cube,
+        Atlas::CUBE_HORIZONTAL_STRIP,
+        Frame::IDENTITY,
+    )
+    .unwrap();
+    let opts = ConvertOptions {
+        filter: Filter::Bilinear,
+        samples: Some(1),
+        rotation: None,
+    };
+    let mut g = c.benchmark_group("convert/latlong4096-cube1024");
+    g.sample_size(20);
+    g.throughput(Throughput::Elements(6 * 1024 * 1024));
+    let mut copy = vec![[0.0f32; 3]; src.pixels().len()];
+    g.bench_function("copy-input", |b| {
+        b.iter(|| copy.copy_from_slice(black_box(src.pixels())))
+    });
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        g.bench_function(format!("bilinear/{threads}-threads"), |b| {
+            b.iter(|| {
+                pool.install(|| convert(black_box(&src), repr, 6144, 1024, &opts, None).unwrap())
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
