@@ -9,18 +9,92 @@
 //! the corners around a disk) are black. Rows run in parallel (rayon).
 
 use envmap_core::atlas::Turn;
-use envmap_core::glam::{Mat3, Vec3};
+use envmap_core::glam::Mat3;
+use envmap_core::AnyMapping;
 use envmap_core::{ChartUv, Frame, Mapping};
-use envmap_simd::{forward_slice, inverse_slice, Fine};
+use envmap_simd::{Dir8, Fine, Mapping8, Uv8, LANES};
 use rayon::prelude::*;
+use wide::{f32x8, u32x8};
 
 use crate::error::Result;
 use crate::image::{EnvImage, Representation};
 use crate::sample::{Filter, Sampler};
 
-/// Per-thread scratch: sample points, the output column each belongs to,
-/// their directions, their input chart points, and sub-samples per column.
-type Buffers = (Vec<ChartUv>, Vec<u32>, Vec<Vec3>, Vec<ChartUv>, Vec<u32>);
+/// Up to eight output sample points waiting to be mapped together.
+#[derive(Default)]
+struct Batch {
+    chart: [u32; LANES],
+    u: [f32; LANES],
+    v: [f32; LANES],
+    x: [u32; LANES],
+    len: usize,
+}
+
+impl Batch {
+    /// Adds a point; true when the batch is full.
+    #[inline]
+    fn push(&mut self, chart: u32, u: f32, v: f32, x: u32) -> bool {
+        let k = self.len;
+        self.chart[k] = chart;
+        self.u[k] = u;
+        self.v[k] = v;
+        self.x[k] = x;
+        self.len += 1;
+        self.len == LANES
+    }
+}
+
+/// What every batch of a conversion shares.
+struct RowContext<'a> {
+    dst: AnyMapping,
+    src: AnyMapping,
+    /// Output axes → input axes, when not the identity.
+    m: Option<Mat3>,
+    sampler: &'a Sampler<'a>,
+    filter: Filter,
+}
+
+impl RowContext<'_> {
+    /// Maps the batch's points (inverse in the output, forward in the input,
+    /// eight lanes at once), samples the input and adds into the row.
+    #[inline]
+    fn run(&self, b: &mut Batch, row: &mut [[f32; 3]], count: &mut [u16]) {
+        if b.len == 0 {
+            return;
+        }
+        // Unused lanes repeat the first point (valid work, results dropped).
+        for k in b.len..LANES {
+            b.chart[k] = b.chart[0];
+            b.u[k] = b.u[0];
+            b.v[k] = b.v[0];
+        }
+        let p = Uv8::new(u32x8::new(b.chart), f32x8::new(b.u), f32x8::new(b.v));
+        let mut d = self.dst.inverse8::<Fine>(p);
+        if let Some(m) = self.m {
+            let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
+            let s = |k: f32| f32x8::splat(k);
+            d = Dir8::new(
+                s(c0.x) * d.x + s(c1.x) * d.y + s(c2.x) * d.z,
+                s(c0.y) * d.x + s(c1.y) * d.y + s(c2.y) * d.z,
+                s(c0.z) * d.x + s(c1.z) * d.y + s(c2.z) * d.z,
+            );
+        }
+        let q = self.src.forward8::<Fine>(d);
+        let (qc, qu, qv) = (q.chart.to_array(), q.u.to_array(), q.v.to_array());
+        for k in 0..b.len {
+            let s = self
+                .sampler
+                .sample(ChartUv::new(qc[k], qu[k], qv[k]), self.filter);
+            let x = b.x[k] as usize;
+            let px = &mut row[x];
+            px[0] += s[0];
+            px[1] += s[1];
+            px[2] += s[2];
+            count[x] = count[x].saturating_add(1);
+        }
+        b.len = 0;
+    }
+}
 
 /// How to convert.
 #[derive(Clone, Copy, Debug, Default)]
@@ -97,75 +171,65 @@ pub fn convert(
     let src_mapping = src.mapping();
     let filter = opts.filter;
 
+    let ctx = RowContext {
+        dst: dst_mapping,
+        src: src_mapping,
+        m: transform.then_some(m),
+        sampler: &sampler,
+        filter,
+    };
     out.pixels_mut()
         .par_chunks_mut(width as usize)
         .enumerate()
-        .for_each_init(
-            || (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new()),
-            |(points, owner, dirs, coords, count): &mut Buffers, (y, row)| {
-                let y = y as u32;
-                points.clear();
-                owner.clear();
-                // Walk the atlas cells this row crosses; within a cell the
-                // chart row is fixed and u steps along precomputed offsets.
-                let (gy, ly) = (y / ch, y % ch);
-                for gx in 0..atlas.cols {
-                    let Some(cell) = atlas.cell_at(gx, gy) else {
-                        continue;
-                    };
-                    let half = cell.turn == Turn::Half;
-                    let j = if half { ch - 1 - ly } else { ly };
-                    for b in 0..n {
-                        let v = offsets_v[(j * n + b) as usize];
-                        for lx in 0..cw {
-                            let i = if half { cw - 1 - lx } else { lx };
-                            let x = gx * cw + lx;
-                            for a in 0..n {
-                                let u = offsets_u[(i * n + a) as usize];
-                                if !disk || dst_mapping.in_chart(cell.chart, u, v) {
-                                    points.push(ChartUv::new(cell.chart, u, v));
-                                    owner.push(x);
+        .for_each_init(Vec::new, |count: &mut Vec<u16>, (y, row)| {
+            let y = y as u32;
+            for px in row.iter_mut() {
+                *px = [0.0; 3];
+            }
+            count.clear();
+            count.resize(row.len(), 0);
+            let mut batch = Batch::default();
+            // Walk the atlas cells this row crosses; within a cell the chart
+            // row is fixed and u steps along precomputed offsets.
+            let (gy, ly) = (y / ch, y % ch);
+            for gx in 0..atlas.cols {
+                let Some(cell) = atlas.cell_at(gx, gy) else {
+                    continue;
+                };
+                let half = cell.turn == Turn::Half;
+                let j = if half { ch - 1 - ly } else { ly };
+                for b in 0..n {
+                    let v = offsets_v[(j * n + b) as usize];
+                    for lx in 0..cw {
+                        let i = if half { cw - 1 - lx } else { lx };
+                        let x = gx * cw + lx;
+                        for a in 0..n {
+                            let u = offsets_u[(i * n + a) as usize];
+                            if !disk || dst_mapping.in_chart(cell.chart, u, v) {
+                                if batch.push(cell.chart, u, v, x) {
+                                    ctx.run(&mut batch, row, count);
                                 }
                             }
                         }
                     }
                 }
-                dirs.resize(points.len(), Vec3::ZERO);
-                inverse_slice::<_, Fine>(&dst_mapping, points, dirs);
-                if transform {
-                    for d in dirs.iter_mut() {
-                        *d = m * *d;
-                    }
-                }
-                coords.resize(points.len(), ChartUv::default());
-                forward_slice::<_, Fine>(&src_mapping, dirs, coords);
-                count.clear();
-                count.resize(row.len(), 0u32);
-                for px in row.iter_mut() {
-                    *px = [0.0; 3];
-                }
-                for (c, &x) in coords.iter().zip(owner.iter()) {
-                    let s = sampler.sample(*c, filter);
-                    let px = &mut row[x as usize];
-                    px[0] += s[0];
-                    px[1] += s[1];
-                    px[2] += s[2];
-                    count[x as usize] += 1;
-                }
-                // Average over the sub-samples inside the chart (a disk's rim
-                // texels have fewer).
+            }
+            ctx.run(&mut batch, row, count);
+            // Average over the sub-samples inside the chart (a disk's rim
+            // texels have fewer).
+            if n > 1 || disk {
                 for (px, &k) in row.iter_mut().zip(count.iter()) {
                     if k > 1 {
-                        let r = 1.0 / k as f32;
+                        let r = 1.0 / f32::from(k);
                         px[0] *= r;
                         px[1] *= r;
                         px[2] *= r;
                     }
                 }
-                if let Some(p) = progress {
-                    p(1);
-                }
-            },
-        );
+            }
+            if let Some(p) = progress {
+                p(1);
+            }
+        });
     Ok(out)
 }
