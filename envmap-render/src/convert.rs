@@ -205,10 +205,10 @@ pub fn convert(
                         let x = gx * cw + lx;
                         for a in 0..n {
                             let u = offsets_u[(i * n + a) as usize];
-                            if !disk || dst_mapping.in_chart(cell.chart, u, v) {
-                                if batch.push(cell.chart, u, v, x) {
-                                    ctx.run(&mut batch, row, count);
-                                }
+                            if (!disk || dst_mapping.in_chart(cell.chart, u, v))
+                                && batch.push(cell.chart, u, v, x)
+                            {
+                                ctx.run(&mut batch, row, count);
                             }
                         }
                     }
