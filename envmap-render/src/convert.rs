@@ -45,16 +45,16 @@ impl Batch {
 }
 
 /// What every batch of a conversion shares.
-struct RowContext<'a> {
-    dst: AnyMapping,
-    src: AnyMapping,
+struct RowContext<'a, D, S> {
+    dst: D,
+    src: S,
     /// Output axes → input axes, when not the identity.
     m: Option<Mat3>,
     sampler: &'a Sampler<'a>,
     filter: Filter,
 }
 
-impl RowContext<'_> {
+impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
     /// Maps the batch's points (inverse in the output, forward in the input,
     /// eight lanes at once), samples the input and adds into the row.
     #[inline]
@@ -82,9 +82,15 @@ impl RowContext<'_> {
         let q = self.src.forward8::<Fine>(d);
         let (qc, qu, qv) = (q.chart.to_array(), q.u.to_array(), q.v.to_array());
         for k in 0..b.len {
-            let s = self
-                .sampler
-                .sample(ChartUv::new(qc[k], qu[k], qv[k]), self.filter);
+            let fast = if self.filter == Filter::Bilinear {
+                self.sampler.bilinear_interior(qc[k], qu[k], qv[k])
+            } else {
+                None
+            };
+            let s = fast.unwrap_or_else(|| {
+                self.sampler
+                    .sample(ChartUv::new(qc[k], qu[k], qv[k]), self.filter)
+            });
             let x = b.x[k] as usize;
             let px = &mut row[x];
             px[0] += s[0];
@@ -133,6 +139,22 @@ pub fn convert(
     progress: Option<&(dyn Fn(u32) + Sync)>,
 ) -> Result<EnvImage> {
     let mut out = EnvImage::new(width, height, repr)?;
+    convert_into(src, &mut out, opts, progress);
+    Ok(out)
+}
+
+/// Converts `src` into the existing image `out`, in `out`'s representation
+/// and size, overwriting every texel (texels outside every chart become
+/// black). Reusing `out` across calls saves allocating and first touching
+/// its memory.
+pub fn convert_into(
+    src: &EnvImage,
+    out: &mut EnvImage,
+    opts: &ConvertOptions,
+    progress: Option<&(dyn Fn(u32) + Sync)>,
+) {
+    let repr = *out.representation();
+    let (width, height) = (out.width(), out.height());
     let n = opts.samples.unwrap_or_else(|| {
         auto_samples(
             u64::from(src.width()) * u64::from(src.height()),
@@ -148,7 +170,76 @@ pub fn convert(
         .iter()
         .any(|e| e.abs() > 1e-7);
     let sampler = Sampler::new(src);
+    let job = Job {
+        n,
+        m: transform.then_some(m),
+        sampler: &sampler,
+        filter: opts.filter,
+        progress,
+    };
+    macro_rules! concrete {
+        ($any:expr, |$name:ident| $body:expr) => {
+            match $any {
+                AnyMapping::LatLong => {
+                    let $name = envmap_core::LatLong;
+                    $body
+                }
+                AnyMapping::Cube => {
+                    let $name = envmap_core::Cube;
+                    $body
+                }
+                AnyMapping::SphereMap => {
+                    let $name = envmap_core::SphereMap::CLASS;
+                    $body
+                }
+                AnyMapping::SphereMapGl => {
+                    let $name = envmap_core::SphereMap::OPENGL;
+                    $body
+                }
+                AnyMapping::DualParaboloid => {
+                    let $name = envmap_core::DualParaboloid;
+                    $body
+                }
+                AnyMapping::Tennisball => {
+                    let $name = envmap_core::Tennisball;
+                    $body
+                }
+                AnyMapping::Octahedral => {
+                    let $name = envmap_core::Octahedral;
+                    $body
+                }
+                AnyMapping::EqualAreaOctahedral => {
+                    let $name = envmap_core::EqualAreaOctahedral;
+                    $body
+                }
+            }
+        };
+    }
+    // One monomorphic loop per (output, input) pair, so both kernels inline.
+    concrete!(repr.mapping, |d| concrete!(src.mapping(), |s| rows(
+        &job, d, s, out
+    )));
+}
+
+/// The parts of a conversion that do not depend on the mapping types.
+struct Job<'a> {
+    n: u32,
+    m: Option<Mat3>,
+    sampler: &'a Sampler<'a>,
+    filter: Filter,
+    progress: Option<&'a (dyn Fn(u32) + Sync)>,
+}
+
+fn rows<D, S>(job: &Job<'_>, dst: D, src: S, out: &mut EnvImage)
+where
+    D: Mapping8 + Mapping + Copy + Sync,
+    S: Mapping8 + Copy + Sync,
+{
+    let n = job.n;
+    let (width, height) = (out.width(), out.height());
     let (cw, ch) = out.cell_size();
+    let atlas = *out.atlas();
+    let _ = height;
     // Sub-sample coordinates along u and v: texel i, sub-sample a at
     // (i + (a + ½)/n) / w, each rounded once from f64.
     let offsets = |len: u32| -> Vec<f32> {
@@ -160,24 +251,15 @@ pub fn convert(
             .collect()
     };
     let (offsets_u, offsets_v) = (offsets(cw), offsets(ch));
-    let disk = matches!(
-        repr.mapping,
-        envmap_core::AnyMapping::SphereMap
-            | envmap_core::AnyMapping::SphereMapGl
-            | envmap_core::AnyMapping::DualParaboloid
-    );
-    let dst_mapping = repr.mapping;
-    let atlas = repr.atlas;
-    let src_mapping = src.mapping();
-    let filter = opts.filter;
-
+    let disk = (0..dst.chart_count()).any(|c| !dst.in_chart(c, 0.0, 0.0));
     let ctx = RowContext {
-        dst: dst_mapping,
-        src: src_mapping,
-        m: transform.then_some(m),
-        sampler: &sampler,
-        filter,
+        dst,
+        src,
+        m: job.m,
+        sampler: job.sampler,
+        filter: job.filter,
     };
+    let progress = job.progress;
     out.pixels_mut()
         .par_chunks_mut(width as usize)
         .enumerate()
@@ -205,7 +287,7 @@ pub fn convert(
                         let x = gx * cw + lx;
                         for a in 0..n {
                             let u = offsets_u[(i * n + a) as usize];
-                            if (!disk || dst_mapping.in_chart(cell.chart, u, v))
+                            if (!disk || dst.in_chart(cell.chart, u, v))
                                 && batch.push(cell.chart, u, v, x)
                             {
                                 ctx.run(&mut batch, row, count);
@@ -231,5 +313,4 @@ pub fn convert(
                 p(1);
             }
         });
-    Ok(out)
 }

@@ -61,6 +61,7 @@ pub struct Sampler<'a> {
     ch: u32,
     rects: [Rect; 6],
     charts: u32,
+    disk: bool,
 }
 
 impl<'a> Sampler<'a> {
@@ -92,6 +93,10 @@ impl<'a> Sampler<'a> {
             ch,
             rects,
             charts,
+            disk: matches!(
+                img.mapping(),
+                AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid
+            ),
         }
     }
 
@@ -121,6 +126,43 @@ impl<'a> Sampler<'a> {
             ),
             Filter::Bilinear => self.bilinear(c),
         }
+    }
+
+    /// Bilinear sample when the four taps lie inside one chart stored
+    /// unturned and the chart is not a disk (the common case); `None`
+    /// otherwise, for [`Sampler::sample`] to handle with the edge rules.
+    /// Small enough to inline into a conversion's inner loop.
+    #[inline(always)]
+    #[must_use]
+    pub fn bilinear_interior(&self, chart: u32, u: f32, v: f32) -> Option<[f32; 3]> {
+        if chart >= self.charts || self.disk {
+            return None;
+        }
+        let r = self.rects[chart as usize];
+        if r.turn != Turn::None {
+            return None;
+        }
+        let x = u * self.cw as f32 - 0.5;
+        let y = v * self.ch as f32 - 0.5;
+        // x ≥ 0 and x < w − 1 (false for NaN), so truncation is floor.
+        if !(x >= 0.0 && y >= 0.0 && x < (self.cw - 1) as f32 && y < (self.ch - 1) as f32) {
+            return None;
+        }
+        let (i, j) = (x as u32, y as u32);
+        let (fx, fy) = (x - i as f32, y - j as f32);
+        let base = (r.y0 + j) as usize * self.width + (r.x0 + i) as usize;
+        let (a, b) = (self.pixels[base], self.pixels[base + 1]);
+        let (p, q) = (
+            self.pixels[base + self.width],
+            self.pixels[base + self.width + 1],
+        );
+        let mut out = [0.0f32; 3];
+        for k in 0..3 {
+            let top = a[k] + fx * (b[k] - a[k]);
+            let bottom = p[k] + fx * (q[k] - p[k]);
+            out[k] = top + fy * (bottom - top);
+        }
+        Some(out)
     }
 
     fn bilinear(&self, c: ChartUv) -> [f32; 3] {
