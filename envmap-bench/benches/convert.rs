@@ -10,7 +10,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use envmap_core::{AnyMapping, Atlas, Frame};
-use envmap_render::convert::{convert, ConvertOptions};
+use envmap_render::convert::{convert, convert_into, ConvertOptions};
 use envmap_render::image::Representation;
 use envmap_render::procedural::{fill, smooth};
 use envmap_render::sample::Filter;
@@ -41,17 +41,25 @@ fn bench(c: &mut Criterion) {
     g.bench_function("copy-input", |b| {
         b.iter(|| copy.copy_from_slice(black_box(src.pixels())))
     });
+    // The conversion itself writes into a reused output image (as a tool
+    // converting many maps would); "alloc" also makes a fresh output.
+    let mut out = convert(&src, repr, 6144, 1024, &opts, None).unwrap();
     for threads in [1, 2] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
         g.bench_function(format!("bilinear/{threads}-threads"), |b| {
-            b.iter(|| {
-                pool.install(|| convert(black_box(&src), repr, 6144, 1024, &opts, None).unwrap())
-            })
+            b.iter(|| pool.install(|| convert_into(black_box(&src), &mut out, &opts, None)))
         });
     }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    g.bench_function("bilinear-alloc/2-threads", |b| {
+        b.iter(|| pool.install(|| convert(black_box(&src), repr, 6144, 1024, &opts, None).unwrap()))
+    });
     g.finish();
 }
 

@@ -94,7 +94,10 @@ fn inverse_slice_with(kernel: impl Fn(Uv8) -> Dir8, coords: &[ChartUv], out: &mu
     let mut cin = coords.chunks_exact(LANES);
     let mut cout = out.chunks_exact_mut(LANES);
     for (i, o) in (&mut cin).zip(&mut cout) {
-        let d = kernel(Uv8::from_partial(i));
+        let Ok(block) = <&[ChartUv; LANES]>::try_from(i) else {
+            continue;
+        };
+        let d = kernel(load_uv(block));
         o.copy_from_slice(&d.to_vec3s());
     }
     let (i, o) = (cin.remainder(), cout.into_remainder());
@@ -103,6 +106,20 @@ fn inverse_slice_with(kernel: impl Fn(Uv8) -> Dir8, coords: &[ChartUv], out: &mu
         o.copy_from_slice(&d[..o.len()]);
     }
     n
+}
+
+/// Loads eight `ChartUv`s as three interleaved registers and transposes them
+/// with the same permutes as `Dir8` loads.
+#[inline]
+fn load_uv(c: &[ChartUv; LANES]) -> Uv8 {
+    let mut f = [0.0f32; 3 * LANES];
+    for (k, p) in c.iter().enumerate() {
+        f[3 * k] = f32::from_bits(p.chart);
+        f[3 * k + 1] = p.u;
+        f[3 * k + 2] = p.v;
+    }
+    let d = Dir8::from_interleaved(&f);
+    Uv8::new(d.x.to_bits(), d.y, d.z)
 }
 
 /// Stores a batch as `ChartUv`s: interleaved with the same permutes as
