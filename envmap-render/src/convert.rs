@@ -260,57 +260,67 @@ where
         filter: job.filter,
     };
     let progress = job.progress;
+    // Bands of rows run in parallel; within a band, cells are walked in
+    // tiles of TILE columns so that neighbouring output texels, which read
+    // neighbouring input texels, are mapped one after another.
+    const BAND: u32 = 16;
+    const TILE: u32 = 32;
+    let w = width as usize;
     out.pixels_mut()
-        .par_chunks_mut(width as usize)
+        .par_chunks_mut(w * BAND as usize)
         .enumerate()
-        .for_each_init(Vec::new, |count: &mut Vec<u16>, (y, row)| {
-            let y = y as u32;
-            for px in row.iter_mut() {
-                *px = [0.0; 3];
+        .for_each_init(Vec::new, |count: &mut Vec<u16>, (band, px)| {
+            let y0 = band as u32 * BAND;
+            let rows = (px.len() / w) as u32;
+            for p in px.iter_mut() {
+                *p = [0.0; 3];
             }
             count.clear();
-            count.resize(row.len(), 0);
+            count.resize(px.len(), 0);
             let mut batch = Batch::default();
-            // Walk the atlas cells this row crosses; within a cell the chart
-            // row is fixed and u steps along precomputed offsets.
-            let (gy, ly) = (y / ch, y % ch);
             for gx in 0..atlas.cols {
-                let Some(cell) = atlas.cell_at(gx, gy) else {
-                    continue;
-                };
-                let half = cell.turn == Turn::Half;
-                let j = if half { ch - 1 - ly } else { ly };
-                for b in 0..n {
-                    let v = offsets_v[(j * n + b) as usize];
-                    for lx in 0..cw {
-                        let i = if half { cw - 1 - lx } else { lx };
-                        let x = gx * cw + lx;
-                        for a in 0..n {
-                            let u = offsets_u[(i * n + a) as usize];
-                            if (!disk || dst.in_chart(cell.chart, u, v))
-                                && batch.push(cell.chart, u, v, x)
-                            {
-                                ctx.run(&mut batch, row, count);
+                for tx in (0..cw).step_by(TILE as usize) {
+                    for r in 0..rows {
+                        let y = y0 + r;
+                        let (gy, ly) = (y / ch, y % ch);
+                        let Some(cell) = atlas.cell_at(gx, gy) else {
+                            continue;
+                        };
+                        let half = cell.turn == Turn::Half;
+                        let j = if half { ch - 1 - ly } else { ly };
+                        let row_base = r * width + gx * cw;
+                        for b in 0..n {
+                            let v = offsets_v[(j * n + b) as usize];
+                            for lx in tx..(tx + TILE).min(cw) {
+                                let i = if half { cw - 1 - lx } else { lx };
+                                for a in 0..n {
+                                    let u = offsets_u[(i * n + a) as usize];
+                                    if (!disk || dst.in_chart(cell.chart, u, v))
+                                        && batch.push(cell.chart, u, v, row_base + lx)
+                                    {
+                                        ctx.run(&mut batch, px, count);
+                                    }
+                                }
                             }
                         }
                     }
                 }
             }
-            ctx.run(&mut batch, row, count);
+            ctx.run(&mut batch, px, count);
             // Average over the sub-samples inside the chart (a disk's rim
             // texels have fewer).
             if n > 1 || disk {
-                for (px, &k) in row.iter_mut().zip(count.iter()) {
+                for (p, &k) in px.iter_mut().zip(count.iter()) {
                     if k > 1 {
                         let r = 1.0 / f32::from(k);
-                        px[0] *= r;
-                        px[1] *= r;
-                        px[2] *= r;
+                        p[0] *= r;
+                        p[1] *= r;
+                        p[2] *= r;
                     }
                 }
             }
             if let Some(p) = progress {
-                p(1);
+                p(rows);
             }
         });
 }
