@@ -303,6 +303,15 @@ fn mistakes_get_clear_errors() {
     assert_fails(&o, 1, "<stdin>:2");
     let o = envmap_stdin(&["map", "--mapping", "cube"], d, "0 0 0\n");
     assert_fails(&o, 1, "<stdin>:1");
+    let o = envmap_stdin(&["map", "--mapping", "latlong"], d, "x,y,z\nnan 0 1\n");
+    assert_fails(&o, 1, "<stdin>:2");
+    let o = envmap(
+        &[
+            "convert", "sky.hdr", "o.png", "--to", "latlong", "--size", "33",
+        ],
+        d,
+    );
+    assert_fails(&o, 1, "try 32 or 34");
     let o = envmap_stdin(&["unmap", "--mapping", "cube"], d, "7,0.5,0.5\n");
     assert_fails(&o, 1, "chart 7");
     let o = envmap_stdin(&["unmap", "--mapping", "sphere"], d, "0,0.01,0.01\n");

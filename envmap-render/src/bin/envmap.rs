@@ -205,23 +205,31 @@ type CliResult = Result<(), String>;
 /// other atlas's width.
 fn output_size(repr: &Representation, size: u32) -> Result<(u32, u32), String> {
     let atlas = repr.atlas;
-    let cell = if repr.mapping == AnyMapping::Cube {
-        size
+    // The image width must be a whole number of cells whose height is whole.
+    let (step, what) = if repr.mapping == AnyMapping::Cube {
+        (atlas.cell_aspect_w, "face edge")
     } else {
-        if !size.is_multiple_of(atlas.cols) {
-            return Err(format!(
-                "--size {size}: the {} layout needs a width divisible by {}",
-                atlas.name, atlas.cols
-            ));
-        }
-        size / atlas.cols
+        (atlas.cols * atlas.cell_aspect_w, "width")
     };
-    atlas.image_size_for_cell_width(cell).ok_or_else(|| {
-        format!(
-            "--size {size}: a {} {} needs a cell width divisible by {}",
-            repr.mapping, atlas.name, atlas.cell_aspect_w
-        )
-    })
+    let cell = if repr.mapping == AnyMapping::Cube {
+        Some(size)
+    } else {
+        size.is_multiple_of(atlas.cols).then_some(size / atlas.cols)
+    };
+    cell.and_then(|c| atlas.image_size_for_cell_width(c))
+        .ok_or_else(|| {
+            let lower = size / step * step;
+            let upper = lower + step;
+            let suggest = if lower == 0 {
+                format!("{upper}")
+            } else {
+                format!("{lower} or {upper}")
+            };
+            format!(
+                "--size {size}: a {} in the {} layout needs a {what} divisible by {step}; try {suggest}",
+                repr.mapping, atlas.name
+            )
+        })
 }
 
 /// Default `--size`: about as many texels as the input.
@@ -503,10 +511,12 @@ fn numbers(line: &str) -> Result<Vec<f32>, String> {
         .collect()
 }
 
-/// Whether a line is to be skipped: empty, a `#` comment, or a CSV header.
+/// Whether a line is to be skipped: empty, a `#` comment, or a CSV header
+/// (a line without any digit, such as `chart,u,v` or `x,y,z`; a line like
+/// `nan 0 1` is data, and is reported as a direction that has no mapping).
 fn skip(line: &str) -> bool {
     let t = line.trim();
-    t.is_empty() || t.starts_with('#') || t.starts_with(|c: char| c.is_ascii_alphabetic())
+    t.is_empty() || t.starts_with('#') || !t.contains(|c: char| c.is_ascii_digit())
 }
 
 fn run_map(a: &MapArgs) -> CliResult {
