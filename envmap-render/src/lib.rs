@@ -19,6 +19,7 @@ pub mod error;
 pub mod image;
 pub mod io;
 pub mod layout;
+pub mod mesh;
 pub mod procedural;
 pub mod sample;
 
