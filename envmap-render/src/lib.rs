@@ -22,6 +22,7 @@ pub mod io;
 pub mod layout;
 pub mod mesh;
 pub mod procedural;
+pub mod render;
 pub mod sample;
 
 pub use crate::error::{Error, Result};
