@@ -317,3 +317,73 @@ fn mistakes_get_clear_errors() {
     let o = envmap_stdin(&["unmap", "--mapping", "sphere"], d, "0,0.01,0.01\n");
     assert_fails(&o, 1, "outside");
 }
+
+#[test]
+fn render_happy_paths_and_mistakes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for args in [
+        &[
+            "render",
+            "a.png",
+            "--env",
+            "sky",
+            "--mapping",
+            "latlong",
+            "--env-size",
+            "256",
+            "--width",
+            "64",
+            "--height",
+            "48",
+        ][..],
+        &[
+            "render",
+            "b.exr",
+            "--env",
+            "room",
+            "--object",
+            "sphere",
+            "--mode",
+            "per-vertex",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--samples",
+            "1",
+        ][..],
+        &[
+            "render",
+            "c.png",
+            "--env",
+            "sky",
+            "--analytic",
+            "--object",
+            "torus",
+            "--eye",
+            "3,-6,3",
+            "--fresnel",
+            "0.04",
+            "--width",
+            "32",
+            "--height",
+            "32",
+        ][..],
+    ] {
+        let o = envmap(args, d);
+        assert!(o.status.success(), "{args:?}: {}", text(&o.stderr));
+        assert!(d.join(args[1]).exists());
+    }
+    let o = envmap(
+        &["info", "b.exr", "--from", "latlong", "--layout", "latlong"],
+        d,
+    );
+    assert_fails(&o, 1, "b.exr");
+    let o = envmap(&["render", "x.png", "--env", "nowhere.hdr"], d);
+    assert_fails(&o, 1, "nowhere.hdr");
+    let o = envmap(&["render", "x.png", "--object", "cow"], d);
+    assert_fails(&o, 1, "unknown object");
+    let o = envmap(&["render", "x.png", "--eye", "0,0"], d);
+    assert_fails(&o, 2, "--eye");
+}

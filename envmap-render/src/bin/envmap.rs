@@ -16,9 +16,12 @@ use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_index;
 use envmap_core::{AnyMapping, ChartUv, Frame, Framed, Mapping};
 use envmap_render::convert::{auto_samples, convert, ConvertOptions};
+use envmap_render::environments::Builtin;
 use envmap_render::image::{EnvImage, Representation};
 use envmap_render::io::{load_detailed, save, ExrPrecision, LoadOptions, SaveOptions};
 use envmap_render::layout::Layout;
+use envmap_render::mesh::Mesh;
+use envmap_render::render::{render, Camera, EnvSource, Mode, RenderOptions};
 use envmap_render::sample::Filter;
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -46,6 +49,82 @@ enum Command {
     Map(MapArgs),
     /// Map `chart,u,v` lines (as `map` prints them) back to unit directions `x,y,z`.
     Unmap(UnmapArgs),
+    /// Render a mirror object (teapot, sphere, torus) in an environment.
+    ///
+    /// Example: envmap render teapot.png --env sky --mapping latlong --mode per-vertex
+    Render(RenderArgs),
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v: Result<Vec<f32>, _> = s.split(',').map(|t| t.trim().parse::<f32>()).collect();
+    match v {
+        Ok(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => Ok(Vec3::new(v[0], v[1], v[2])),
+        _ => Err(format!("expected x,y,z (e.g. 0,-9.5,4), got '{s}'")),
+    }
+}
+
+fn parse_mode(s: &str) -> Result<Mode, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "per-pixel" | "pixel" => Ok(Mode::PerPixel),
+        "per-vertex" | "vertex" => Ok(Mode::PerVertex),
+        _ => Err(format!(
+            "unknown mode '{s}'; expected per-pixel or per-vertex"
+        )),
+    }
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// Output image (.png, .exr, .hdr).
+    output: PathBuf,
+    /// The environment: a file, or a built-in: sky, room.
+    #[arg(long, default_value = "sky")]
+    env: String,
+    /// For a built-in environment: the representation to store it in (default cube).
+    #[arg(long, value_parser = parse_mapping)]
+    mapping: Option<AnyMapping>,
+    /// For a built-in environment: its size (a cube's face edge, any other atlas's width).
+    #[arg(long, default_value_t = 512)]
+    env_size: u32,
+    /// For an environment file: its mapping, when the aspect ratio does not say.
+    #[arg(long, value_parser = parse_mapping)]
+    from: Option<AnyMapping>,
+    /// For a built-in environment: look it up exactly instead of through a map (the reference).
+    #[arg(long)]
+    analytic: bool,
+    /// The object: teapot, sphere or torus.
+    #[arg(long, default_value = "teapot")]
+    object: String,
+    /// per-pixel (seed 000) or per-vertex (seed 002) lookups.
+    #[arg(long, value_parser = parse_mode, default_value = "per-pixel")]
+    mode: Mode,
+    /// Image width and height in pixels.
+    #[arg(long, default_value_t = 640)]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 480)]
+    height: u32,
+    /// Camera position x,y,z (z up).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    eye: Option<Vec3>,
+    /// The point looked at x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    target: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long, default_value_t = 35.0)]
+    fov: f32,
+    /// Supersampling: N×N sub-pixels per pixel.
+    #[arg(long, default_value_t = 2)]
+    samples: u32,
+    /// Texture filter: nearest or bilinear.
+    #[arg(long, default_value = "bilinear")]
+    filter: Filter,
+    /// Schlick Fresnel reflectance at normal incidence (e.g. 0.04 glass, 0.9 metal); default: perfect mirror.
+    #[arg(long)]
+    fresnel: Option<f32>,
+    /// Exposure in stops for PNG output.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    exposure: f32,
 }
 
 /// The mapping names the command accepts.
@@ -189,6 +268,7 @@ fn main() -> ExitCode {
         Command::Info(a) => run_info(&a),
         Command::Map(a) => run_map(&a),
         Command::Unmap(a) => run_unmap(&a),
+        Command::Render(a) => run_render(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -639,4 +719,110 @@ fn run_unmap(a: &UnmapArgs) -> CliResult {
         writeln!(out, "{},{},{}", d.x, d.y, d.z).map_err(|e| format!("<stdout>: {e}"))?;
     }
     out.flush().map_err(|e| format!("<stdout>: {e}"))
+}
+
+fn run_render(a: &RenderArgs) -> CliResult {
+    if a.width == 0 || a.height == 0 || u64::from(a.width) * u64::from(a.height) > 1 << 26 {
+        return Err(format!(
+            "--width {} --height {}: between 1 and 64 Mpixels",
+            a.width, a.height
+        ));
+    }
+    if a.samples == 0 || a.samples > 8 {
+        return Err("--samples must be between 1 and 8".into());
+    }
+    if a.fresnel.is_some_and(|f| !(0.0..=1.0).contains(&f)) {
+        return Err("--fresnel must be between 0 and 1".into());
+    }
+    let builtin = a.env.parse::<Builtin>().ok();
+    let env = match builtin {
+        Some(b) if !a.analytic => {
+            let repr = Representation::default_for(a.mapping.unwrap_or(AnyMapping::Cube));
+            let (w, h) = output_size(&repr, a.env_size)?;
+            Some(b.image(repr, w, h).map_err(|e| e.to_string())?)
+        }
+        Some(_) => None,
+        None => {
+            if a.analytic {
+                return Err(format!(
+                    "--analytic needs a built-in environment (sky, room), not '{}'",
+                    a.env
+                ));
+            }
+            let opts = LoadOptions {
+                mapping: a.from,
+                ..LoadOptions::default()
+            };
+            Some(envmap_render::io::load(&a.env, &opts).map_err(|e| {
+                if Path::new(&a.env).exists() {
+                    e.to_string()
+                } else {
+                    format!("{e} (built-in environments: sky, room)")
+                }
+            })?)
+        }
+    };
+    let lift = Vec3::new(0.0, 0.0, 1.4);
+    let mut mesh = match a.object.to_ascii_lowercase().as_str() {
+        "teapot" => Mesh::teapot(10),
+        "sphere" => Mesh::sphere(1.5, 128, 64),
+        "torus" => Mesh::torus(1.5, 0.55, 128, 48),
+        other => {
+            return Err(format!(
+                "unknown object '{other}'; expected teapot, sphere or torus"
+            ))
+        }
+    };
+    if a.object != "teapot" {
+        for p in &mut mesh.positions {
+            *p += lift;
+        }
+    }
+    let def = Camera::default();
+    let cam = Camera {
+        eye: a.eye.unwrap_or(def.eye),
+        target: a.target.unwrap_or(def.target),
+        up: Vec3::Z,
+        fov_y_deg: a.fov,
+    };
+    if (cam.eye - cam.target).length() < 1e-6 {
+        return Err("--eye and --target must differ".into());
+    }
+    let opts = RenderOptions {
+        width: a.width,
+        height: a.height,
+        mode: a.mode,
+        samples: a.samples,
+        filter: a.filter,
+        fresnel_f0: a.fresnel,
+        tint: [1.0; 3],
+        background: true,
+    };
+    let t = Instant::now();
+    let analytic_fn = |d: Vec3| builtin.map_or([0.0; 3], |b| b.radiance(d));
+    let img = match &env {
+        Some(e) => render(&mesh, EnvSource::Map(e), &cam, &opts),
+        None => render(&mesh, EnvSource::Analytic(&analytic_fn), &cam, &opts),
+    };
+    let elapsed = t.elapsed();
+    let sopts = SaveOptions {
+        exposure: a.exposure,
+        ..SaveOptions::default()
+    };
+    envmap_render::io::write_rgb(&img, &a.output, &sopts).map_err(|e| e.to_string())?;
+    eprintln!(
+        "{} {}×{} ({} triangles, {} lookups, {}×{} samples): {:.0} ms",
+        a.output.display(),
+        a.width,
+        a.height,
+        mesh.triangles.len(),
+        match a.mode {
+            Mode::PerPixel => "per-pixel",
+            Mode::PerVertex => "per-vertex",
+        },
+        a.samples,
+        a.samples,
+        elapsed.as_secs_f64() * 1e3
+    );
+    Ok(())
 }
