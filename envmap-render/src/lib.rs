@@ -15,6 +15,7 @@
 #![forbid(unsafe_code)]
 
 pub mod convert;
+pub mod demo;
 pub mod environments;
 pub mod error;
 pub mod image;

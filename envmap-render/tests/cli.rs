@@ -387,3 +387,56 @@ fn render_happy_paths_and_mistakes() {
     let o = envmap(&["render", "x.png", "--eye", "0,0"], d);
     assert_fails(&o, 2, "--eye");
 }
+
+/// The demo runs end to end at a small size and writes what it promises.
+#[test]
+fn demo_runs_end_to_end() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = envmap(
+        &[
+            "demo",
+            "--out",
+            "demo",
+            "--ktexels",
+            "6",
+            "--width",
+            "48",
+            "--samples",
+            "1",
+            "-q",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let table = text(&o.stdout);
+    for m in AnyMapping::NAMES {
+        assert!(
+            table.contains(&format!("| {m} |")),
+            "{m} missing from {table}"
+        );
+        for f in [
+            "atlas_{}.png",
+            "teapot_{}_per_pixel.png",
+            "teapot_{}_per_vertex.png",
+            "error_{}_per_pixel.png",
+        ] {
+            let name = f.replace("{}", m);
+            assert!(d.join("demo").join(&name).exists(), "{name}");
+        }
+    }
+    let report = std::fs::read_to_string(d.join("demo/report.md")).unwrap();
+    assert!(
+        report.contains("PSNR per pixel") && report.contains("octahedral-equal-area"),
+        "{report}"
+    );
+    // Every PSNR is a finite number well above noise.
+    for line in report
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.contains("representation") && !l.contains("---"))
+    {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        let p: f64 = cells[5].parse().unwrap();
+        assert!(p.is_finite() && p > 15.0, "{line}");
+    }
+}

@@ -49,6 +49,10 @@ enum Command {
     Map(MapArgs),
     /// Map `chart,u,v` lines (as `map` prints them) back to unit directions `x,y,z`.
     Unmap(UnmapArgs),
+    /// Every representation of the built-in sky, a mirror teapot in each, error maps and a report.
+    ///
+    /// Example: envmap demo --out envmap-demo
+    Demo(DemoArgs),
     /// Render a mirror object (teapot, sphere, torus) in an environment.
     ///
     /// Example: envmap render teapot.png --env sky --mapping latlong --mode per-vertex
@@ -71,6 +75,25 @@ fn parse_mode(s: &str) -> Result<Mode, String> {
             "unknown mode '{s}'; expected per-pixel or per-vertex"
         )),
     }
+}
+
+#[derive(Args)]
+struct DemoArgs {
+    /// Output directory.
+    #[arg(long, default_value = "envmap-demo")]
+    out: PathBuf,
+    /// Texel budget per representation, in thousands.
+    #[arg(long, default_value_t = 393)]
+    ktexels: u64,
+    /// Render width in pixels (height is 3/4 of it).
+    #[arg(long, default_value_t = 480)]
+    width: u32,
+    /// Supersampling of the renders (N×N).
+    #[arg(long, default_value_t = 2)]
+    samples: u32,
+    /// No progress bar.
+    #[arg(long, short)]
+    quiet: bool,
 }
 
 #[derive(Args)]
@@ -269,6 +292,7 @@ fn main() -> ExitCode {
         Command::Map(a) => run_map(&a),
         Command::Unmap(a) => run_unmap(&a),
         Command::Render(a) => run_render(&a),
+        Command::Demo(a) => run_demo(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -823,6 +847,52 @@ fn run_render(a: &RenderArgs) -> CliResult {
         a.samples,
         a.samples,
         elapsed.as_secs_f64() * 1e3
+    );
+    Ok(())
+}
+
+fn run_demo(a: &DemoArgs) -> CliResult {
+    if a.ktexels == 0
+        || a.ktexels > 100_000
+        || a.width < 16
+        || a.width > 8192
+        || a.samples == 0
+        || a.samples > 8
+    {
+        return Err("--ktexels 1..100000, --width 16..8192, --samples 1..8".into());
+    }
+    let opts = envmap_render::demo::DemoOptions {
+        out: a.out.clone(),
+        texels: a.ktexels * 1000,
+        width: a.width,
+        samples: a.samples,
+        ..envmap_render::demo::DemoOptions::default()
+    };
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::new(1);
+        b.set_style(
+            ProgressStyle::with_template("{msg:>24} [{bar:30}] {pos}/{len} ({elapsed})")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        b
+    };
+    let t = Instant::now();
+    let rows = envmap_render::demo::run(&opts, &|done, total, what| {
+        bar.set_length(u64::from(total));
+        bar.set_position(u64::from(done));
+        bar.set_message(what.to_owned());
+    })
+    .map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
+    print!("{}", envmap_render::demo::report_table(&rows));
+    println!(
+        "\nwrote {} ({} images and report.md) in {:.1} s",
+        a.out.display(),
+        1 + 5 * rows.len(),
+        t.elapsed().as_secs_f64()
     );
     Ok(())
 }
