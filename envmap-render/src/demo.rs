@@ -55,8 +55,8 @@ pub struct DemoRow {
     pub texels: u64,
     /// Largest over smallest texel solid angle (over those texels).
     pub solid_angle_ratio: f64,
-    /// PSNR (dB) of the per-pixel render against the reference, on the
-    /// displayed (exposed, clamped, sRGB) values.
+    /// PSNR (dB) of the per-pixel render against the reference over the
+    /// teapot's pixels, on the displayed (exposed, clamped, sRGB) values.
     pub psnr_per_pixel: f64,
     /// PSNR (dB) of the per-vertex render against the reference.
     pub psnr_per_vertex: f64,
@@ -130,16 +130,20 @@ fn displayed(img: &RgbImage, exposure: f32) -> Vec<[f32; 3]> {
         .collect()
 }
 
-fn psnr_displayed(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
-    crate::procedural::psnr(a, b, |_| true, 1.0)
+fn psnr_displayed(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool]) -> f64 {
+    crate::procedural::psnr(a, b, |k| mask[k], 1.0)
 }
 
 /// A heat map of |a − b| on displayed values: black (0) to red, yellow, white (≥ 0.25).
-fn heat_map(a: &[[f32; 3]], b: &[[f32; 3]], w: u32, h: u32) -> RgbImage {
+fn heat_map(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool], w: u32, h: u32) -> RgbImage {
     let pixels = a
         .iter()
         .zip(b)
-        .map(|(p, q)| {
+        .zip(mask)
+        .map(|((p, q), &inside)| {
+            if !inside {
+                return [0.02; 3];
+            }
             let e = (0..3).map(|c| (p[c] - q[c]).abs()).fold(0.0f32, f32::max);
             let t = (e / 0.25).clamp(0.0, 1.0);
             // Linear values that display as the ramp.
@@ -192,6 +196,23 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
         opts.exposure,
     )?;
     let ref_disp = displayed(&reference, opts.exposure);
+    // The object's pixels: where a render without background is not black
+    // (the sky has no black). PSNR and heat maps cover the teapot only, so
+    // the background, the same map seen directly, does not drown it.
+    let silhouette = render(
+        &mesh,
+        EnvSource::Analytic(&sky),
+        &cam,
+        &RenderOptions {
+            background: false,
+            ..ropts
+        },
+    );
+    let mask: Vec<bool> = silhouette
+        .pixels
+        .iter()
+        .map(|p| p.iter().any(|c| *c > 0.0))
+        .collect();
     let mut rows = Vec::new();
     for (k, m) in AnyMapping::ALL.into_iter().enumerate() {
         progress(k as u32 + 1, total, m.name());
@@ -231,12 +252,12 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
         )?;
         let (ppd, pvd) = (displayed(&pp, opts.exposure), displayed(&pv, opts.exposure));
         save_png(
-            &heat_map(&ppd, &ref_disp, w, h),
+            &heat_map(&ppd, &ref_disp, &mask, w, h),
             &opts.out.join(format!("error_{name}_per_pixel.png")),
             0.0,
         )?;
         save_png(
-            &heat_map(&pvd, &ref_disp, w, h),
+            &heat_map(&pvd, &ref_disp, &mask, w, h),
             &opts.out.join(format!("error_{name}_per_vertex.png")),
             0.0,
         )?;
@@ -246,8 +267,8 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
             size: (aw, ah),
             texels,
             solid_angle_ratio: ratio,
-            psnr_per_pixel: psnr_displayed(&ppd, &ref_disp),
-            psnr_per_vertex: psnr_displayed(&pvd, &ref_disp),
+            psnr_per_pixel: psnr_displayed(&ppd, &ref_disp, &mask),
+            psnr_per_vertex: psnr_displayed(&pvd, &ref_disp, &mask),
             seconds,
         });
     }
@@ -287,8 +308,8 @@ fn report_markdown(opts: &DemoOptions, rows: &[DemoRow], w: u32, h: u32) -> Stri
     format!(
         "# envmap demo\n\nThe built-in sky (sun, glow, checkered ground) stored in every representation at about {} texels, \
          and a mirror Utah teapot rendered with each at {w}×{h} ({}×{} supersampling), per pixel (seed 000) and per vertex \
-         (seed 002). PSNR is measured against a reference render that evaluates the sky exactly at each reflection \
-         direction, on the displayed values (exposure {} stops, clamped, sRGB). Images: `atlas_*.png`, `teapot_*_per_pixel.png`, \
+         (seed 002). PSNR is measured over the teapot's pixels against a reference render that evaluates the sky exactly at each \
+         reflection direction, on the displayed values (exposure {} stops, clamped, sRGB). Images: `atlas_*.png`, `teapot_*_per_pixel.png`, \
          `teapot_*_per_vertex.png`, `error_*.png` (heat maps: black 0, red, yellow, white ≥ 0.25), `teapot_reference.png`.\n\n{}",
         opts.texels,
         opts.samples,
