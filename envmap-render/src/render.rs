@@ -322,7 +322,7 @@ fn render_map(
             for (k, out) in px.iter_mut().enumerate() {
                 *out = match hits[k] {
                     None if !opts.background => [0.0; 3],
-                    None => sampler.sample(coords[k], opts.filter),
+                    None => lookup(sampler, coords[k], opts.filter),
                     Some(hit) => {
                         let c = if per_vertex {
                             let [a, b, cc] =
@@ -335,7 +335,7 @@ fn render_map(
                         } else {
                             coords[k]
                         };
-                        let rgb = sampler.sample(c, opts.filter);
+                        let rgb = lookup(sampler, c, opts.filter);
                         let f = fres[k];
                         [
                             rgb[0] * f * opts.tint[0],
@@ -440,4 +440,16 @@ fn downsample(hi: &[[f32; 3]], w: u32, h: u32, s: u32) -> RgbImage {
         height: oh,
         pixels,
     }
+}
+
+/// A filtered lookup: the inlined all-inside bilinear path when it applies,
+/// the sampler's edge rules otherwise.
+#[inline]
+fn lookup(sampler: &Sampler<'_>, c: ChartUv, filter: Filter) -> [f32; 3] {
+    let fast = if filter == Filter::Bilinear {
+        sampler.bilinear_interior(c.chart, c.u, c.v)
+    } else {
+        None
+    };
+    fast.unwrap_or_else(|| sampler.sample(c, filter))
 }
