@@ -1,0 +1,29 @@
+//! Times the renderer: `cargo run --release -p envmap-render --example render_timing`.
+use std::time::Instant;
+
+use envmap_core::AnyMapping;
+use envmap_render::environments::Builtin;
+use envmap_render::image::Representation;
+use envmap_render::mesh::Mesh;
+use envmap_render::render::{render, Camera, EnvSource, RenderOptions};
+
+fn main() {
+    let repr = Representation::default_for(AnyMapping::Cube);
+    let env = Builtin::Sky.image(repr, 4096, 3072).unwrap();
+    let mesh = Mesh::teapot(10);
+    let opts = RenderOptions {
+        width: 1920,
+        height: 1080,
+        samples: 1,
+        ..RenderOptions::default()
+    };
+    for _ in 0..5 {
+        let t = Instant::now();
+        let img = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts);
+        println!(
+            "{} ms ({} px)",
+            t.elapsed().as_secs_f64() * 1e3,
+            img.pixels.len()
+        );
+    }
+}
