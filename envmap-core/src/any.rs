@@ -58,6 +58,18 @@ impl AnyMapping {
         "octahedral-equal-area",
     ];
 
+    /// Whether the charts are disks inscribed in their squares (sphere maps,
+    /// dual paraboloid): texels outside the disk hold no direction, and a
+    /// filter must stay inside the rim.
+    #[inline]
+    #[must_use]
+    pub const fn has_disk_charts(self) -> bool {
+        matches!(
+            self,
+            AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid
+        )
+    }
+
     /// Forward mapping of the chosen variant.
     #[inline]
     #[must_use]

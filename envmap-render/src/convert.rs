@@ -236,10 +236,9 @@ where
     S: Mapping8 + Copy + Sync,
 {
     let n = job.n;
-    let (width, height) = (out.width(), out.height());
+    let width = out.width();
     let (cw, ch) = out.cell_size();
     let atlas = *out.atlas();
-    let _ = height;
     // Sub-sample coordinates along u and v: texel i, sub-sample a at
     // (i + (a + ½)/n) / w, each rounded once from f64.
     let offsets = |len: u32| -> Vec<f32> {
@@ -251,7 +250,7 @@ where
             .collect()
     };
     let (offsets_u, offsets_v) = (offsets(cw), offsets(ch));
-    let disk = (0..dst.chart_count()).any(|c| !dst.in_chart(c, 0.0, 0.0));
+    let disk = out.mapping().has_disk_charts();
     let ctx = RowContext {
         dst,
         src,

@@ -75,10 +75,7 @@ fn size_for_budget(mapping: AnyMapping, texels: u64) -> (u32, u32) {
     // Count only texels inside charts: a cross fills 6 of its 12 cells, a
     // disk π/4 of its square.
     let mut fill = a.cells.len() as f64 / f64::from(a.cols * a.rows);
-    if matches!(
-        mapping,
-        AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid
-    ) {
+    if mapping.has_disk_charts() {
         fill *= std::f64::consts::FRAC_PI_4;
     }
     let width = (texels as f64 / fill * aw / ah).sqrt();

@@ -93,10 +93,7 @@ impl<'a> Sampler<'a> {
             ch,
             rects,
             charts,
-            disk: matches!(
-                img.mapping(),
-                AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid
-            ),
+            disk: img.mapping().has_disk_charts(),
         }
     }
 
@@ -166,11 +163,11 @@ impl<'a> Sampler<'a> {
     }
 
     fn bilinear(&self, c: ChartUv) -> [f32; 3] {
+        if let Some(rgb) = self.bilinear_interior(c.chart, c.u, c.v) {
+            return rgb;
+        }
         let (mut u, mut v) = (c.u, c.v);
-        let disk = matches!(
-            self.mapping,
-            AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid
-        );
+        let disk = self.disk;
         if disk {
             // Pull the point inside the last ring of texel centres.
             let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
@@ -184,25 +181,6 @@ impl<'a> Sampler<'a> {
         }
         let (i0, i1, fx) = bilinear_footprint(u, self.cw);
         let (j0, j1, fy) = bilinear_footprint(v, self.ch);
-        let (w, h) = (i64::from(self.cw), i64::from(self.ch));
-        if !disk && i0 >= 0 && j0 >= 0 && i1 < w && j1 < h {
-            // The common case: all four taps inside the chart.
-            let (a, b) = (
-                self.texel(c.chart, i0 as u32, j0 as u32),
-                self.texel(c.chart, i1 as u32, j0 as u32),
-            );
-            let (p, q) = (
-                self.texel(c.chart, i0 as u32, j1 as u32),
-                self.texel(c.chart, i1 as u32, j1 as u32),
-            );
-            let mut out = [0.0f32; 3];
-            for k in 0..3 {
-                let top = a[k] + fx * (b[k] - a[k]);
-                let bottom = p[k] + fx * (q[k] - p[k]);
-                out[k] = top + fy * (bottom - top);
-            }
-            return out;
-        }
         let taps = [
             (i0, j0, (1.0 - fx) * (1.0 - fy)),
             (i1, j0, fx * (1.0 - fy)),
@@ -269,6 +247,7 @@ impl<'a> Sampler<'a> {
                 Some(self.texel(0, i.clamp(0, w - 1) as u32, j.clamp(0, h - 1) as u32))
             }
             AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid => {
+                // The disk charts (`has_disk_charts`).
                 if !inside {
                     return None;
                 }

@@ -14,7 +14,7 @@
 //! `cargo test --release -p envmap-tests --test mapping_accuracy -- --nocapture`
 //! prints the table; `ENVMAP_EXTENSIVE=1` runs 16× more points.
 
-use std::f64::consts::{FRAC_1_SQRT_2, PI, TAU};
+use std::f64::consts::{PI, TAU};
 
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, ChartUv, Mapping};
@@ -382,5 +382,4 @@ fn references_agree_with_each_other() {
             );
         }
     }
-    let _ = FRAC_1_SQRT_2;
 }

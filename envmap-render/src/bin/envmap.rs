@@ -730,10 +730,7 @@ fn run_unmap(a: &UnmapArgs) -> CliResult {
                 v[2],
                 c.chart,
                 a.mapping,
-                if matches!(
-                    a.mapping,
-                    AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid
-                ) {
+                if a.mapping.has_disk_charts() {
                     ", inside the disk"
                 } else {
                     ""
