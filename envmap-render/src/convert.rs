@@ -11,7 +11,7 @@
 use envmap_core::atlas::Turn;
 use envmap_core::glam::Mat3;
 use envmap_core::AnyMapping;
-use envmap_core::{ChartUv, Frame, Mapping};
+use envmap_core::{Frame, Mapping};
 use envmap_simd::{Dir8, Fine, Mapping8, Uv8, LANES};
 use rayon::prelude::*;
 use wide::{f32x8, u32x8};
@@ -55,8 +55,25 @@ struct RowContext<'a, D, S> {
 }
 
 impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
-    /// Maps the batch's points (inverse in the output, forward in the input,
-    /// eight lanes at once), samples the input and adds into the row.
+    /// Maps eight output points (inverse in the output, forward in the
+    /// input) and samples the input there.
+    #[inline(always)]
+    fn sample(&self, p: Uv8) -> [[f32; 3]; LANES] {
+        let mut d = self.dst.inverse8::<Fine>(p);
+        if let Some(m) = self.m {
+            let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
+            let s = |k: f32| f32x8::splat(k);
+            d = Dir8::new(
+                s(c0.x) * d.x + s(c1.x) * d.y + s(c2.x) * d.z,
+                s(c0.y) * d.x + s(c1.y) * d.y + s(c2.y) * d.z,
+                s(c0.z) * d.x + s(c1.z) * d.y + s(c2.z) * d.z,
+            );
+        }
+        let q = self.src.forward8::<Fine>(d);
+        self.sampler.sample8(&q, self.filter)
+    }
+
+    /// Samples a batch of points and adds each into its texel of the row.
     #[inline]
     fn run(&self, b: &mut Batch, row: &mut [[f32; 3]], count: &mut [u16]) {
         if b.len == 0 {
@@ -69,28 +86,8 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
             b.v[k] = b.v[0];
         }
         let p = Uv8::new(u32x8::new(b.chart), f32x8::new(b.u), f32x8::new(b.v));
-        let mut d = self.dst.inverse8::<Fine>(p);
-        if let Some(m) = self.m {
-            let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
-            let s = |k: f32| f32x8::splat(k);
-            d = Dir8::new(
-                s(c0.x) * d.x + s(c1.x) * d.y + s(c2.x) * d.z,
-                s(c0.y) * d.x + s(c1.y) * d.y + s(c2.y) * d.z,
-                s(c0.z) * d.x + s(c1.z) * d.y + s(c2.z) * d.z,
-            );
-        }
-        let q = self.src.forward8::<Fine>(d);
-        let (qc, qu, qv) = (q.chart.to_array(), q.u.to_array(), q.v.to_array());
-        for k in 0..b.len {
-            let fast = if self.filter == Filter::Bilinear {
-                self.sampler.bilinear_interior(qc[k], qu[k], qv[k])
-            } else {
-                None
-            };
-            let s = fast.unwrap_or_else(|| {
-                self.sampler
-                    .sample(ChartUv::new(qc[k], qu[k], qv[k]), self.filter)
-            });
+        let s = self.sample(p);
+        for (k, s) in s.iter().enumerate().take(b.len) {
             let x = b.x[k] as usize;
             let px = &mut row[x];
             px[0] += s[0];
@@ -99,6 +96,27 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
             count[x] = count[x].saturating_add(1);
         }
         b.len = 0;
+    }
+
+    /// One sample at each of the texel centres `us` (u per texel, all at
+    /// `v`) of one row of `chart`, written straight into `out` (as long as
+    /// `us`), eight texels at a time.
+    #[inline]
+    fn run_row(&self, chart: u32, us: &[f32], v: f32, out: &mut [[f32; 3]]) {
+        let (chart, v) = (u32x8::splat(chart), f32x8::splat(v));
+        let mut outs = out.chunks_exact_mut(LANES);
+        let mut lanes = us.chunks_exact(LANES);
+        for (o, u) in (&mut outs).zip(&mut lanes) {
+            let u: [f32; LANES] = u.try_into().unwrap_or([0.5; LANES]);
+            o.copy_from_slice(&self.sample(Uv8::new(chart, f32x8::new(u), v)));
+        }
+        let (o, u) = (outs.into_remainder(), lanes.remainder());
+        if let Some(&last) = u.last() {
+            // The tail: unused lanes repeat the last texel.
+            let u = core::array::from_fn(|k| u.get(k).copied().unwrap_or(last));
+            let s = self.sample(Uv8::new(chart, f32x8::new(u), v));
+            o.copy_from_slice(&s[..o.len()]);
+        }
     }
 }
 
@@ -250,6 +268,8 @@ where
             .collect()
     };
     let (offsets_u, offsets_v) = (offsets(cw), offsets(ch));
+    // Texel centres of a half-turned cell's row, left to right.
+    let centres_turned: Vec<f32> = offsets_u.iter().rev().copied().collect();
     let disk = out.mapping().has_disk_charts();
     let ctx = RowContext {
         dst,
@@ -264,6 +284,9 @@ where
     // neighbouring input texels, are mapped one after another.
     const BAND: u32 = 16;
     const TILE: u32 = 32;
+    // One sample at each texel centre of charts that fill their cells:
+    // eight texels of a row at a time, written in place (no accumulation).
+    let direct = n == 1 && !disk;
     let w = width as usize;
     out.pixels_mut()
         .par_chunks_mut(w * BAND as usize)
@@ -271,11 +294,21 @@ where
         .for_each_init(Vec::new, |count: &mut Vec<u16>, (band, px)| {
             let y0 = band as u32 * BAND;
             let rows = (px.len() / w) as u32;
-            for p in px.iter_mut() {
-                *p = [0.0; 3];
+            if direct {
+                // Every texel of a chart is written once; only cells
+                // outside every chart (a cross's corners) need clearing.
+                for r in 0..rows {
+                    let gy = (y0 + r) / ch;
+                    for gx in (0..atlas.cols).filter(|&gx| atlas.cell_at(gx, gy).is_none()) {
+                        let at = (r * width + gx * cw) as usize;
+                        px[at..at + cw as usize].fill([0.0; 3]);
+                    }
+                }
+            } else {
+                px.fill([0.0; 3]);
+                count.clear();
+                count.resize(px.len(), 0);
             }
-            count.clear();
-            count.resize(px.len(), 0);
             let mut batch = Batch::default();
             for gx in 0..atlas.cols {
                 for tx in (0..cw).step_by(TILE as usize) {
@@ -288,9 +321,21 @@ where
                         let half = cell.turn == Turn::Half;
                         let j = if half { ch - 1 - ly } else { ly };
                         let row_base = r * width + gx * cw;
+                        let end = (tx + TILE).min(cw);
+                        if direct {
+                            let us = if half { &centres_turned } else { &offsets_u };
+                            let at = (row_base + tx) as usize;
+                            ctx.run_row(
+                                cell.chart,
+                                &us[tx as usize..end as usize],
+                                offsets_v[j as usize],
+                                &mut px[at..at + (end - tx) as usize],
+                            );
+                            continue;
+                        }
                         for b in 0..n {
                             let v = offsets_v[(j * n + b) as usize];
-                            for lx in tx..(tx + TILE).min(cw) {
+                            for lx in tx..end {
                                 let i = if half { cw - 1 - lx } else { lx };
                                 for a in 0..n {
                                     let u = offsets_u[(i * n + a) as usize];

@@ -15,6 +15,8 @@
 use envmap_core::cube::{face_direction, CubeFace};
 use envmap_core::texel::{bilinear_footprint, texel_index};
 use envmap_core::{AnyMapping, ChartUv, Cube, Mapping};
+use envmap_simd::Uv8;
+use wide::{f32x4, f32x8, i32x8, u32x8};
 
 use crate::image::EnvImage;
 use envmap_core::atlas::Turn;
@@ -50,6 +52,20 @@ struct Rect {
     turn: Turn,
 }
 
+/// The texel at the start of `t` and the texel after it, each with the
+/// float that follows (red, green, blue, spare) as a four-wide register;
+/// zeros if `t` holds fewer than seven floats (callers pass longer slices).
+#[inline(always)]
+fn split4(t: &[f32]) -> (f32x4, f32x4) {
+    match t.first_chunk::<7>() {
+        Some(t) => (
+            f32x4::new([t[0], t[1], t[2], t[3]]),
+            f32x4::new([t[3], t[4], t[5], t[6]]),
+        ),
+        None => (f32x4::ZERO, f32x4::ZERO),
+    }
+}
+
 /// A read-only view of an [`EnvImage`] that samples chart points.
 #[derive(Debug)]
 pub struct Sampler<'a> {
@@ -60,6 +76,10 @@ pub struct Sampler<'a> {
     cw: u32,
     ch: u32,
     rects: [Rect; 6],
+    /// Where texel (0, 0) of each chart stored unturned starts, in floats;
+    /// `usize::MAX` for a turned or missing chart (which
+    /// [`Sampler::sample8`] leaves to the scalar path).
+    origin: [usize; 6],
     charts: u32,
     disk: bool,
 }
@@ -85,9 +105,17 @@ impl<'a> Sampler<'a> {
                 };
             }
         }
+        let width = img.width() as usize;
+        let mut origin = [usize::MAX; 6];
+        for (c, (o, r)) in origin.iter_mut().zip(&rects).enumerate() {
+            if (c as u32) < charts && r.turn == Turn::None {
+                *o = 3 * (r.y0 as usize * width + r.x0 as usize);
+            }
+        }
         Self {
             pixels: img.pixels(),
-            width: img.width() as usize,
+            width,
+            origin,
             mapping: img.mapping(),
             cw,
             ch,
@@ -147,19 +175,112 @@ impl<'a> Sampler<'a> {
         }
         let (i, j) = (x as u32, y as u32);
         let (fx, fy) = (x - i as f32, y - j as f32);
+        let (gx, gy) = (1.0 - fx, 1.0 - fy);
+        let w = [gx * gy, fx * gy, gx * fy, fx * fy];
         let base = (r.y0 + j) as usize * self.width + (r.x0 + i) as usize;
         let (a, b) = (self.pixels[base], self.pixels[base + 1]);
-        let (p, q) = (
+        let (c, d) = (
             self.pixels[base + self.width],
             self.pixels[base + self.width + 1],
         );
-        let mut out = [0.0f32; 3];
-        for k in 0..3 {
-            let top = a[k] + fx * (b[k] - a[k]);
-            let bottom = p[k] + fx * (q[k] - p[k]);
-            out[k] = top + fy * (bottom - top);
-        }
+        let out: [f32; 3] =
+            core::array::from_fn(|k| a[k] * w[0] + b[k] * w[1] + c[k] * w[2] + d[k] * w[3]);
         Some(out)
+    }
+
+    /// Samples eight chart points at once; lane `k` of the result equals
+    /// `sample(q.lane_raw(k), filter)` bit for bit. Lanes whose texels lie
+    /// inside one unturned chart (for bilinear: all four taps, and not a disk
+    /// chart) are addressed and weighted eight at a time and filtered with
+    /// one four-wide operation per lane; the others (edges, seams, invalid
+    /// lanes) go through [`Sampler::sample`].
+    #[inline]
+    #[must_use]
+    pub fn sample8(&self, q: &Uv8, filter: Filter) -> [[f32; 3]; 8] {
+        let (cw, ch) = (self.cw as f32, self.ch as f32);
+        let bilinear = filter == Filter::Bilinear;
+        let (x, y, inside) = if bilinear {
+            let x = q.u * f32x8::splat(cw) - f32x8::splat(0.5);
+            let y = q.v * f32x8::splat(ch) - f32x8::splat(0.5);
+            // x ≥ 0 and x < w − 1 (false for NaN): truncation is floor.
+            let inside = x.simd_ge(f32x8::ZERO)
+                & y.simd_ge(f32x8::ZERO)
+                & x.simd_lt(f32x8::splat(cw - 1.0))
+                & y.simd_lt(f32x8::splat(ch - 1.0));
+            (x, y, inside)
+        } else {
+            // texel_index: u in [0, 1] (false for NaN), index clamped.
+            let inside = q.u.simd_ge(f32x8::ZERO)
+                & q.v.simd_ge(f32x8::ZERO)
+                & q.u.simd_le(f32x8::ONE)
+                & q.v.simd_le(f32x8::ONE);
+            let x = (q.u * f32x8::splat(cw)).min(f32x8::splat(cw - 1.0));
+            let y = (q.v * f32x8::splat(ch)).min(f32x8::splat(ch - 1.0));
+            (x, y, inside)
+        };
+        let (i, j) = (x.fast_trunc_int(), y.fast_trunc_int());
+        // Where each lane's first tap starts in `flat`, in i32 (images too
+        // large for that, beyond the default size limit, take the scalar
+        // path): the chart's origin (a select per chart) plus the texel's
+        // offset in it.
+        let flat = self.pixels.as_flattened();
+        let fits = flat.len() < i32::MAX as usize;
+        let mut origin = i32x8::splat(-1);
+        for (c, &o) in self.origin.iter().enumerate().take(self.charts as usize) {
+            if o != usize::MAX && fits {
+                let here = q.chart.simd_eq(u32x8::splat(c as u32));
+                origin =
+                    bytemuck::cast::<u32x8, i32x8>(here).select(i32x8::splat(o as i32), origin);
+            }
+        }
+        let at = origin + (j * i32x8::splat(self.width as i32) + i) * i32x8::splat(3);
+        let usable = !(bilinear && self.disk) && fits;
+        let mask = if usable {
+            (inside.to_bitmask() & !origin.simd_lt(i32x8::ZERO).to_bitmask()) & 0xff
+        } else {
+            0
+        };
+        let at = at.to_array();
+        let (fx, fy) = (x - i.round_float(), y - j.round_float());
+        let (gx, gy) = (f32x8::ONE - fx, f32x8::ONE - fy);
+        let weights = [gx * gy, fx * gy, gx * fy, fx * fy].map(f32x8::to_array);
+        let row = 3 * self.width;
+        // Lane k's red, green and blue land at 3k..3k+3; each four-wide
+        // store's fourth float is overwritten by the next lane.
+        let mut out = [0.0f32; 3 * 8 + 1];
+        let mut rest = 0u32;
+        if bilinear {
+            for k in 0..8 {
+                // Both rows of the footprint: texels (i, j), (i+1, j) and
+                // (i, j+1), (i+1, j+1), each with one float to spare.
+                let taps = match flat.get(at[k] as usize..(at[k] as usize).wrapping_add(row + 7)) {
+                    Some(t) if (mask >> k) & 1 != 0 => t,
+                    _ => {
+                        rest |= 1 << k;
+                        continue;
+                    }
+                };
+                let (a, b) = split4(taps);
+                let (c, d) = split4(&taps[row..]);
+                let w = |n: usize| f32x4::splat(weights[n][k]);
+                let v = a * w(0) + b * w(1) + c * w(2) + d * w(3);
+                out[3 * k..3 * k + 4].copy_from_slice(&v.to_array());
+            }
+        } else {
+            for k in 0..8 {
+                match flat.get(at[k] as usize..(at[k] as usize).wrapping_add(4)) {
+                    Some(t) if (mask >> k) & 1 != 0 => out[3 * k..3 * k + 4].copy_from_slice(t),
+                    _ => rest |= 1 << k,
+                }
+            }
+        }
+        while rest != 0 {
+            let k = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            let s = self.sample(q.lane_raw(k), filter);
+            out[3 * k..3 * k + 3].copy_from_slice(&s);
+        }
+        core::array::from_fn(|k| [out[3 * k], out[3 * k + 1], out[3 * k + 2]])
     }
 
     fn bilinear(&self, c: ChartUv) -> [f32; 3] {
