@@ -19,7 +19,7 @@
 use envmap_core::glam::{Mat3, Vec3};
 use envmap_core::AnyMapping;
 use envmap_core::{reflect_view, ChartUv};
-use envmap_simd::{forward_slice, Fine};
+use envmap_simd::{forward_slice, Fine, Uv8, LANES};
 use rayon::prelude::*;
 
 use crate::image::{EnvImage, RgbImage};
@@ -319,28 +319,36 @@ fn render_map(
             }
             let mut coords = vec![ChartUv::default(); dirs.len()];
             forward_slice::<_, Fine>(&mapping, &dirs, &mut coords);
+            if per_vertex {
+                // Texture coordinates interpolated across the triangle.
+                for (c, hit) in coords.iter_mut().zip(&hits) {
+                    if let Some(hit) = hit {
+                        let [a, b, cc] =
+                            mesh.triangles[hit.tri as usize].map(|i| vertex_uv[i as usize]);
+                        *c = ChartUv::new(
+                            a.chart,
+                            a.u * hit.w[0] + b.u * hit.w[1] + cc.u * hit.w[2],
+                            a.v * hit.w[0] + b.v * hit.w[1] + cc.v * hit.w[2],
+                        );
+                    }
+                }
+            }
+            // Eight lookups at a time; then shading per pixel.
+            let mut rgb = vec![[0.0f32; 3]; coords.len()];
+            for (c, out) in coords.chunks(LANES).zip(rgb.chunks_mut(LANES)) {
+                let s = sampler.sample8(&Uv8::from_partial(c), opts.filter);
+                out.copy_from_slice(&s[..out.len()]);
+            }
             for (k, out) in px.iter_mut().enumerate() {
                 *out = match hits[k] {
                     None if !opts.background => [0.0; 3],
-                    None => lookup(sampler, coords[k], opts.filter),
-                    Some(hit) => {
-                        let c = if per_vertex {
-                            let [a, b, cc] =
-                                mesh.triangles[hit.tri as usize].map(|i| vertex_uv[i as usize]);
-                            ChartUv::new(
-                                a.chart,
-                                a.u * hit.w[0] + b.u * hit.w[1] + cc.u * hit.w[2],
-                                a.v * hit.w[0] + b.v * hit.w[1] + cc.v * hit.w[2],
-                            )
-                        } else {
-                            coords[k]
-                        };
-                        let rgb = lookup(sampler, c, opts.filter);
+                    None => rgb[k],
+                    Some(_) => {
                         let f = fres[k];
                         [
-                            rgb[0] * f * opts.tint[0],
-                            rgb[1] * f * opts.tint[1],
-                            rgb[2] * f * opts.tint[2],
+                            rgb[k][0] * f * opts.tint[0],
+                            rgb[k][1] * f * opts.tint[1],
+                            rgb[k][2] * f * opts.tint[2],
                         ]
                     }
                 };
@@ -440,16 +448,4 @@ fn downsample(hi: &[[f32; 3]], w: u32, h: u32, s: u32) -> RgbImage {
         height: oh,
         pixels,
     }
-}
-
-/// A filtered lookup: the inlined all-inside bilinear path when it applies,
-/// the sampler's edge rules otherwise.
-#[inline]
-fn lookup(sampler: &Sampler<'_>, c: ChartUv, filter: Filter) -> [f32; 3] {
-    let fast = if filter == Filter::Bilinear {
-        sampler.bilinear_interior(c.chart, c.u, c.v)
-    } else {
-        None
-    };
-    fast.unwrap_or_else(|| sampler.sample(c, filter))
 }

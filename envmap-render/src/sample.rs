@@ -57,13 +57,11 @@ struct Rect {
 /// zeros if `t` holds fewer than seven floats (callers pass longer slices).
 #[inline(always)]
 fn split4(t: &[f32]) -> (f32x4, f32x4) {
-    match t.first_chunk::<7>() {
-        Some(t) => (
-            f32x4::new([t[0], t[1], t[2], t[3]]),
-            f32x4::new([t[3], t[4], t[5], t[6]]),
-        ),
-        None => (f32x4::ZERO, f32x4::ZERO),
-    }
+    let four = |t: &[f32]| {
+        t.first_chunk::<4>()
+            .map_or(f32x4::ZERO, |&t| f32x4::from(t))
+    };
+    (four(t), four(t.get(3..).unwrap_or_default()))
 }
 
 /// A read-only view of an [`EnvImage`] that samples chart points.
