@@ -17,7 +17,11 @@ fn main() {
         samples: 1,
         ..RenderOptions::default()
     };
-    for _ in 0..5 {
+    for _ in 0..std::env::var("ITERS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(5)
+    {
         let t = Instant::now();
         let img = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts);
         println!(

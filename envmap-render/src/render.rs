@@ -333,28 +333,28 @@ fn render_map(
                     }
                 }
             }
-            // Eight lookups at a time; then shading per pixel.
-            let mut rgb = vec![[0.0f32; 3]; coords.len()];
-            for (c, out) in coords.chunks(LANES).zip(rgb.chunks_mut(LANES)) {
-                let s = sampler.sample8(&Uv8::from_partial(c), opts.filter);
-                out.copy_from_slice(&s[..out.len()]);
-            }
-            for (k, out) in px.iter_mut().enumerate() {
-                *out = match hits[k] {
-                    None if !opts.background => [0.0; 3],
-                    None => rgb[k],
-                    Some(_) => {
-                        let f = fres[k];
-                        [
-                            rgb[k][0] * f * opts.tint[0],
-                            rgb[k][1] * f * opts.tint[1],
-                            rgb[k][2] * f * opts.tint[2],
-                        ]
-                    }
-                };
+            // Eight lookups at a time, then shading per pixel.
+            for (((out, c), hits), fres) in px
+                .chunks_mut(LANES)
+                .zip(coords.chunks(LANES))
+                .zip(hits.chunks(LANES))
+                .zip(fres.chunks(LANES))
+            {
+                let rgb = sampler.sample8(&Uv8::from_partial(c), opts.filter);
+                for (((out, rgb), hit), f) in out.iter_mut().zip(rgb).zip(hits).zip(fres) {
+                    *out = match hit {
+                        None if !opts.background => [0.0; 3],
+                        None => rgb,
+                        Some(_) => [
+                            rgb[0] * f * opts.tint[0],
+                            rgb[1] * f * opts.tint[1],
+                            rgb[2] * f * opts.tint[2],
+                        ],
+                    };
+                }
             }
         });
-    downsample(&hi, w, h, s)
+    downsample(hi, w, h, s)
 }
 
 /// Rasterizes one projected triangle into the band starting at row `y0`,
@@ -426,7 +426,14 @@ fn raster(v: &[(f32, f32, f32); 3], t: u32, y0: u32, rows: u32, w: u32, hits: &m
 }
 
 /// Box-filters an image `s` times larger in each direction.
-fn downsample(hi: &[[f32; 3]], w: u32, h: u32, s: u32) -> RgbImage {
+fn downsample(hi: Vec<[f32; 3]>, w: u32, h: u32, s: u32) -> RgbImage {
+    if s == 1 {
+        return RgbImage {
+            width: w,
+            height: h,
+            pixels: hi,
+        };
+    }
     let (ow, oh) = (w / s, h / s);
     let mut pixels = vec![[0.0f32; 3]; (ow * oh) as usize];
     let inv = 1.0 / (s * s) as f32;
