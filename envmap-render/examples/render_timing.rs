@@ -9,7 +9,12 @@ use envmap_render::render::{render, Camera, EnvSource, RenderOptions};
 
 fn main() {
     let repr = Representation::default_for(AnyMapping::Cube);
-    let env = Builtin::Sky.image(repr, 4096, 3072).unwrap();
+    // PROFILE=1 skips drawing the sky (a black map), to profile the render alone.
+    let env = if std::env::var("PROFILE").is_ok() {
+        envmap_render::image::EnvImage::new(4096, 3072, repr).unwrap()
+    } else {
+        Builtin::Sky.image(repr, 4096, 3072).unwrap()
+    };
     let mesh = Mesh::teapot(10);
     let opts = RenderOptions {
         width: 1920,

@@ -19,7 +19,7 @@
 use envmap_core::glam::{Mat3, Vec3};
 use envmap_core::AnyMapping;
 use envmap_core::{reflect_view, ChartUv};
-use envmap_simd::{forward_slice, Fine, Uv8, LANES};
+use envmap_simd::{forward_slice, Dir8, Fine, Mapping8, Uv8, LANES};
 use rayon::prelude::*;
 
 use crate::image::{EnvImage, RgbImage};
@@ -317,10 +317,13 @@ fn render_map(
             for d in &mut dirs {
                 *d = to_map * *d;
             }
-            let mut coords = vec![ChartUv::default(); dirs.len()];
-            forward_slice::<_, Fine>(&mapping, &dirs, &mut coords);
+            // Per pixel, reflections go straight from directions to chart
+            // points to colours, eight at a time; per vertex, the pixels
+            // hit take texture coordinates interpolated across the triangle.
+            let mut coords = Vec::new();
             if per_vertex {
-                // Texture coordinates interpolated across the triangle.
+                coords.resize(dirs.len(), ChartUv::default());
+                forward_slice::<_, Fine>(&mapping, &dirs, &mut coords);
                 for (c, hit) in coords.iter_mut().zip(&hits) {
                     if let Some(hit) = hit {
                         let [a, b, cc] =
@@ -334,13 +337,19 @@ fn render_map(
                 }
             }
             // Eight lookups at a time, then shading per pixel.
-            for (((out, c), hits), fres) in px
+            for (n, ((out, hits), fres)) in px
                 .chunks_mut(LANES)
-                .zip(coords.chunks(LANES))
                 .zip(hits.chunks(LANES))
                 .zip(fres.chunks(LANES))
+                .enumerate()
             {
-                let rgb = sampler.sample8(&Uv8::from_partial(c), opts.filter);
+                let at = n * LANES..(n * LANES + out.len());
+                let q = if per_vertex {
+                    Uv8::from_partial(&coords[at])
+                } else {
+                    mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at]))
+                };
+                let rgb = sampler.sample8(&q, opts.filter);
                 for (((out, rgb), hit), f) in out.iter_mut().zip(rgb).zip(hits).zip(fres) {
                     *out = match hit {
                         None if !opts.background => [0.0; 3],
