@@ -1,56 +1,64 @@
-//! Times one conversion: `cargo run --release -p envmap-render --example timing`.
+//! Times one conversion, latlong 4096×2048 → cube 6×1024² (a horizontal
+//! strip), one sample per texel, into a reused output image:
+//!
+//! ```text
+//! cargo run --release -p envmap-render --example timing [nearest] [latlong]
+//! ```
+//!
+//! `nearest` uses the nearest filter instead of bilinear; `latlong` converts
+//! into a latlong of the input's size instead of the cube. Prints the median
+//! and minimum of `ITERS` runs (default 10). `RAYON_NUM_THREADS` sets the
+//! thread count.
 use std::time::Instant;
 
 use envmap_core::{AnyMapping, Atlas, Frame};
-use envmap_render::convert::{convert, ConvertOptions};
-use envmap_render::image::Representation;
+use envmap_render::convert::{convert_into, ConvertOptions};
+use envmap_render::image::{EnvImage, Representation};
 use envmap_render::procedural::{fill, smooth};
 use envmap_render::sample::Filter;
 
 fn main() {
-    let only_nearest = std::env::args().any(|a| a == "nearest");
-    let sw: u32 = std::env::var("SRC_W")
+    let args: Vec<String> = std::env::args().collect();
+    let has = |a: &str| args.iter().any(|x| x == a);
+    let filter = if has("nearest") {
+        Filter::Nearest
+    } else {
+        Filter::Bilinear
+    };
+    let to_latlong = has("latlong");
+    let iters: usize = std::env::var("ITERS")
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(4096);
-    let src = fill(
-        Representation::default_for(AnyMapping::LatLong),
-        sw,
-        sw / 2,
-        smooth,
-    )
-    .unwrap();
-    let filters: &[Filter] = if only_nearest {
-        &[Filter::Nearest]
+        .unwrap_or(10)
+        .max(1);
+    let latlong = Representation::default_for(AnyMapping::LatLong);
+    let src = fill(latlong, 4096, 2048, smooth).expect("the input fits the size limit");
+    let (repr, w, h) = if to_latlong {
+        (latlong, 4096, 2048)
     } else {
-        &[Filter::Nearest, Filter::Bilinear]
+        let strip = Atlas::CUBE_HORIZONTAL_STRIP;
+        let repr = Representation::new(AnyMapping::Cube, strip, Frame::IDENTITY)
+            .expect("the strip is a cube layout");
+        (repr, 6144, 1024)
     };
-    for &filter in filters {
-        for to in [AnyMapping::Cube, AnyMapping::LatLong] {
-            let repr = if to == AnyMapping::Cube {
-                Representation::new(to, Atlas::CUBE_HORIZONTAL_STRIP, Frame::IDENTITY).unwrap()
-            } else {
-                Representation::default_for(to)
-            };
-            let (w, h) = if to == AnyMapping::Cube {
-                (6144, 1024)
-            } else {
-                (4096, 2048)
-            };
-            let opts = ConvertOptions {
-                filter,
-                samples: Some(1),
-                rotation: None,
-            };
-            for _ in 0..if only_nearest { 6 } else { 2 } {
-                let t = Instant::now();
-                let out = convert(&src, repr, w, h, &opts, None).unwrap();
-                println!(
-                    "{filter:?} latlong -> {to}: {:.1} ms ({})",
-                    t.elapsed().as_secs_f64() * 1e3,
-                    out.pixels().len()
-                );
-            }
-        }
-    }
+    let mut out = EnvImage::new(w, h, repr).expect("the output fits the size limit");
+    let opts = ConvertOptions {
+        filter,
+        samples: Some(1),
+        rotation: None,
+    };
+    let mut ms: Vec<f64> = (0..iters)
+        .map(|_| {
+            let t = Instant::now();
+            convert_into(&src, &mut out, &opts, None);
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    ms.sort_by(f64::total_cmp);
+    println!(
+        "{filter:?} latlong 4096×2048 -> {} {w}×{h}: median {:.1} ms, min {:.1} ms ({iters} runs)",
+        repr.mapping,
+        ms[ms.len() / 2],
+        ms[0]
+    );
 }
