@@ -12,6 +12,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use envmap_bench::report::std_latlong_forward as std_latlong;
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, ChartUv};
 use envmap_simd::{forward_slice, inverse_slice, Exact, Fast, Fine};
@@ -47,19 +48,6 @@ fn sizes() -> Vec<usize> {
     match std::env::var("ENVMAP_BENCH_SIZES") {
         Ok(s) => s.split(',').filter_map(|x| x.trim().parse().ok()).collect(),
         Err(_) => vec![4096, 1 << 22],
-    }
-}
-
-/// The seed's latlong with std's scalar `atan2` and `acos`, in a plain loop.
-fn std_latlong(dirs: &[Vec3], out: &mut [ChartUv]) {
-    use std::f32::consts::{PI, TAU};
-    for (d, o) in dirs.iter().zip(out.iter_mut()) {
-        let n = d.normalize();
-        let mut u = n.y.atan2(n.x) / TAU;
-        if u < 0.0 {
-            u += 1.0;
-        }
-        *o = ChartUv::new(0, u, n.z.acos() / PI);
     }
 }
 
