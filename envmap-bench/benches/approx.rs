@@ -1,11 +1,14 @@
 //! Speed of `envmap_simd::approx`: every function at every tier on 4096
-//! random inputs, beside `std`'s scalar `f32` functions (a plain loop) and
-//! `wide`'s own `f32x8` versions.
+//! random inputs, beside `std`'s scalar `f32` functions (a plain loop),
+//! `wide`'s own `f32x8` versions and a plain copy of the same bytes (the
+//! memory floor).
 //!
 //! ```text
 //! cargo bench -p envmap-bench --bench approx -- --warm-up-time 1 --measurement-time 2
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench approx -- --warm-up-time 1 --measurement-time 2
 //! ```
+
+mod common;
 
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use envmap_simd::approx::{self, Exact, Fast, Fine, Tier};
@@ -67,6 +70,19 @@ fn scalar_unary(
     });
 }
 
+/// The memory floor: a plain copy of the inputs' bytes.
+fn copy(g: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>, inputs: &[&[f32x8]]) {
+    let mut out: Vec<Vec<f32x8>> = inputs.iter().map(|v| vec![f32x8::ZERO; v.len()]).collect();
+    g.bench_function("copy", |b| {
+        b.iter(|| {
+            for (o, i) in out.iter_mut().zip(inputs) {
+                o.copy_from_slice(black_box(i));
+            }
+            black_box(&out);
+        });
+    });
+}
+
 fn tiers_unary(
     c: &mut Criterion,
     name: &str,
@@ -86,6 +102,7 @@ fn tiers_unary(
     if let Some(s) = std_fn {
         scalar_unary(&mut g, &scalars(xs), s);
     }
+    copy(&mut g, &[xs]);
     g.finish();
 }
 
@@ -176,8 +193,13 @@ fn bench(c: &mut Criterion) {
             black_box(acc)
         });
     });
+    copy(&mut g, &[&ys, &xs]);
     g.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group! {
+    name = benches;
+    config = common::config();
+    targets = bench
+}
 criterion_main!(benches);

@@ -6,6 +6,8 @@
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench convert
 //! ```
 
+mod common;
+
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
@@ -63,5 +65,9 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group! {
+    name = benches;
+    config = common::config();
+    targets = bench
+}
 criterion_main!(benches);

@@ -1,5 +1,5 @@
 //! Every mapping, forward and inverse: the scalar core, the SIMD kernels at
-//! each tier, a plain std-math scalar latlong, and a plain copy of the same
+//! each tier, a plain std-math scalar latlong (both ways), and a plain copy of the same
 //! bytes (the memory floor), on fresh random input, in batches of 4096 (fits
 //! in L1/L2) and 2^22 (does not fit in any cache).
 //!
@@ -9,10 +9,12 @@
 //! ENVMAP_BENCH_SIZES=4096 cargo bench -p envmap-bench --bench mappings -- forward/latlong
 //! ```
 
+mod common;
+
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use envmap_bench::report::std_latlong_forward as std_latlong;
+use envmap_bench::report::{std_latlong_forward, std_latlong_inverse};
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, ChartUv};
 use envmap_simd::{forward_slice, inverse_slice, Exact, Fast, Fine};
@@ -84,7 +86,7 @@ fn forward(c: &mut Criterion) {
             });
             if m == AnyMapping::LatLong {
                 g.bench_function(BenchmarkId::new("std", n), |b| {
-                    b.iter(|| std_latlong(black_box(&dirs), &mut out))
+                    b.iter(|| std_latlong_forward(black_box(&dirs), &mut out))
                 });
             }
             g.finish();
@@ -128,6 +130,11 @@ fn inverse(c: &mut Criterion) {
             g.bench_function(BenchmarkId::new("fast", n), |b| {
                 b.iter(|| inverse_slice::<_, Fast>(&m, black_box(&coords), &mut out))
             });
+            if m == AnyMapping::LatLong {
+                g.bench_function(BenchmarkId::new("std", n), |b| {
+                    b.iter(|| std_latlong_inverse(black_box(&coords), &mut out))
+                });
+            }
             g.finish();
         }
     }
@@ -135,7 +142,7 @@ fn inverse(c: &mut Criterion) {
 
 criterion_group! {
     name = benches;
-    config = Criterion::default()
+    config = common::config()
         .warm_up_time(std::time::Duration::from_millis(500))
         .measurement_time(std::time::Duration::from_secs(2));
     targets = forward, inverse

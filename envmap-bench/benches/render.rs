@@ -1,0 +1,62 @@
+//! Render speed: a mirror teapot, per pixel and per vertex, in the built-in
+//! sky stored as a 6×512² cube map, 640×360, bilinear, one sample per
+//! pixel, on two threads, beside a plain copy of the output image's bytes.
+//!
+//! ```text
+//! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench render
+//! ```
+
+mod common;
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use envmap_core::AnyMapping;
+use envmap_render::environments::Builtin;
+use envmap_render::image::Representation;
+use envmap_render::mesh::Mesh;
+use envmap_render::render::{render, Camera, EnvSource, Mode, RenderOptions};
+
+fn bench(c: &mut Criterion) {
+    let env = Builtin::Sky
+        .image(Representation::default_for(AnyMapping::Cube), 2048, 1536)
+        .unwrap();
+    let mesh = Mesh::teapot(10);
+    let cam = Camera::default();
+    let (width, height) = (640, 360);
+    let mut g = c.benchmark_group("render/teapot640x360-cube512");
+    g.sample_size(20);
+    g.throughput(Throughput::Elements(u64::from(width * height)));
+    let pixels = vec![[0.5f32; 3]; (width * height) as usize];
+    let mut copy = pixels.clone();
+    g.bench_function("copy-output", |b| {
+        b.iter(|| copy.copy_from_slice(black_box(&pixels)))
+    });
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    for (name, mode) in [
+        ("per-pixel", Mode::PerPixel),
+        ("per-vertex", Mode::PerVertex),
+    ] {
+        let opts = RenderOptions {
+            width,
+            height,
+            mode,
+            samples: 1,
+            ..RenderOptions::default()
+        };
+        g.bench_function(format!("{name}/2-threads"), |b| {
+            b.iter(|| pool.install(|| render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts)))
+        });
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = common::config();
+    targets = bench
+}
+criterion_main!(benches);
