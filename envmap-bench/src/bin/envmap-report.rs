@@ -27,7 +27,8 @@ struct Args {
     /// Seconds instead of about a minute: fewer passes, sparse sweeps, small images.
     #[arg(long)]
     quick: bool,
-    /// Sweep every f32 of each function's reduced domain (about twenty minutes).
+    /// Sweep every f32 of each function's reduced domain and 16× more mapping
+    /// points (about twenty minutes).
     #[arg(long)]
     exhaustive: bool,
     /// One JSON object per line instead of Markdown tables.
@@ -145,6 +146,7 @@ fn main() -> ExitCode {
     };
     if args.exhaustive {
         s.density = Density::Exhaustive;
+        s.mapping_points = 1 << 21;
     }
     if let Some(p) = args.passes {
         s.passes = p.max(1);
