@@ -1,6 +1,7 @@
 //! Render speed: a mirror teapot, per pixel and per vertex, in the built-in
-//! sky stored as a 6×512² cube map, 640×360, bilinear, one sample per
-//! pixel, on two threads, beside a plain copy of the output image's bytes.
+//! sky stored as a 6×1024² cube map, 1920×1080, bilinear, one sample per
+//! pixel, per pixel on one and two threads and per vertex on two, beside a
+//! plain copy of the output image's bytes.
 //!
 //! ```text
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench render
@@ -19,12 +20,12 @@ use envmap_render::render::{render, Camera, EnvSource, Mode, RenderOptions};
 
 fn bench(c: &mut Criterion) {
     let env = Builtin::Sky
-        .image(Representation::default_for(AnyMapping::Cube), 2048, 1536)
+        .image(Representation::default_for(AnyMapping::Cube), 4096, 3072)
         .unwrap();
     let mesh = Mesh::teapot(10);
     let cam = Camera::default();
-    let (width, height) = (640, 360);
-    let mut g = c.benchmark_group("render/teapot640x360-cube512");
+    let (width, height) = (1920, 1080);
+    let mut g = c.benchmark_group("render/teapot1920x1080-cube1024");
     g.sample_size(20);
     g.throughput(Throughput::Elements(u64::from(width * height)));
     let pixels = vec![[0.5f32; 3]; (width * height) as usize];
@@ -32,14 +33,15 @@ fn bench(c: &mut Criterion) {
     g.bench_function("copy-output", |b| {
         b.iter(|| copy.copy_from_slice(black_box(&pixels)))
     });
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap();
-    for (name, mode) in [
-        ("per-pixel", Mode::PerPixel),
-        ("per-vertex", Mode::PerVertex),
+    for (name, mode, threads) in [
+        ("per-pixel", Mode::PerPixel, 1),
+        ("per-pixel", Mode::PerPixel, 2),
+        ("per-vertex", Mode::PerVertex, 2),
     ] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         let opts = RenderOptions {
             width,
             height,
@@ -47,7 +49,7 @@ fn bench(c: &mut Criterion) {
             samples: 1,
             ..RenderOptions::default()
         };
-        g.bench_function(format!("{name}/2-threads"), |b| {
+        g.bench_function(format!("{name}/{threads}-threads"), |b| {
             b.iter(|| pool.install(|| render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts)))
         });
     }

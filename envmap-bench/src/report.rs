@@ -64,7 +64,9 @@ impl Settings {
         }
     }
 
-    /// About a minute: dense sweeps, many passes, an out-of-cache size.
+    /// About a minute: dense sweeps, many passes, an out-of-cache size, and
+    /// the conversion (latlong 4096×2048 → cube 6×1024²) and render (teapot
+    /// 1920×1080 in a 6×1024² cube) at the sizes their targets are set for.
     #[must_use]
     pub fn full() -> Self {
         Settings {
@@ -73,8 +75,8 @@ impl Settings {
             n_large: Some(1 << 22),
             density: Density::Dense,
             mapping_points: 1 << 17,
-            convert_size: (2048, 512),
-            render_size: (960, 540, 512),
+            convert_size: (4096, 1024),
+            render_size: (1920, 1080, 1024),
             big_passes: 9,
         }
     }
