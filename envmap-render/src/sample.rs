@@ -80,6 +80,11 @@ pub struct Sampler<'a> {
     origin: [usize; 6],
     charts: u32,
     disk: bool,
+    /// On disk charts: the largest squared radius (in the disk's own
+    /// coordinates 2u − 1, 2v − 1) at which every texel centre of a bilinear
+    /// footprint is surely inside the disk, `(1 − 2√2 / edge)²`; there the
+    /// plain interior path applies.
+    disk_inner: f32,
 }
 
 impl<'a> Sampler<'a> {
@@ -120,6 +125,14 @@ impl<'a> Sampler<'a> {
             rects,
             charts,
             disk: img.mapping().has_disk_charts(),
+            disk_inner: {
+                let margin = 1.0 - 2.0 * core::f32::consts::SQRT_2 / cw.min(ch).max(1) as f32;
+                if margin > 0.0 {
+                    margin * margin
+                } else {
+                    -1.0
+                }
+            },
         }
     }
 
@@ -152,14 +165,21 @@ impl<'a> Sampler<'a> {
     }
 
     /// Bilinear sample when the four taps lie inside one chart stored
-    /// unturned and the chart is not a disk (the common case); `None`
-    /// otherwise, for [`Sampler::sample`] to handle with the edge rules.
-    /// Small enough to inline into a conversion's inner loop.
+    /// unturned and, on a disk chart, surely inside the disk (the common
+    /// case); `None` otherwise, for [`Sampler::sample`] to handle with the
+    /// edge rules. Small enough to inline into a conversion's inner loop.
     #[inline(always)]
     #[must_use]
     pub fn bilinear_interior(&self, chart: u32, u: f32, v: f32) -> Option<[f32; 3]> {
-        if chart >= self.charts || self.disk {
+        if chart >= self.charts {
             return None;
+        }
+        if self.disk {
+            let (p, q) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+            // False for NaN.
+            if !(p * p + q * q <= self.disk_inner) {
+                return None;
+            }
         }
         let r = self.rects[chart as usize];
         if r.turn != Turn::None {
@@ -188,8 +208,8 @@ impl<'a> Sampler<'a> {
 
     /// Samples eight chart points at once; lane `k` of the result equals
     /// `sample(q.lane_raw(k), filter)` bit for bit. Lanes whose texels lie
-    /// inside one unturned chart (for bilinear: all four taps, and not a disk
-    /// chart) are addressed and weighted eight at a time and filtered with
+    /// inside one unturned chart (for bilinear: all four taps, surely inside
+    /// the disk on a disk chart) are addressed and weighted eight at a time and filtered with
     /// one four-wide operation per lane; the others (edges, seams, invalid
     /// lanes) go through [`Sampler::sample`].
     #[inline]
@@ -201,10 +221,17 @@ impl<'a> Sampler<'a> {
             let x = q.u * f32x8::splat(cw) - f32x8::splat(0.5);
             let y = q.v * f32x8::splat(ch) - f32x8::splat(0.5);
             // x ≥ 0 and x < w − 1 (false for NaN): truncation is floor.
-            let inside = x.simd_ge(f32x8::ZERO)
+            let mut inside = x.simd_ge(f32x8::ZERO)
                 & y.simd_ge(f32x8::ZERO)
                 & x.simd_lt(f32x8::splat(cw - 1.0))
                 & y.simd_lt(f32x8::splat(ch - 1.0));
+            if self.disk {
+                // As in `bilinear_interior`: footprints surely inside the disk.
+                let two = f32x8::splat(2.0);
+                let p = two * q.u - f32x8::ONE;
+                let r = two * q.v - f32x8::ONE;
+                inside &= (p * p + r * r).simd_le(f32x8::splat(self.disk_inner));
+            }
             (x, y, inside)
         } else {
             // texel_index: u in [0, 1] (false for NaN), index clamped.
@@ -232,8 +259,7 @@ impl<'a> Sampler<'a> {
             }
         }
         let at = origin + (j * i32x8::splat(self.width as i32) + i) * i32x8::splat(3);
-        let usable = !(bilinear && self.disk) && fits;
-        let mask = if usable {
+        let mask = if fits {
             (inside.to_bitmask() & !origin.simd_lt(i32x8::ZERO).to_bitmask()) & 0xff
         } else {
             0
