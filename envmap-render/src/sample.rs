@@ -176,8 +176,8 @@ impl<'a> Sampler<'a> {
         }
         if self.disk {
             let (p, q) = (2.0 * u - 1.0, 2.0 * v - 1.0);
-            // False for NaN.
-            if !(p * p + q * q <= self.disk_inner) {
+            let surely_inside = p * p + q * q <= self.disk_inner; // false for NaN
+            if !surely_inside {
                 return None;
             }
         }
