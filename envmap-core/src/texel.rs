@@ -56,11 +56,15 @@ pub fn texel_bounds(i: u32, n: u32) -> (f64, f64) {
 /// Indices are *not* wrapped or clamped here: the first may be −1 and the
 /// second `n` at the edges, so each representation applies its own edge rule
 /// (latlong wraps, the cube steps onto the neighbouring face, disks clamp).
+/// Coordinates outside `[0, 1]` are first clamped to it (so the indices
+/// always lie in `[−1, n]`); NaN and ±Inf give `(0, 1, 0.0)`.
 ///
 /// ```
 /// use envmap_core::texel::bilinear_footprint;
 /// assert_eq!(bilinear_footprint(0.5, 4), (1, 2, 0.5));
 /// assert_eq!(bilinear_footprint(0.0, 4), (-1, 0, 0.5));
+/// assert_eq!(bilinear_footprint(1e30, 4), bilinear_footprint(1.0, 4));
+/// assert_eq!(bilinear_footprint(f32::NAN, 4), (0, 1, 0.0));
 /// ```
 #[inline]
 #[must_use]
@@ -69,6 +73,9 @@ pub fn bilinear_footprint(u: f32, n: u32) -> (i64, i64, f32) {
     if !x.is_finite() {
         return (0, 1, 0.0);
     }
+    // The range u ∈ [0, 1] covers; beyond it `x as i64` would saturate and
+    // `i0 + 1` overflow.
+    let x = x.clamp(-0.5, n as f32 - 0.5);
     // floor without a libm call: truncate, then step down for negatives.
     let t = x as i64;
     let i0 = if (t as f32) > x { t - 1 } else { t };
