@@ -472,6 +472,127 @@ impl Worst {
     }
 }
 
+// ---------------------------------------------------------------------------
+// SIMD against scalar: the agreement every lane must show
+
+/// Whether `m`'s SIMD kernels use no trigonometry (cube, sphere maps,
+/// paraboloid, plain octahedral): they evaluate the same operations in the
+/// same order as the core and must agree with it bit for bit at every tier.
+#[must_use]
+pub fn simd_matches_bitwise(m: AnyMapping) -> bool {
+    matches!(
+        m,
+        AnyMapping::Cube
+            | AnyMapping::SphereMap
+            | AnyMapping::SphereMapGl
+            | AnyMapping::DualParaboloid
+            | AnyMapping::Octahedral
+    )
+}
+
+/// The documented worst error of a tier's functions, in radians, by
+/// [`envmap_simd::Tier::NAME`]: exact 5e-7, fine 2e-6, fast 1e-4.
+#[must_use]
+pub fn tier_bound(tier: &str) -> f32 {
+    match tier {
+        "exact" => 5e-7,
+        "fine" => 2e-6,
+        _ => 1e-4,
+    }
+}
+
+/// Bound on |Δu| and |Δv| between a SIMD forward lane at `tier` and the
+/// scalar core: the mappings scale an angle error by at most 1/π (latlong v,
+/// equal-area φ·2/π·½) or 2/π (tennisball v) into (u, v), so
+/// `tier + 1e-6` bounds every coordinate.
+#[must_use]
+pub fn simd_uv_bound(tier: &str) -> f32 {
+    tier_bound(tier) + 1e-6
+}
+
+/// Bound on the angle in radians between a SIMD inverse lane at `tier` and
+/// the scalar core: inverses combine two `sin_cos` results, so
+/// `3·tier + 1e-6`.
+#[must_use]
+pub fn simd_angle_bound(tier: &str) -> f64 {
+    f64::from(3.0 * tier_bound(tier) + 1e-6)
+}
+
+/// Checks one SIMD forward lane `got` (at tier `tier`) for direction `d`
+/// against the scalar core: an invalid lane ([`envmap_simd::INVALID_CHART`],
+/// NaN u and v) exactly where the core gives `None`; otherwise the same
+/// chart, u and v inside `[0, 1]`, and u, v within [`simd_uv_bound`] (bit for
+/// bit for the mappings of [`simd_matches_bitwise`]; latlong's u wraps).
+///
+/// # Errors
+///
+/// A message describing the disagreement.
+pub fn check_simd_forward(m: AnyMapping, tier: &str, d: Vec3, got: ChartUv) -> Result<(), String> {
+    let at = || format!("{m} {tier} forward {d:?}");
+    let Some(want) = m.forward(d) else {
+        if got.chart != envmap_simd::INVALID_CHART || !got.u.is_nan() || !got.v.is_nan() {
+            return Err(format!("{}: expected an invalid lane, got {got:?}", at()));
+        }
+        return Ok(());
+    };
+    if got.chart != want.chart {
+        return Err(format!("{}: chart {} vs scalar {want:?}", at(), got.chart));
+    }
+    if simd_matches_bitwise(m) {
+        if (got.u.to_bits(), got.v.to_bits()) != (want.u.to_bits(), want.v.to_bits()) {
+            return Err(format!("{}: {got:?} vs scalar {want:?} (bitwise)", at()));
+        }
+        return Ok(());
+    }
+    if !(0.0..=1.0).contains(&got.u) || !(0.0..=1.0).contains(&got.v) {
+        return Err(format!("{}: {got:?} out of range", at()));
+    }
+    let du = if m == AnyMapping::LatLong {
+        wrapped_distance(got.u, want.u)
+    } else {
+        (f64::from(got.u) - f64::from(want.u)).abs()
+    };
+    let e = du.max((f64::from(got.v) - f64::from(want.v)).abs());
+    let bound = f64::from(simd_uv_bound(tier));
+    if e > bound {
+        return Err(format!(
+            "{}: {got:?} vs scalar {want:?}: |Δuv| {e:e} > {bound:e}",
+            at()
+        ));
+    }
+    Ok(())
+}
+
+/// Checks one SIMD inverse lane `got` (at tier `tier`) for chart point `c`
+/// against the scalar core: all three components NaN exactly where the core
+/// gives `None`; otherwise a finite direction within [`simd_angle_bound`]
+/// of the core's.
+///
+/// # Errors
+///
+/// A message describing the disagreement.
+pub fn check_simd_inverse(m: AnyMapping, tier: &str, c: ChartUv, got: Vec3) -> Result<(), String> {
+    let at = || format!("{m} {tier} inverse {c:?}");
+    let Some(want) = m.inverse(c) else {
+        if !(got.x.is_nan() && got.y.is_nan() && got.z.is_nan()) {
+            return Err(format!("{}: expected NaN, got {got}", at()));
+        }
+        return Ok(());
+    };
+    if !got.is_finite() {
+        return Err(format!("{}: got {got}, scalar {want}", at()));
+    }
+    let e = angle_f32(got, want);
+    let bound = simd_angle_bound(tier);
+    if e > bound {
+        return Err(format!(
+            "{}: {got} vs scalar {want}: angle {e:e} > {bound:e}",
+            at()
+        ));
+    }
+    Ok(())
+}
+
 /// The README's examples, compiled and run as doctests.
 #[cfg(doctest)]
 #[doc = include_str!("../../README.md")]

@@ -1,10 +1,8 @@
 //! Every SIMD kernel against the scalar core, lane by lane, at every tier.
 //!
 //! Bounds (in u, v and in radians for directions) follow from each tier's
-//! documented function error: the mappings scale an angle error by at most
-//! 1/π (latlong v, equal-area φ·2/π·½) or 2/π (tennisball v) into (u, v), so
-//! `tier + 1e-6` bounds every coordinate; inverses combine two `sin_cos`
-//! results, so `3·tier + 1e-6` bounds the direction angle. Mappings without
+//! documented function error (see `envmap_tests::simd_uv_bound` and
+//! `envmap_tests::simd_angle_bound`). Mappings without
 //! trigonometry (cube, sphere maps, paraboloid, octahedral) evaluate the same
 //! operations in the same order as the core and must agree bit for bit.
 //!
@@ -13,6 +11,7 @@
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 use envmap_simd::{forward_slice, inverse_slice, Exact, Fast, Fine, Mapping8, Tier, INVALID_CHART};
+use envmap_tests::{simd_angle_bound, simd_matches_bitwise, simd_uv_bound};
 
 struct Rng(u64);
 impl Rng {
@@ -99,25 +98,6 @@ fn hard_cases() -> Vec<Vec3> {
     v
 }
 
-fn no_trig(m: AnyMapping) -> bool {
-    matches!(
-        m,
-        AnyMapping::Cube
-            | AnyMapping::SphereMap
-            | AnyMapping::SphereMapGl
-            | AnyMapping::DualParaboloid
-            | AnyMapping::Octahedral
-    )
-}
-
-fn tier_bound<T: Tier>() -> f32 {
-    match T::NAME {
-        "exact" => 5e-7,
-        "fine" => 2e-6,
-        _ => 1e-4,
-    }
-}
-
 /// Angle between two directions in f64, as atan2(|a × b|, a · b).
 fn angle(a: Vec3, b: Vec3) -> f64 {
     let a = [f64::from(a.x), f64::from(a.y), f64::from(a.z)];
@@ -135,7 +115,7 @@ fn check_forward<T: Tier>(m: AnyMapping, dirs: &[Vec3]) {
     let tn = T::NAME;
     let mut out = vec![ChartUv::default(); dirs.len()];
     assert_eq!(forward_slice::<_, T>(&m, dirs, &mut out), dirs.len());
-    let bound = tier_bound::<T>() + 1e-6;
+    let bound = simd_uv_bound(T::NAME);
     let mut worst = (0.0f32, Vec3::ZERO);
     for (d, got) in dirs.iter().zip(&out) {
         match m.forward(*d) {
@@ -148,7 +128,7 @@ fn check_forward<T: Tier>(m: AnyMapping, dirs: &[Vec3]) {
             }
             Some(want) => {
                 assert_eq!(got.chart, want.chart, "{m} {tn} {d}: chart");
-                if no_trig(m) {
+                if simd_matches_bitwise(m) {
                     assert_eq!(
                         (got.u.to_bits(), got.v.to_bits()),
                         (want.u.to_bits(), want.v.to_bits()),
@@ -214,7 +194,7 @@ fn check_inverse<T: Tier>(m: AnyMapping, rng: &mut Rng, n: usize) {
     }
     let mut out = vec![Vec3::ZERO; coords.len()];
     assert_eq!(inverse_slice::<_, T>(&m, &coords, &mut out), coords.len());
-    let bound = f64::from(3.0 * tier_bound::<T>() + 1e-6);
+    let bound = simd_angle_bound(T::NAME);
     let mut worst = (0.0f64, ChartUv::default());
     for (c, got) in coords.iter().zip(&out) {
         match m.inverse(*c) {
