@@ -44,11 +44,11 @@ impl Parity {
     /// The power of `x` of the coefficient with index `k`.
     #[must_use]
     pub fn power(self, k: usize) -> i32 {
-        let base = match self {
+        let base: i32 = match self {
             Parity::Odd => 1,
             Parity::Even => 0,
         };
-        base + 2 * i32::try_from(k).expect("polynomial degree fits in i32")
+        base.saturating_add(i32::try_from(k).unwrap_or(i32::MAX).saturating_mul(2))
     }
 }
 
@@ -282,9 +282,10 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Result<Vec<f64>, RemezError> 
         *rhs /= s;
     }
     for col in 0..n {
+        // col < n, so the range is not empty.
         let piv = (col..n)
             .max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))
-            .expect("non-empty range");
+            .unwrap_or(col);
         if a[piv][col] == 0.0 {
             return Err(RemezError::Singular);
         }

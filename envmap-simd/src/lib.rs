@@ -36,6 +36,10 @@
 //! | any u in `texel::bilinear_footprint(u, n)` | indices in `[−1, n]` (u clamped to `[0, 1]`; NaN, ±Inf → `(0, 1, 0.0)`) | — |
 #![no_std]
 #![forbid(unsafe_code)]
+#![cfg_attr(
+    not(test),
+    deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)
+)]
 
 pub mod approx;
 pub mod batch;

@@ -22,10 +22,13 @@ pub(crate) const PIO4_3: f32 = (3.0 * core::f64::consts::FRAC_PI_4) as f32;
 /// The sign bit of every lane.
 pub(crate) const SIGN: u32x8 = u32x8::splat(0x8000_0000);
 
-/// Horner's scheme in `u`, coefficients lowest power first.
+/// Horner's scheme in `u`, coefficients lowest power first (no
+/// coefficients: the zero polynomial).
 #[inline(always)]
 pub(crate) fn horner(u: f32x8, c: &[f32]) -> f32x8 {
-    let (last, rest) = c.split_last().expect("at least one coefficient");
+    let Some((last, rest)) = c.split_last() else {
+        return f32x8::ZERO;
+    };
     let mut acc = f32x8::splat(*last);
     for &k in rest.iter().rev() {
         acc = acc.mul_add(u, f32x8::splat(k));
