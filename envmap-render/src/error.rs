@@ -101,6 +101,12 @@ pub enum Error {
     #[error("{0}")]
     Layout(String),
 
+    /// A line of text input (a direction for `map`, a chart point for
+    /// `unmap`; see [`crate::text`]) is malformed or has no mapping. The
+    /// message names no file: the caller adds the file and line number.
+    #[error("{0}")]
+    Input(String),
+
     /// A pixel buffer's length does not match the image's size.
     #[error("{len} pixels given for a {width}×{height} image")]
     PixelCount {
@@ -183,6 +189,7 @@ impl Error {
             | Error::InFile { path, .. } => Some(path),
             Error::TooLarge { .. }
             | Error::Layout(_)
+            | Error::Input(_)
             | Error::PixelCount { .. }
             | Error::UnknownName { .. } => None,
         }

@@ -11,8 +11,13 @@
 //! * [`convert`]: any representation to any other, one generic loop
 //!   ([`convert::convert`]).
 //! * [`procedural`]: environments defined by a function of direction.
+//! * [`text`]: the line formats of `envmap map` and `envmap unmap`.
 //! * [`error`]: the crate's [`Error`], whose messages name the file.
 #![forbid(unsafe_code)]
+#![cfg_attr(
+    not(test),
+    deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)
+)]
 
 pub mod convert;
 pub mod demo;
@@ -25,6 +30,7 @@ pub mod mesh;
 pub mod procedural;
 pub mod render;
 pub mod sample;
+pub mod text;
 
 pub use crate::error::{Error, Result};
 pub use crate::image::{EnvImage, Representation, RgbImage, Stats};

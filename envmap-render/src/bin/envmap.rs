@@ -5,6 +5,8 @@
 //! decoded or written, an image that fits no layout, a bad input line);
 //! 2 a usage error (unknown flag or value, reported by the argument parser).
 
+#![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use std::io::{BufRead, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -13,8 +15,7 @@ use std::time::Instant;
 
 use clap::{Args, Parser, Subcommand};
 use envmap_core::glam::Vec3;
-use envmap_core::texel::texel_index;
-use envmap_core::{AnyMapping, ChartUv, Frame, Framed, Mapping};
+use envmap_core::{AnyMapping, Frame, Mapping};
 use envmap_render::convert::{auto_samples, convert, ConvertOptions};
 use envmap_render::environments::Builtin;
 use envmap_render::image::{EnvImage, Representation};
@@ -23,6 +24,7 @@ use envmap_render::layout::Layout;
 use envmap_render::mesh::Mesh;
 use envmap_render::render::{render, Camera, EnvSource, Mode, RenderOptions};
 use envmap_render::sample::Filter;
+use envmap_render::text::{MapLines, UnmapLines};
 use indicatif::{ProgressBar, ProgressStyle};
 
 #[derive(Parser)]
@@ -604,28 +606,8 @@ fn read_lines(input: Option<&Path>) -> Result<(String, Vec<String>), String> {
     }
 }
 
-/// Parses up to `n` numbers separated by commas and/or white space.
-fn numbers(line: &str) -> Result<Vec<f32>, String> {
-    line.split(|c: char| c == ',' || c.is_whitespace())
-        .filter(|t| !t.is_empty())
-        .map(|t| {
-            t.parse::<f32>()
-                .map_err(|_| format!("'{t}' is not a number"))
-        })
-        .collect()
-}
-
-/// Whether a line is to be skipped: empty, a `#` comment, or a CSV header
-/// (a line without any digit, such as `chart,u,v` or `x,y,z`; a line like
-/// `nan 0 1` is data, and is reported as a direction that has no mapping).
-fn skip(line: &str) -> bool {
-    let t = line.trim();
-    t.is_empty() || t.starts_with('#') || !t.contains(|c: char| c.is_ascii_digit())
-}
-
 fn run_map(a: &MapArgs) -> CliResult {
     let (name, lines) = read_lines(a.input.as_deref())?;
-    let m = Framed::new(a.mapping, a.frame);
     let atlas = match a.layout {
         Some(l) if !Layout::for_mapping(a.mapping).contains(&l) || l.is_six_files() => {
             return Err(format!(
@@ -644,102 +626,36 @@ fn run_map(a: &MapArgs) -> CliResult {
         }
         None => None,
     };
-    let stdout = std::io::stdout();
-    let mut out = BufWriter::new(stdout.lock());
-    let w = |out: &mut BufWriter<_>, s: String| {
-        writeln!(out, "{s}").map_err(|e| format!("<stdout>: {e}"))
-    };
-    w(
-        &mut out,
-        if size.is_some() {
-            "chart,u,v,x,y".into()
-        } else {
-            "chart,u,v".into()
-        },
-    )?;
-    for (k, line) in lines.iter().enumerate() {
-        if skip(line) {
-            continue;
-        }
-        let v = numbers(line).map_err(|e| format!("{name}:{}: {e}", k + 1))?;
-        if v.len() != 3 {
-            return Err(format!(
-                "{name}:{}: expected a direction 'x y z' or 'x,y,z', got {} number{}",
-                k + 1,
-                v.len(),
-                if v.len() == 1 { "" } else { "s" }
-            ));
-        }
-        let d = Vec3::new(v[0], v[1], v[2]);
-        let Some(c) = m.forward(d) else {
-            return Err(format!(
-                "{name}:{}: ({}, {}, {}) has no direction (zero, NaN or infinite)",
-                k + 1,
-                v[0],
-                v[1],
-                v[2]
-            ));
-        };
-        let mut row = format!("{},{},{}", c.chart, c.u, c.v);
-        if let Some((iw, ih)) = size {
-            let (cw, ch) = atlas.cell_size(iw, ih).unwrap_or((iw, ih));
-            let (i, j) = (texel_index(c.u, cw), texel_index(c.v, ch));
-            if let Some((x, y)) = atlas.chart_to_texel(c.chart, i, j, iw, ih) {
-                row.push_str(&format!(",{x},{y}"));
-            }
-        }
-        w(&mut out, row)?;
-    }
-    out.flush().map_err(|e| format!("<stdout>: {e}"))
+    let parser = MapLines::new(a.mapping, a.frame, atlas, size);
+    write_rows(&name, &lines, parser.header(), |l| parser.line(l))
 }
 
 fn run_unmap(a: &UnmapArgs) -> CliResult {
     let (name, lines) = read_lines(a.input.as_deref())?;
-    let m = Framed::new(a.mapping, a.frame);
+    let parser = UnmapLines::new(a.mapping, a.frame);
+    write_rows(&name, &lines, parser.header(), |l| parser.line(l))
+}
+
+/// Prints `header`, then the row of each line that gives one; stops at the
+/// first bad line with an error naming it (`<name>:<line>: ...`).
+fn write_rows(
+    name: &str,
+    lines: &[String],
+    header: &str,
+    row: impl Fn(&str) -> envmap_render::Result<Option<String>>,
+) -> CliResult {
     let stdout = std::io::stdout();
     let mut out = BufWriter::new(stdout.lock());
-    writeln!(out, "x,y,z").map_err(|e| format!("<stdout>: {e}"))?;
+    let io = |e: std::io::Error| format!("<stdout>: {e}");
+    writeln!(out, "{header}").map_err(io)?;
     for (k, line) in lines.iter().enumerate() {
-        if skip(line) {
-            continue;
+        match row(line) {
+            Ok(Some(r)) => writeln!(out, "{r}").map_err(io)?,
+            Ok(None) => {}
+            Err(e) => return Err(format!("{name}:{}: {e}", k + 1)),
         }
-        let v = numbers(line).map_err(|e| format!("{name}:{}: {e}", k + 1))?;
-        if v.len() < 3 {
-            return Err(format!(
-                "{name}:{}: expected 'chart,u,v', got {} number{}",
-                k + 1,
-                v.len(),
-                if v.len() == 1 { "" } else { "s" }
-            ));
-        }
-        let chart = v[0];
-        if chart < 0.0 || chart.fract() != 0.0 || chart >= m.chart_count() as f32 {
-            return Err(format!(
-                "{name}:{}: chart {chart} does not exist; {} has charts 0 to {}",
-                k + 1,
-                a.mapping,
-                m.chart_count() - 1
-            ));
-        }
-        let c = ChartUv::new(chart as u32, v[1], v[2]);
-        let Some(d) = m.inverse(c) else {
-            return Err(format!(
-                "{name}:{}: ({}, {}) lies outside chart {} of {} (u and v must be in [0, 1]{})",
-                k + 1,
-                v[1],
-                v[2],
-                c.chart,
-                a.mapping,
-                if a.mapping.has_disk_charts() {
-                    ", inside the disk"
-                } else {
-                    ""
-                }
-            ));
-        };
-        writeln!(out, "{},{},{}", d.x, d.y, d.z).map_err(|e| format!("<stdout>: {e}"))?;
     }
-    out.flush().map_err(|e| format!("<stdout>: {e}"))
+    out.flush().map_err(io)
 }
 
 fn run_render(a: &RenderArgs) -> CliResult {
