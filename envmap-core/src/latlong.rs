@@ -32,7 +32,9 @@
 //! The seam is the half plane y = 0, x > 0 (u = 0 ≡ 1): directions just below
 //! it (y < 0) land near u = 1. The poles (x = y = 0) map to u = 0 (atan2(0, 0)
 //! is 0, or π for x = −0: u = 1/2) and v = 0 or 1; every u on the top or bottom
-//! edge inverts to the same pole.
+//! edge inverts to the same pole. φ is computed from x and y as given, not
+//! normalised, so u keeps full accuracy however close to a pole the direction
+//! lies (x and y a factor 2⁻¹⁰⁰ below z, denormals included).
 //!
 //! # Area element
 //!
@@ -63,7 +65,10 @@ impl LatLong {
     #[must_use]
     pub fn forward(dir: Vec3) -> Option<ChartUv> {
         let d = normalize_direction(dir)?;
-        let phi = math::atan2(d.y, d.x);
+        // φ from the components as given (atan2 is scale-invariant and exact
+        // for any finite pair): normalising first would flush x and y of a
+        // direction very close to a pole into denormals and lose their ratio.
+        let phi = math::atan2(dir.y, dir.x);
         // `+ 0.0` turns a −0 (from y = −0) into +0.
         let mut u = phi / TAU + 0.0;
         if u < 0.0 {

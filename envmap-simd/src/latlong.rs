@@ -23,7 +23,9 @@ impl Mapping8 for LatLong {
         // No normalisation: both angles are scale-invariant, and an exact
         // power-of-two scaling keeps √(x² + y²) free of overflow and underflow.
         let n = scale_pow2(&d);
-        let phi = T::atan2_finite(n.y, n.x);
+        // φ from the components as given, as the core does: the scaling
+        // could flush x and y of a direction near a pole into denormals.
+        let phi = T::atan2_finite(d.y, d.x);
         let u = phi * f32x8::splat(1.0 / TAU) + f32x8::ZERO;
         let neg = u.simd_lt(f32x8::ZERO);
         let u = neg.select(u + f32x8::ONE, u);
