@@ -37,7 +37,9 @@
 //!
 //! Sizes are checked against [`LoadOptions::max_texels`] from the header,
 //! before pixel memory is allocated; corrupt or truncated files give an
-//! [`Error`] naming the file, never a panic.
+//! [`Error`] naming the file, never a panic. NaN and infinite texels are
+//! kept or replaced by black as [`LoadOptions::non_finite`] says (see
+//! [`NonFinite`]).
 
 use std::fs::{self, File};
 use std::io::{BufReader, BufWriter, Seek, SeekFrom, Write};
@@ -132,6 +134,29 @@ pub struct LoadOptions {
     /// Largest image accepted, in texels (all six faces together for a
     /// six-file cube); checked before allocating.
     pub max_texels: u64,
+    /// What to do with texels that hold a NaN or infinite value.
+    pub non_finite: NonFinite,
+}
+
+/// What loading does with texels that hold a NaN or an infinite component
+/// (only OpenEXR can store them; 8-bit, 16-bit and RGBE files cannot).
+///
+/// Sampling and conversion do not single such texels out: a bilinear filter
+/// or a sub-sample average that touches one gives NaN or infinity, so one
+/// bad texel of an input spreads over every output texel whose footprint
+/// covers it. [`NonFinite::Zero`] stops that at load time; `envmap info`
+/// loads with [`NonFinite::Keep`] to count them, and `envmap convert` and
+/// `envmap render` load with [`NonFinite::Zero`] and say how many texels
+/// they replaced.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum NonFinite {
+    /// Keep the values as stored (so that files round-trip bit for bit);
+    /// [`EnvImage::stats`] counts them.
+    #[default]
+    Keep,
+    /// Replace every texel that has a NaN or infinite component by black
+    /// (all three components 0); [`Loaded::replaced`] counts them.
+    Zero,
 }
 
 impl Default for LoadOptions {
@@ -141,6 +166,7 @@ impl Default for LoadOptions {
             layout: None,
             frame: Frame::IDENTITY,
             max_texels: DEFAULT_MAX_TEXELS,
+            non_finite: NonFinite::Keep,
         }
     }
 }
@@ -193,6 +219,26 @@ pub struct Loaded {
     pub source: SourceFormat,
     /// The files read: one, or the six faces in GL order.
     pub files: Vec<PathBuf>,
+    /// Texels replaced by black under [`NonFinite::Zero`] (over all the
+    /// image, inside the charts or not); 0 under [`NonFinite::Keep`].
+    pub replaced: u64,
+}
+
+/// Replaces texels with a NaN or infinite component by black, as `policy`
+/// says; returns how many were replaced.
+fn apply_non_finite(pixels: &mut [[f32; 3]], policy: NonFinite) -> u64 {
+    if policy == NonFinite::Keep {
+        return 0;
+    }
+    let mut n = 0;
+    for p in pixels
+        .iter_mut()
+        .filter(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        *p = [0.0; 3];
+        n += 1;
+    }
+    n
 }
 
 // ---------------------------------------------------------------------------
@@ -414,6 +460,30 @@ fn read_with_image(
     limits.max_alloc = Some(decoder.total_bytes().saturating_add(64 << 20));
     decoder.set_limits(limits).map_err(err)?;
     let decoded = DynamicImage::from_decoder(decoder).map_err(err)?;
+    let pixel_format = |desc: &str| match format {
+        FileFormat::Hdr => "RGBE (shared 8-bit exponent), linear".to_owned(),
+        _ => desc.to_owned(),
+    };
+    let source = |desc: &str| SourceFormat {
+        format,
+        pixel_format: pixel_format(desc),
+    };
+    // Float RGB (what the HDR decoder gives): the decoder's buffer becomes
+    // the texels as it is, so loading needs no second copy of the image.
+    let decoded = match decoded {
+        DynamicImage::ImageRgb32F(b) => {
+            let raw = b.into_raw();
+            let pixels = bytemuck::allocation::try_cast_vec::<f32, [f32; 3]>(raw)
+                .unwrap_or_else(|(_, raw)| expand(&raw, 3, |v| v));
+            let rgb = RgbImage {
+                width,
+                height,
+                pixels,
+            };
+            return Ok((rgb, source("32-bit float RGB")));
+        }
+        other => other,
+    };
 
     let l8 = |v: u8| srgb8_lut()[usize::from(v)];
     let l16 = |v: u16| srgb16_lut()[usize::from(v)];
@@ -438,7 +508,6 @@ fn read_with_image(
             expand(b.as_raw(), 4, l16),
             "16-bit sRGB RGBA (alpha dropped)",
         ),
-        DynamicImage::ImageRgb32F(b) => (expand(b.as_raw(), 3, lin), "32-bit float RGB"),
         DynamicImage::ImageRgba32F(b) => (
             expand(b.as_raw(), 4, lin),
             "32-bit float RGBA (alpha dropped)",
@@ -446,20 +515,13 @@ fn read_with_image(
         other if format.is_float() => (expand(other.to_rgb32f().as_raw(), 3, lin), "float RGB"),
         other => (expand(other.to_rgb16().as_raw(), 3, l16), "sRGB RGB"),
     };
-    let pixel_format = match format {
-        FileFormat::Hdr => "RGBE (shared 8-bit exponent), linear".to_owned(),
-        _ => desc.to_owned(),
-    };
     Ok((
         RgbImage {
             width,
             height,
             pixels,
         },
-        SourceFormat {
-            format,
-            pixel_format,
-        },
+        source(desc),
     ))
 }
 
@@ -649,7 +711,8 @@ pub fn load_detailed(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<Loade
     if loads_six_files(path, opts) {
         return load_faces(path, opts);
     }
-    let (rgb, source) = read_rgb(path, opts.max_texels)?;
+    let (mut rgb, source) = read_rgb(path, opts.max_texels)?;
+    let replaced = apply_non_finite(&mut rgb.pixels, opts.non_finite);
     let (mapping, atlas) =
         resolve(rgb.width, rgb.height, opts.mapping, opts.layout).map_err(|e| e.in_file(path))?;
     let repr = Representation {
@@ -662,6 +725,7 @@ pub fn load_detailed(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<Loade
         image,
         source,
         files: vec![path.to_path_buf()],
+        replaced,
     })
 }
 
@@ -717,8 +781,10 @@ fn load_faces(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let mut image = EnvImage::new_with_limit(6 * s, s, repr, opts.max_texels)
         .map_err(|e| e.in_file(&paths[0]))?;
     let mut source = None;
+    let mut replaced = 0;
     for (chart, p) in (0u32..).zip(&paths) {
-        let (face, src) = read_rgb(p, opts.max_texels)?;
+        let (mut face, src) = read_rgb(p, opts.max_texels)?;
+        replaced += apply_non_finite(&mut face.pixels, opts.non_finite);
         if (face.width, face.height) != (s, s) {
             // The header said otherwise a moment ago: the file changed.
             return Err(Error::CubeFaces {
@@ -741,6 +807,7 @@ fn load_faces(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
             pixel_format: String::new(),
         }),
         files: paths.to_vec(),
+        replaced,
     })
 }
 

@@ -34,5 +34,5 @@ pub mod text;
 
 pub use crate::error::{Error, Result};
 pub use crate::image::{EnvImage, Representation, RgbImage, Stats};
-pub use crate::io::{load, save, LoadOptions, SaveOptions};
+pub use crate::io::{load, save, LoadOptions, NonFinite, SaveOptions};
 pub use crate::layout::Layout;

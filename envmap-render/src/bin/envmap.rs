@@ -19,7 +19,9 @@ use envmap_core::{AnyMapping, Frame, Mapping};
 use envmap_render::convert::{auto_samples, convert, ConvertOptions};
 use envmap_render::environments::Builtin;
 use envmap_render::image::{EnvImage, Representation};
-use envmap_render::io::{load_detailed, save, ExrPrecision, LoadOptions, SaveOptions};
+use envmap_render::io::{
+    load_detailed, save, ExrPrecision, LoadOptions, Loaded, NonFinite, SaveOptions,
+};
 use envmap_render::layout::Layout;
 use envmap_render::mesh::Mesh;
 use envmap_render::render::{render, Camera, EnvSource, Mode, RenderOptions};
@@ -254,6 +256,9 @@ struct InfoArgs {
     /// Layout, when the aspect ratio does not say.
     #[arg(long, value_parser = parse_layout)]
     layout: Option<Layout>,
+    /// Largest image accepted, in millions of texels.
+    #[arg(long, default_value_t = 268)]
+    max_megatexels: u64,
 }
 
 #[derive(Args)]
@@ -306,6 +311,34 @@ fn main() -> ExitCode {
 }
 
 type CliResult = Result<(), String>;
+
+/// A load error's message, with how to raise the size limit when that is
+/// what stopped it.
+fn load_error(e: &envmap_render::Error) -> String {
+    fn too_large(e: &envmap_render::Error) -> bool {
+        match e {
+            envmap_render::Error::TooLarge { .. } => true,
+            envmap_render::Error::InFile { source, .. } => too_large(source),
+            _ => false,
+        }
+    }
+    if too_large(e) {
+        format!("{e} (raise the limit with --max-megatexels)")
+    } else {
+        e.to_string()
+    }
+}
+
+/// Says on standard error how many NaN or infinite texels loading replaced.
+fn warn_replaced(path: &Path, n: u64) {
+    if n > 0 {
+        eprintln!(
+            "envmap: warning: {}: {n} texel{} with NaN or infinite values replaced by black",
+            path.display(),
+            if n == 1 { "" } else { "s" }
+        );
+    }
+}
 
 /// The image size for `--size` in a representation: a cube's face edge, any
 /// other atlas's width.
@@ -400,9 +433,15 @@ fn run_convert(a: &ConvertArgs) -> CliResult {
         layout: a.from_layout,
         frame: a.from_frame,
         max_texels: a.max_megatexels.saturating_mul(1_000_000),
+        non_finite: NonFinite::Zero,
     };
-    let loaded = load_detailed(&a.input, &opts).map_err(|e| e.to_string())?;
-    let src = &loaded.image;
+    let loaded = load_detailed(&a.input, &opts).map_err(|e| load_error(&e))?;
+    warn_replaced(&a.input, loaded.replaced);
+    let Loaded {
+        image: src,
+        files: inputs,
+        ..
+    } = loaded;
     let t_load = t0.elapsed();
     let (repr, six) = output_representation(a)?;
     let in_texels = u64::from(src.width()) * u64::from(src.height());
@@ -448,8 +487,12 @@ fn run_convert(a: &ConvertArgs) -> CliResult {
         }
     };
     let t1 = Instant::now();
-    let out = convert(src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
+    let out = convert(&src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
     let t_convert = t1.elapsed();
+    // The input is no longer needed: free it before encoding, which may
+    // need buffers of its own.
+    let (src_w, src_h, src_mapping) = (src.width(), src.height(), src.mapping());
+    drop(src);
     bar.finish_and_clear();
     let sopts = SaveOptions {
         exposure: a.exposure,
@@ -459,7 +502,7 @@ fn run_convert(a: &ConvertArgs) -> CliResult {
             ExrPrecision::F32
         },
         six_files: six,
-        inputs: loaded.files.clone(),
+        inputs,
         overwrite_input: a.overwrite_input,
     };
     let t2 = Instant::now();
@@ -469,9 +512,9 @@ fn run_convert(a: &ConvertArgs) -> CliResult {
         eprintln!(
             "{} {}×{} {} -> {} {}×{} {} ({}, {}×{} samples): load {:.0} ms, convert {:.0} ms, save {:.0} ms",
             a.input.display(),
-            src.width(),
-            src.height(),
-            src.mapping(),
+            src_w,
+            src_h,
+            src_mapping,
             written
                 .first()
                 .map_or_else(|| a.output.display().to_string(), |p| p.display().to_string()),
@@ -496,9 +539,10 @@ fn run_info(a: &InfoArgs) -> CliResult {
     let opts = LoadOptions {
         mapping: a.from,
         layout: a.layout,
+        max_texels: a.max_megatexels.saturating_mul(1_000_000),
         ..LoadOptions::default()
     };
-    let loaded = load_detailed(&a.file, &opts).map_err(|e| e.to_string())?;
+    let loaded = load_detailed(&a.file, &opts).map_err(|e| load_error(&e))?;
     let img = &loaded.image;
     let repr = img.representation();
     let s = img.stats();
@@ -572,12 +616,22 @@ fn run_info(a: &InfoArgs) -> CliResult {
         )?;
         p(&mut out, "NaN texels", s.nan.to_string())?;
         p(&mut out, "Inf texels", s.inf.to_string())?;
+        let mib = |b: u64| b as f64 / f64::from(1u32 << 20);
+        let held = EnvImage::memory_bytes_for(img.width(), img.height());
         p(
             &mut out,
             "memory",
+            format!("{:.1} MiB as linear f32 RGB", mib(held)),
+        )?;
+        p(
+            &mut out,
+            "conversion",
             format!(
-                "{:.1} MiB as linear f32 RGB (a conversion needs this plus its output)",
-                img.memory_bytes() as f64 / f64::from(1u32 << 20)
+                "needs about {:.1} MiB at the default output size: this image plus an output \
+                 of as many texels, 12 bytes each (another --size: {:.1} MiB plus 12 bytes \
+                 per output texel)",
+                mib(2 * held),
+                mib(held)
             ),
         )?;
         Ok(())
@@ -688,15 +742,18 @@ fn run_render(a: &RenderArgs) -> CliResult {
             }
             let opts = LoadOptions {
                 mapping: a.from,
+                non_finite: NonFinite::Zero,
                 ..LoadOptions::default()
             };
-            Some(envmap_render::io::load(&a.env, &opts).map_err(|e| {
+            let loaded = load_detailed(&a.env, &opts).map_err(|e| {
                 if Path::new(&a.env).exists() {
-                    e.to_string()
+                    load_error(&e)
                 } else {
                     format!("{e} (built-in environments: sky, room)")
                 }
-            })?)
+            })?;
+            warn_replaced(Path::new(&a.env), loaded.replaced);
+            Some(loaded.image)
         }
     };
     let lift = Vec3::new(0.0, 0.0, 1.4);
