@@ -8,13 +8,8 @@ use envmap_render::image::Representation;
 use envmap_render::io::{save, SaveOptions};
 use envmap_render::procedural::{fill, smooth};
 
-fn envmap(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_envmap"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run envmap")
-}
+mod common;
+use common::{envmap, text};
 
 fn envmap_stdin(args: &[&str], dir: &Path, input: &str) -> Output {
     use std::io::Write;
@@ -33,10 +28,6 @@ fn envmap_stdin(args: &[&str], dir: &Path, input: &str) -> Output {
         .write_all(input.as_bytes())
         .expect("write stdin");
     child.wait_with_output().expect("wait")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 /// Asserts a user-facing failure: exit code, message naming `needle`, no panic.

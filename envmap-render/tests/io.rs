@@ -14,6 +14,9 @@ use envmap_render::{
     load, save, EnvImage, Error, Layout, LoadOptions, Representation, RgbImage, SaveOptions,
 };
 
+mod common;
+use common::entries;
+
 /// A small latlong with distinct, smoothly varying values in `[lo, hi]`.
 fn latlong(w: u32, lo: f32, hi: f32) -> EnvImage {
     let h = w / 2;
@@ -43,15 +46,6 @@ fn cube(atlas: Atlas, face: u32) -> EnvImage {
         }
     }
     img
-}
-
-fn entries(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 fn message(e: &Error) -> String {
