@@ -431,3 +431,18 @@ fn demo_runs_end_to_end() {
         assert!(p.is_finite() && p > 15.0, "{line}");
     }
 }
+
+#[test]
+fn help_states_the_exit_codes() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = envmap(&["--help"], dir.path());
+    assert!(o.status.success());
+    let out = text(&o.stdout);
+    assert!(
+        out.contains("Exit status: 0 success; 1 an error while running"),
+        "{out}"
+    );
+    assert!(out.contains("2 a usage error"), "{out}");
+    let o = envmap(&["bogus"], dir.path());
+    assert_fails(&o, 2, "unrecognized subcommand 'bogus'");
+}

@@ -2,8 +2,9 @@
 //! inspect them, and map directions to texture coordinates and back.
 //!
 //! Exit codes: 0 success; 1 a runtime error (a file that cannot be read,
-//! decoded or written, an image that fits no layout, a bad input line);
-//! 2 a usage error (unknown flag or value, reported by the argument parser).
+//! decoded or written, an image above the size limit or fitting no layout,
+//! a bad input line); 2 a usage error (unknown command, flag or value,
+//! reported by the argument parser). `--help` prints them.
 
 #![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -29,12 +30,19 @@ use envmap_render::sample::Filter;
 use envmap_render::text::{MapLines, UnmapLines};
 use indicatif::{ProgressBar, ProgressStyle};
 
+/// The exit codes, as `--help` prints them.
+const EXIT_STATUS: &str = "Exit status: 0 success; 1 an error while running (a file that \
+cannot be read, decoded or written, an image above the size limit or fitting no layout, a bad \
+input line); 2 a usage error (an unknown command, flag or value). Errors are one line on \
+standard error, naming the file and the problem.";
+
 #[derive(Parser)]
 #[command(
     name = "envmap",
     version,
     about = "Environment maps: convert between every representation, inspect, map directions.",
-    long_about = None
+    long_about = None,
+    after_help = EXIT_STATUS
 )]
 struct Cli {
     #[command(subcommand)]
