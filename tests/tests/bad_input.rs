@@ -16,8 +16,9 @@
 //! * SIMD (`forward8`, `inverse8`, the slice functions) at each tier: the
 //!   same validity, invalid lanes as [`INVALID_CHART`] with NaN u, v (or a
 //!   NaN direction), and valid lanes within the tier's bound of the core;
-//! * texel indices of every result, NaN lanes included, stay inside the
-//!   image;
+//! * texel indices of every result and every chart point, NaN included,
+//!   stay inside the chart and the atlas image (a chart out of range has
+//!   no texel);
 //! * every lane of a batch mixing good and bad inputs is bit-identical to
 //!   the same input evaluated alone.
 //!
@@ -160,9 +161,21 @@ fn scalar_inverse() {
                     );
                 }
             }
-            // `in_chart` never claims a point `inverse` refuses, and texel
-            // addressing of any coordinate stays in range.
+            // Texel addressing of any coordinate stays in range, in the
+            // chart and in the atlas image; a chart out of range has no texel.
             check_texels(c.u, &|| format!("{m} {c:?}"));
+            check_texels(c.v, &|| format!("{m} {c:?}"));
+            let atlas = m.atlas();
+            let (w, h) = atlas.image_size_for_cell_width(24).unwrap();
+            let (cw, ch) = atlas.cell_size(w, h).unwrap();
+            let (i, j) = (texel_index(c.u, cw), texel_index(c.v, ch));
+            match atlas.chart_to_texel(c.chart, i, j, w, h) {
+                Some((x, y)) => assert!(
+                    c.chart < m.chart_count() && x < w && y < h,
+                    "{m} {c:?}: texel ({x}, {y}) of {w}×{h}"
+                ),
+                None => assert!(c.chart >= m.chart_count(), "{m} {c:?}: no texel"),
+            }
         }
     }
 }
