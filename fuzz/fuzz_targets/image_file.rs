@@ -10,7 +10,7 @@ use std::sync::OnceLock;
 use envmap_core::{AnyMapping, Frame};
 use envmap_render::convert::{convert, ConvertOptions};
 use envmap_render::image::Representation;
-use envmap_render::io::{load_detailed, LoadOptions};
+use envmap_render::io::{load_detailed, LoadOptions, NonFinite};
 use envmap_render::sample::Filter;
 use libfuzzer_sys::fuzz_target;
 
@@ -39,6 +39,12 @@ fuzz_target!(|data: &[u8]| {
         frame: Frame::IDENTITY,
         // Small enough that the fuzzer cannot ask for gigabytes.
         max_texels: 1 << 18,
+        // Bit 6: replace NaN and infinite texels.
+        non_finite: if selector & 0x40 == 0 {
+            NonFinite::Keep
+        } else {
+            NonFinite::Zero
+        },
     };
     let Ok(loaded) = load_detailed(&path, &opts) else {
         return;
@@ -51,6 +57,12 @@ fuzz_target!(|data: &[u8]| {
     assert!(u64::from(img.width()) * u64::from(img.height()) <= opts.max_texels);
     let s = img.stats();
     assert_eq!(s.texels, s.finite + s.nan + s.inf);
+    if opts.non_finite == NonFinite::Zero {
+        assert_eq!((s.nan, s.inf), (0, 0));
+        assert!(loaded.replaced <= img.pixels().len() as u64);
+    } else {
+        assert_eq!(loaded.replaced, 0);
+    }
     let _ = img.memory_bytes();
     // A cube of 4×4 faces in its default layout (the horizontal cross).
     let repr = Representation::default_for(AnyMapping::Cube);
