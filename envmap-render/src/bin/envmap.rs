@@ -618,7 +618,15 @@ fn run_info(a: &InfoArgs) -> CliResult {
             &mut out,
             "radiance mean",
             format!(
-                "{:.6} {:.6} {:.6} (luminance {:.6})",
+                "{:.6} {:.6} {:.6} (luminance {:.6}; over the sphere, by solid angle)",
+                s.sphere_mean[0], s.sphere_mean[1], s.sphere_mean[2], s.sphere_mean_luminance
+            ),
+        )?;
+        p(
+            &mut out,
+            "texel mean",
+            format!(
+                "{:.6} {:.6} {:.6} (luminance {:.6}; every texel counted once)",
                 s.mean[0], s.mean[1], s.mean[2], s.mean_luminance
             ),
         )?;
