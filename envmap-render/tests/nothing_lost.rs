@@ -151,10 +151,15 @@ fn the_size_limit_is_stated_and_can_be_raised() {
         &SaveOptions::default(),
     )
     .unwrap();
-    for cmd in ["info", "convert"] {
+    for cmd in ["info", "convert", "render"] {
         let mut args = vec![cmd, "big.exr"];
         if cmd == "convert" {
             args.extend(["out.exr", "--to", "cube", "-q"]);
+        }
+        if cmd == "render" {
+            args = vec![
+                cmd, "out.png", "--env", "big.exr", "--width", "32", "--height", "24",
+            ];
         }
         args.extend(["--max-megatexels", "1"]);
         let o = envmap(&args, dir.path());

@@ -160,6 +160,9 @@ struct RenderArgs {
     /// Exposure in stops for PNG output.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
+    /// Largest environment image accepted, in millions of texels.
+    #[arg(long, default_value_t = 268)]
+    max_megatexels: u64,
 }
 
 /// The mapping names the command accepts.
@@ -759,6 +762,7 @@ fn run_render(a: &RenderArgs) -> CliResult {
             let opts = LoadOptions {
                 mapping: a.from,
                 non_finite: NonFinite::Zero,
+                max_texels: a.max_megatexels.saturating_mul(1_000_000),
                 ..LoadOptions::default()
             };
             let loaded = load_detailed(&a.env, &opts).map_err(|e| {
