@@ -56,9 +56,10 @@ struct RowContext<'a, D, S> {
 
 impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
     /// Maps eight output points (inverse in the output, forward in the
-    /// input) and samples the input there.
+    /// input) and samples the input there, into `dst` (see
+    /// [`Sampler::sample8_into`]).
     #[inline(always)]
-    fn sample(&self, p: Uv8) -> [[f32; 3]; LANES] {
+    fn sample_into(&self, p: Uv8, dst: &mut [[f32; 3]]) {
         let mut d = self.dst.inverse8::<Fine>(p);
         if let Some(m) = self.m {
             let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
@@ -70,7 +71,7 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
             );
         }
         let q = self.src.forward8::<Fine>(d);
-        self.sampler.sample8(&q, self.filter)
+        self.sampler.sample8_into(&q, self.filter, dst);
     }
 
     /// Samples a batch of points and adds each into its texel of the row.
@@ -86,7 +87,8 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
             b.v[k] = b.v[0];
         }
         let p = Uv8::new(u32x8::new(b.chart), f32x8::new(b.u), f32x8::new(b.v));
-        let s = self.sample(p);
+        let mut s = [[0.0f32; 3]; LANES];
+        self.sample_into(p, &mut s);
         for (k, s) in s.iter().enumerate().take(b.len) {
             let x = b.x[k] as usize;
             let px = &mut row[x];
@@ -108,14 +110,13 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
         let mut lanes = us.chunks_exact(LANES);
         for (o, u) in (&mut outs).zip(&mut lanes) {
             let u: [f32; LANES] = u.try_into().unwrap_or([0.5; LANES]);
-            o.copy_from_slice(&self.sample(Uv8::new(chart, f32x8::new(u), v)));
+            self.sample_into(Uv8::new(chart, f32x8::new(u), v), o);
         }
         let (o, u) = (outs.into_remainder(), lanes.remainder());
         if let Some(&last) = u.last() {
             // The tail: unused lanes repeat the last texel.
             let u = core::array::from_fn(|k| u.get(k).copied().unwrap_or(last));
-            let s = self.sample(Uv8::new(chart, f32x8::new(u), v));
-            o.copy_from_slice(&s[..o.len()]);
+            self.sample_into(Uv8::new(chart, f32x8::new(u), v), o);
         }
     }
 }

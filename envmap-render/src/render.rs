@@ -349,17 +349,17 @@ fn render_map(
                 } else {
                     mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at]))
                 };
-                let rgb = sampler.sample8(&q, opts.filter);
-                for (((out, rgb), hit), f) in out.iter_mut().zip(rgb).zip(hits).zip(fres) {
-                    *out = match hit {
-                        None if !opts.background => [0.0; 3],
-                        None => rgb,
-                        Some(_) => [
-                            rgb[0] * f * opts.tint[0],
-                            rgb[1] * f * opts.tint[1],
-                            rgb[2] * f * opts.tint[2],
-                        ],
-                    };
+                sampler.sample8_into(&q, opts.filter, out);
+                for ((out, hit), f) in out.iter_mut().zip(hits).zip(fres) {
+                    match hit {
+                        None if !opts.background => *out = [0.0; 3],
+                        None => {}
+                        Some(_) => {
+                            for (c, t) in out.iter_mut().zip(opts.tint) {
+                                *c = *c * f * t;
+                            }
+                        }
+                    }
                 }
             }
         });

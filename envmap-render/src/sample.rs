@@ -215,6 +215,18 @@ impl<'a> Sampler<'a> {
     #[inline]
     #[must_use]
     pub fn sample8(&self, q: &Uv8, filter: Filter) -> [[f32; 3]; 8] {
+        let mut out = [[0.0f32; 3]; 8];
+        self.sample8_into(q, filter, &mut out);
+        out
+    }
+
+    /// [`Sampler::sample8`] written straight into `dst`: lane `k` into
+    /// `dst[k]`, for the first `min(8, dst.len())` lanes (the rest of `dst`
+    /// is left alone).
+    #[inline]
+    pub fn sample8_into(&self, q: &Uv8, filter: Filter, dst: &mut [[f32; 3]]) {
+        let lanes = dst.len().min(8);
+        let out = dst[..lanes].as_flattened_mut();
         let (cw, ch) = (self.cw as f32, self.ch as f32);
         let bilinear = filter == Filter::Bilinear;
         let (x, y, inside) = if bilinear {
@@ -269,12 +281,20 @@ impl<'a> Sampler<'a> {
         let (gx, gy) = (f32x8::ONE - fx, f32x8::ONE - fy);
         let weights = [gx * gy, fx * gy, gx * fy, fx * fy].map(f32x8::to_array);
         let row = 3 * self.width;
-        // Lane k's red, green and blue land at 3k..3k+3; each four-wide
-        // store's fourth float is overwritten by the next lane.
-        let mut out = [0.0f32; 3 * 8 + 1];
+        // Lane k's red, green and blue land at 3k..3k+3 of `out`; a
+        // four-wide store's fourth float goes into the next lane's red,
+        // which is written after it (the last lane stores three floats).
+        let mut store = |k: usize, v: [f32; 4]| match out.get_mut(3 * k..3 * k + 4) {
+            Some(o) => o.copy_from_slice(&v),
+            None => {
+                if let Some(o) = out.get_mut(3 * k..3 * k + 3) {
+                    o.copy_from_slice(&v[..3]);
+                }
+            }
+        };
         let mut rest = 0u32;
         if bilinear {
-            for k in 0..8 {
+            for k in 0..lanes {
                 // Both rows of the footprint: texels (i, j), (i+1, j) and
                 // (i, j+1), (i+1, j+1), each with one float to spare.
                 let taps = match flat.get(at[k] as usize..(at[k] as usize).wrapping_add(row + 7)) {
@@ -287,13 +307,12 @@ impl<'a> Sampler<'a> {
                 let (a, b) = split4(taps);
                 let (c, d) = split4(&taps[row..]);
                 let w = |n: usize| f32x4::splat(weights[n][k]);
-                let v = a * w(0) + b * w(1) + c * w(2) + d * w(3);
-                out[3 * k..3 * k + 4].copy_from_slice(&v.to_array());
+                store(k, (a * w(0) + b * w(1) + c * w(2) + d * w(3)).to_array());
             }
         } else {
-            for k in 0..8 {
-                match flat.get(at[k] as usize..(at[k] as usize).wrapping_add(4)) {
-                    Some(t) if (mask >> k) & 1 != 0 => out[3 * k..3 * k + 4].copy_from_slice(t),
+            for (k, &at) in at.iter().enumerate().take(lanes) {
+                match flat.get(at as usize..(at as usize).wrapping_add(4)) {
+                    Some(t) if (mask >> k) & 1 != 0 => store(k, [t[0], t[1], t[2], t[3]]),
                     _ => rest |= 1 << k,
                 }
             }
@@ -302,9 +321,10 @@ impl<'a> Sampler<'a> {
             let k = rest.trailing_zeros() as usize;
             rest &= rest - 1;
             let s = self.sample(q.lane_raw(k), filter);
-            out[3 * k..3 * k + 3].copy_from_slice(&s);
+            if let Some(o) = out.get_mut(3 * k..3 * k + 3) {
+                o.copy_from_slice(&s);
+            }
         }
-        core::array::from_fn(|k| [out[3 * k], out[3 * k + 1], out[3 * k + 2]])
     }
 
     fn bilinear(&self, c: ChartUv) -> [f32; 3] {

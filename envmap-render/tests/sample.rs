@@ -88,6 +88,14 @@ fn eight_lanes_equal_the_scalar_sampler_bit_for_bit() {
                 let v: [f32; 8] = core::array::from_fn(|_| coordinate(&mut rng, ch));
                 let q = Uv8::new(u32x8::new(chart), f32x8::new(u), f32x8::new(v));
                 let eight = sampler.sample8(&q, filter);
+                // Into a shorter slice: those lanes, and nothing past them.
+                let len = (rng.next() % 8) as usize + 1;
+                let mut dst = vec![[-7.0f32; 3]; len + 1];
+                sampler.sample8_into(&q, filter, &mut dst[..len]);
+                for k in 0..len {
+                    assert_eq!(dst[k].map(f32::to_bits), eight[k].map(f32::to_bits));
+                }
+                assert_eq!(dst[len], [-7.0; 3], "sample8_into wrote past its slice");
                 for k in 0..8 {
                     let one = sampler.sample(q.lane_raw(k), filter);
                     assert_eq!(
