@@ -15,36 +15,10 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use envmap_bench::report::{std_latlong_forward, std_latlong_inverse};
+use envmap_bench::timing::directions;
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, ChartUv};
 use envmap_simd::{forward_slice, inverse_slice, Exact, Fast, Fine};
-
-/// Deterministic xorshift, so every run measures the same inputs.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn unit(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn dir(&mut self) -> Vec3 {
-        loop {
-            let v = Vec3::new(
-                2.0 * self.unit() - 1.0,
-                2.0 * self.unit() - 1.0,
-                2.0 * self.unit() - 1.0,
-            );
-            let l = v.length_squared();
-            if l > 1e-4 && l <= 1.0 {
-                return v;
-            }
-        }
-    }
-}
 
 fn sizes() -> Vec<usize> {
     match std::env::var("ENVMAP_BENCH_SIZES") {
@@ -55,8 +29,8 @@ fn sizes() -> Vec<usize> {
 
 fn forward(c: &mut Criterion) {
     for n in sizes() {
-        let mut rng = Rng(0x2545_F491_4F6C_DD1D);
-        let dirs: Vec<Vec3> = (0..n).map(|_| rng.dir()).collect();
+        // The same inputs on every run.
+        let dirs = directions(0x2545_F491_4F6C_DD1D, n);
         let mut out = vec![ChartUv::default(); n];
         let mut copy_out = vec![Vec3::ZERO; n];
         for m in AnyMapping::ALL {
@@ -96,8 +70,7 @@ fn forward(c: &mut Criterion) {
 
 fn inverse(c: &mut Criterion) {
     for n in sizes() {
-        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
-        let dirs: Vec<Vec3> = (0..n).map(|_| rng.dir()).collect();
+        let dirs = directions(0x9E37_79B9_7F4A_7C15, n);
         let mut out = vec![Vec3::ZERO; n];
         let mut copy_out = vec![ChartUv::default(); n];
         for m in AnyMapping::ALL {

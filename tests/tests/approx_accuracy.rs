@@ -20,6 +20,7 @@ use envmap_bench::accuracy::{
     Stats,
 };
 use envmap_simd::approx::{self, Exact, Fast, Fine, Tier};
+use envmap_tests::SplitMix64;
 use std::fmt;
 use wide::f32x8;
 
@@ -80,22 +81,6 @@ type Unary = fn(f32x8) -> f32x8;
 /// The sweep of `f` at tier `T` (dense, or every `f32` with `ENVMAP_EXTENSIVE=1`).
 fn stats<T: Tier>(f: Function) -> Stats {
     function_stats(f, tier_kernel::<T>(f), Density::from_env())
-}
-
-/// A small deterministic generator (SplitMix64).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1_u64 << 53) as f64
-    }
 }
 
 macro_rules! accuracy_tests {
@@ -300,7 +285,7 @@ fn signed_zeros_and_tiny_fast() {
 
 /// A NaN (or ±∞) in one lane changes nothing in the other seven, bit for bit.
 fn nan_lane_isolation<T: Tier>() {
-    let mut rng = Rng(0x0A11_1A7E ^ T::NAME.len() as u64);
+    let mut rng = SplitMix64::new(0x0A11_1A7E ^ T::NAME.len() as u64);
     let poisons = [
         f32::NAN,
         f32::from_bits(0xFFC0_0000),
@@ -318,7 +303,7 @@ fn nan_lane_isolation<T: Tier>() {
     for _ in 0..50 {
         for &(what, f, scale) in &unary {
             let base: [f32; 8] =
-                core::array::from_fn(|_| ((rng.unit() * 2.0 - 1.0) * scale) as f32);
+                core::array::from_fn(|_| ((rng.next_f64() * 2.0 - 1.0) * scale) as f32);
             let clean = f(f32x8::new(base)).to_array();
             for lane in 0..8 {
                 for &p in &poisons {
@@ -334,8 +319,8 @@ fn nan_lane_isolation<T: Tier>() {
                 }
             }
         }
-        let ys: [f32; 8] = core::array::from_fn(|_| ((rng.unit() * 2.0 - 1.0) * 10.0) as f32);
-        let xs: [f32; 8] = core::array::from_fn(|_| ((rng.unit() * 2.0 - 1.0) * 10.0) as f32);
+        let ys: [f32; 8] = core::array::from_fn(|_| ((rng.next_f64() * 2.0 - 1.0) * 10.0) as f32);
+        let xs: [f32; 8] = core::array::from_fn(|_| ((rng.next_f64() * 2.0 - 1.0) * 10.0) as f32);
         let clean = approx::atan2::<T>(f32x8::new(ys), f32x8::new(xs)).to_array();
         for lane in 0..8 {
             for &p in &poisons {
@@ -377,12 +362,12 @@ fn nan_lane_isolation_fast() {
 /// Past the accurate range `sin_cos` still returns a point within the
 /// polynomials' error of the unit circle (the angle is no longer right).
 fn beyond_range<T: Tier>() {
-    let mut rng = Rng(0xB1C0_5EED);
+    let mut rng = SplitMix64::new(0xB1C0_5EED);
     let mut xs: Vec<f32> = (0..20_000)
         .map(|_| {
             let lo = f64::from(approx::SIN_COS_RANGE).log2();
-            let v = 2f64.powf(lo + rng.unit() * (127.9 - lo)) as f32;
-            if rng.next() & 1 == 1 {
+            let v = 2f64.powf(lo + rng.next_f64() * (127.9 - lo)) as f32;
+            if rng.next_u64() & 1 == 1 {
                 -v
             } else {
                 v
