@@ -2,11 +2,13 @@
 //! strip), one sample per texel, into a reused output image:
 //!
 //! ```text
-//! cargo run --release -p envmap-render --example timing [nearest] [latlong]
+//! cargo run --release -p envmap-render --example timing [nearest] [latlong] [zero]
 //! ```
 //!
 //! `nearest` uses the nearest filter instead of bilinear; `latlong` converts
-//! into a latlong of the input's size instead of the cube. Prints the median
+//! into a latlong of the input's size instead of the cube; `zero` reads a
+//! never-written (all-zero) input, whose pages are all the one zero page, so
+//! the difference from a real input is the time spent waiting for memory. Prints the median
 //! and minimum of `ITERS` runs (default 10). `RAYON_NUM_THREADS` sets the
 //! thread count.
 use std::time::Instant;
@@ -32,7 +34,12 @@ fn main() {
         .unwrap_or(10)
         .max(1);
     let latlong = Representation::default_for(AnyMapping::LatLong);
-    let src = fill(latlong, 4096, 2048, smooth).expect("the input fits the size limit");
+    let src = if has("zero") {
+        EnvImage::new(4096, 2048, latlong)
+    } else {
+        fill(latlong, 4096, 2048, smooth)
+    }
+    .expect("the input fits the size limit");
     let (repr, w, h) = if to_latlong {
         (latlong, 4096, 2048)
     } else {
