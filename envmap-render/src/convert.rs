@@ -18,7 +18,7 @@ use wide::{f32x8, u32x8};
 
 use crate::error::Result;
 use crate::image::{EnvImage, Representation};
-use crate::sample::{Filter, Sampler};
+use crate::sample::{Filter, Footprint8, Sampler};
 
 /// Up to eight output sample points waiting to be mapped together.
 #[derive(Default)]
@@ -56,10 +56,10 @@ struct RowContext<'a, D, S> {
 
 impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
     /// Maps eight output points (inverse in the output, forward in the
-    /// input) and samples the input there, into `dst` (see
-    /// [`Sampler::sample8_into`]).
+    /// input) and addresses their footprints in the input (see
+    /// [`Sampler::footprint8`]).
     #[inline(always)]
-    fn sample_into(&self, p: Uv8, dst: &mut [[f32; 3]]) {
+    fn footprint(&self, p: Uv8) -> Footprint8 {
         let mut d = self.dst.inverse8::<Fine>(p);
         if let Some(m) = self.m {
             let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
@@ -71,7 +71,15 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
             );
         }
         let q = self.src.forward8::<Fine>(d);
-        self.sampler.sample8_into(&q, self.filter, dst);
+        self.sampler.footprint8(&q, self.filter)
+    }
+
+    /// Maps eight output points and samples the input there, into `dst`
+    /// (see [`Sampler::sample8_into`]).
+    #[inline(always)]
+    fn sample_into(&self, p: Uv8, dst: &mut [[f32; 3]]) {
+        let f = self.footprint(p);
+        self.sampler.gather8_into(&f, dst);
     }
 
     /// Samples a batch of points and adds each into its texel of the row.
@@ -101,23 +109,89 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
     }
 
     /// One sample at each of the texel centres `us` (u per texel, all at
-    /// `v`) of one row of `chart`, written straight into `out` (as long as
-    /// `us`), eight texels at a time.
+    /// `v`) of one row of `chart`, for `px[at..at + us.len()]`, eight texels
+    /// at a time, through `ahead`.
     #[inline]
-    fn run_row(&self, chart: u32, us: &[f32], v: f32, out: &mut [[f32; 3]]) {
+    fn run_row(
+        &self,
+        chart: u32,
+        us: &[f32],
+        v: f32,
+        at: usize,
+        ahead: &mut Ahead,
+        px: &mut [[f32; 3]],
+    ) {
         let (chart, v) = (u32x8::splat(chart), f32x8::splat(v));
-        let mut outs = out.chunks_exact_mut(LANES);
         let mut lanes = us.chunks_exact(LANES);
-        for (o, u) in (&mut outs).zip(&mut lanes) {
+        let mut at = at;
+        for u in &mut lanes {
             let u: [f32; LANES] = u.try_into().unwrap_or([0.5; LANES]);
-            self.sample_into(Uv8::new(chart, f32x8::new(u), v), o);
+            let f = self.footprint(Uv8::new(chart, f32x8::new(u), v));
+            ahead.push(self.sampler, f, at, LANES, px);
+            at += LANES;
         }
-        let (o, u) = (outs.into_remainder(), lanes.remainder());
+        let u = lanes.remainder();
         if let Some(&last) = u.last() {
             // The tail: unused lanes repeat the last texel.
-            let u = core::array::from_fn(|k| u.get(k).copied().unwrap_or(last));
-            self.sample_into(Uv8::new(chart, f32x8::new(u), v), o);
+            let lanes = core::array::from_fn(|k| u.get(k).copied().unwrap_or(last));
+            let f = self.footprint(Uv8::new(chart, f32x8::new(lanes), v));
+            ahead.push(self.sampler, f, at, u.len(), px);
         }
+    }
+}
+
+/// How many batches are addressed before the first of them is filtered.
+const AHEAD: usize = 16;
+
+/// Batches whose footprints are known and whose texels are loading
+/// ([`Sampler::prefetch8`]), filtered `AHEAD` batches later, so that the
+/// filter rarely waits for memory.
+#[derive(Default)]
+struct Ahead {
+    /// Footprint, and where its lanes go in the band (start, count).
+    queue: [(Footprint8, usize, usize); AHEAD],
+    head: usize,
+    len: usize,
+}
+
+impl Ahead {
+    /// Queues a batch for `px[at..at + len]`, filtering the oldest one when
+    /// the queue is full.
+    #[inline(always)]
+    fn push(&mut self, s: &Sampler<'_>, f: Footprint8, at: usize, len: usize, px: &mut [[f32; 3]]) {
+        s.prefetch8(&f);
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+        {
+            if let Some(p) = px.get(at) {
+                safe_arch::prefetch_et0(p);
+            }
+            if let Some(p) = px.get(at + len - 1) {
+                safe_arch::prefetch_et0(p);
+            }
+        }
+        if self.len == AHEAD {
+            let slot = &mut self.queue[self.head];
+            if let Some(o) = px.get_mut(slot.1..slot.1 + slot.2) {
+                s.gather8_into(&slot.0, o);
+            }
+            *slot = (f, at, len);
+            self.head = (self.head + 1) % AHEAD;
+        } else {
+            self.queue[(self.head + self.len) % AHEAD] = (f, at, len);
+            self.len += 1;
+        }
+    }
+
+    /// Filters every queued batch.
+    fn drain(&mut self, s: &Sampler<'_>, px: &mut [[f32; 3]]) {
+        for k in 0..self.len {
+            let (f, a, n) = &self.queue[(self.head + k) % AHEAD];
+            if let Some(o) = px.get_mut(*a..*a + *n) {
+                s.gather8_into(f, o);
+            }
+        }
+        self.len = 0;
+        self.head = 0;
     }
 }
 
@@ -311,6 +385,7 @@ where
                 count.resize(px.len(), 0);
             }
             let mut batch = Batch::default();
+            let mut ahead = Ahead::default();
             for gx in 0..atlas.cols {
                 for tx in (0..cw).step_by(TILE as usize) {
                     for r in 0..rows {
@@ -325,12 +400,13 @@ where
                         let end = (tx + TILE).min(cw);
                         if direct {
                             let us = if half { &centres_turned } else { &offsets_u };
-                            let at = (row_base + tx) as usize;
                             ctx.run_row(
                                 cell.chart,
                                 &us[tx as usize..end as usize],
                                 offsets_v[j as usize],
-                                &mut px[at..at + (end - tx) as usize],
+                                (row_base + tx) as usize,
+                                &mut ahead,
+                                px,
                             );
                             continue;
                         }
@@ -352,6 +428,7 @@ where
                 }
             }
             ctx.run(&mut batch, px, count);
+            ahead.drain(ctx.sampler, px);
             // Average over the sub-samples inside the chart (a disk's rim
             // texels have fewer).
             if n > 1 || disk {

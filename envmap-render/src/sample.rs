@@ -64,6 +64,21 @@ fn split4(t: &[f32]) -> (f32x4, f32x4) {
     (four(t), four(t.get(3..).unwrap_or_default()))
 }
 
+/// Eight chart points' texel addresses and bilinear weights, from
+/// [`Sampler::footprint8`], for [`Sampler::prefetch8`] and
+/// [`Sampler::gather8_into`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Footprint8 {
+    q: Uv8,
+    bilinear: bool,
+    /// Where each lane's first tap starts, in floats.
+    at: [i32; 8],
+    /// Lanes that take the plain path (bit k for lane k); the others go
+    /// through [`Sampler::sample`].
+    fast: u32,
+    weights: [[f32; 8]; 4],
+}
+
 /// A read-only view of an [`EnvImage`] that samples chart points.
 #[derive(Debug)]
 pub struct Sampler<'a> {
@@ -225,8 +240,17 @@ impl<'a> Sampler<'a> {
     /// is left alone).
     #[inline]
     pub fn sample8_into(&self, q: &Uv8, filter: Filter, dst: &mut [[f32; 3]]) {
-        let lanes = dst.len().min(8);
-        let out = dst[..lanes].as_flattened_mut();
+        let f = self.footprint8(q, filter);
+        self.gather8_into(&f, dst);
+    }
+
+    /// Where eight chart points read the input: the first half of
+    /// [`Sampler::sample8_into`], which [`Sampler::gather8_into`] finishes.
+    /// In between, [`Sampler::prefetch8`] can start loading the texels, so
+    /// that a caller working a few batches ahead does not wait for memory.
+    #[inline]
+    #[must_use]
+    pub fn footprint8(&self, q: &Uv8, filter: Filter) -> Footprint8 {
         let (cw, ch) = (self.cw as f32, self.ch as f32);
         let bilinear = filter == Filter::Bilinear;
         let (x, y, inside) = if bilinear {
@@ -271,20 +295,69 @@ impl<'a> Sampler<'a> {
             }
         }
         let at = origin + (j * i32x8::splat(self.width as i32) + i) * i32x8::splat(3);
-        let mask = if fits {
-            (inside.to_bitmask() & !origin.simd_lt(i32x8::ZERO).to_bitmask()) & 0xff
+        // Plain lanes read whole rows of eight floats from `at` (and from
+        // `at` plus a row, for bilinear), inside `flat`.
+        let reach = if bilinear { 3 * self.width + 8 } else { 4 };
+        let last = i32::try_from(flat.len().saturating_sub(reach)).unwrap_or(-1);
+        let fast = if fits {
+            (inside.to_bitmask()
+                & !origin.simd_lt(i32x8::ZERO).to_bitmask()
+                & !at.simd_gt(i32x8::splat(last)).to_bitmask())
+                & 0xff
         } else {
             0
         };
-        let at = at.to_array();
         let (fx, fy) = (x - i.round_float(), y - j.round_float());
         let (gx, gy) = (f32x8::ONE - fx, f32x8::ONE - fy);
-        let weights = [gx * gy, fx * gy, gx * fy, fx * fy].map(f32x8::to_array);
+        Footprint8 {
+            q: *q,
+            bilinear,
+            at: at.to_array(),
+            fast,
+            weights: [gx * gy, fx * gy, gx * fy, fx * fy].map(f32x8::to_array),
+        }
+    }
+
+    /// Asks the processor to start loading the texels that the plain lanes
+    /// of `f` read (both rows of a bilinear footprint), without waiting for
+    /// them. Only a hint: results never depend on it. Does nothing off
+    /// x86-64.
+    #[inline]
+    pub fn prefetch8(&self, f: &Footprint8) {
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+        {
+            let flat = self.pixels.as_flattened();
+            let row = if f.bilinear { 3 * self.width } else { 0 };
+            // The first lane's upper row, and every lane's lower row: along
+            // a walk, one lane's upper row is mostly a neighbour's lower row
+            // or the last batch's.
+            if let Some(t) = flat.get(f.at[0] as usize) {
+                safe_arch::prefetch_t0(t);
+            }
+            for &at in &f.at {
+                if let Some(t) = flat.get((at as usize).wrapping_add(row)) {
+                    safe_arch::prefetch_t0(t);
+                }
+            }
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
+        let _ = f;
+    }
+
+    /// Filters the footprints `f` (from [`Sampler::footprint8`]) into
+    /// `dst`: lane `k` into `dst[k]`, for the first `min(8, dst.len())`
+    /// lanes, exactly as [`Sampler::sample8_into`] does.
+    #[inline]
+    pub fn gather8_into(&self, f: &Footprint8, dst: &mut [[f32; 3]]) {
+        let lanes = dst.len().min(8);
+        let out = dst[..lanes].as_flattened_mut();
+        let flat = self.pixels.as_flattened();
+        let (at, mask, weights) = (&f.at, f.fast, &f.weights);
         let row = 3 * self.width;
         // Lane k's red, green and blue land at 3k..3k+3 of `out`; a
         // four-wide store's fourth float goes into the next lane's red,
         // which is written after it (the last lane stores three floats).
-        let mut store = |k: usize, v: [f32; 4]| match out.get_mut(3 * k..3 * k + 4) {
+        let store = |out: &mut [f32], k: usize, v: [f32; 4]| match out.get_mut(3 * k..3 * k + 4) {
             Some(o) => o.copy_from_slice(&v),
             None => {
                 if let Some(o) = out.get_mut(3 * k..3 * k + 3) {
@@ -293,7 +366,31 @@ impl<'a> Sampler<'a> {
             }
         };
         let mut rest = 0u32;
-        if bilinear {
+        let full = <&mut [f32; 24]>::try_from(&mut *out);
+        let filter = if let (true, 0xff, Ok(full)) = (f.bilinear, mask, full) {
+            // The common case, eight plain lanes: lane k's two rows are
+            // eight floats at `at[k]` and a row below (`footprint8` checked
+            // that they fit).
+            let below = flat.get(row..).unwrap_or_default();
+            for k in 0..8 {
+                let at = at[k] as u32 as usize;
+                let (Some(t), Some(b)) = (flat.get(at..at + 8), below.get(at..at + 8)) else {
+                    rest |= 1 << k;
+                    continue;
+                };
+                let four = |t: &[f32], o: usize| f32x4::new([t[o], t[o + 1], t[o + 2], t[o + 3]]);
+                let w = |n: usize| f32x4::splat(weights[n][k]);
+                let v =
+                    (four(t, 0) * w(0) + four(t, 3) * w(1) + four(b, 0) * w(2) + four(b, 3) * w(3))
+                        .to_array();
+                if k < 7 {
+                    full[3 * k..3 * k + 4].copy_from_slice(&v);
+                } else {
+                    full[21..24].copy_from_slice(&v[..3]);
+                }
+            }
+            Filter::Bilinear
+        } else if f.bilinear {
             for k in 0..lanes {
                 // Both rows of the footprint: texels (i, j), (i+1, j) and
                 // (i, j+1), (i+1, j+1), each with one float to spare.
@@ -307,20 +404,26 @@ impl<'a> Sampler<'a> {
                 let (a, b) = split4(taps);
                 let (c, d) = split4(&taps[row..]);
                 let w = |n: usize| f32x4::splat(weights[n][k]);
-                store(k, (a * w(0) + b * w(1) + c * w(2) + d * w(3)).to_array());
+                store(
+                    out,
+                    k,
+                    (a * w(0) + b * w(1) + c * w(2) + d * w(3)).to_array(),
+                );
             }
+            Filter::Bilinear
         } else {
             for (k, &at) in at.iter().enumerate().take(lanes) {
                 match flat.get(at as usize..(at as usize).wrapping_add(4)) {
-                    Some(t) if (mask >> k) & 1 != 0 => store(k, [t[0], t[1], t[2], t[3]]),
+                    Some(t) if (mask >> k) & 1 != 0 => store(out, k, [t[0], t[1], t[2], t[3]]),
                     _ => rest |= 1 << k,
                 }
             }
-        }
+            Filter::Nearest
+        };
         while rest != 0 {
             let k = rest.trailing_zeros() as usize;
             rest &= rest - 1;
-            let s = self.sample(q.lane_raw(k), filter);
+            let s = self.sample(f.q.lane_raw(k), filter);
             if let Some(o) = out.get_mut(3 * k..3 * k + 3) {
                 o.copy_from_slice(&s);
             }
