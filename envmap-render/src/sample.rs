@@ -378,11 +378,9 @@ impl<'a> Sampler<'a> {
                     rest |= 1 << k;
                     continue;
                 };
-                let four = |t: &[f32], o: usize| f32x4::new([t[o], t[o + 1], t[o + 2], t[o + 3]]);
+                let ((a, b), (c, d)) = (split4(t), split4(b));
                 let w = |n: usize| f32x4::splat(weights[n][k]);
-                let v =
-                    (four(t, 0) * w(0) + four(t, 3) * w(1) + four(b, 0) * w(2) + four(b, 3) * w(3))
-                        .to_array();
+                let v = (a * w(0) + b * w(1) + c * w(2) + d * w(3)).to_array();
                 if k < 7 {
                     full[3 * k..3 * k + 4].copy_from_slice(&v);
                 } else {
