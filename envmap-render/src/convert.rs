@@ -357,8 +357,8 @@ where
     // Bands of rows run in parallel; within a band, cells are walked in
     // tiles of TILE columns so that neighbouring output texels, which read
     // neighbouring input texels, are mapped one after another.
-    const BAND: u32 = 16;
-    const TILE: u32 = 32;
+    const BAND: u32 = 32;
+    const TILE: u32 = 64;
     // One sample at each texel centre of charts that fill their cells:
     // eight texels of a row at a time, written in place (no accumulation).
     let direct = n == 1 && !disk;
