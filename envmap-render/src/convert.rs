@@ -55,11 +55,10 @@ struct RowContext<'a, D, S> {
 }
 
 impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
-    /// Maps eight output points (inverse in the output, forward in the
-    /// input) and addresses their footprints in the input (see
-    /// [`Sampler::footprint8`]).
+    /// Maps eight output points: inverse in the output, forward in the
+    /// input.
     #[inline(always)]
-    fn footprint(&self, p: Uv8) -> Footprint8 {
+    fn map(&self, p: Uv8) -> Uv8 {
         let mut d = self.dst.inverse8::<Fine>(p);
         if let Some(m) = self.m {
             let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
@@ -70,16 +69,14 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
                 s(c0.z) * d.x + s(c1.z) * d.y + s(c2.z) * d.z,
             );
         }
-        let q = self.src.forward8::<Fine>(d);
-        self.sampler.footprint8(&q, self.filter)
+        self.src.forward8::<Fine>(d)
     }
 
     /// Maps eight output points and samples the input there, into `dst`
     /// (see [`Sampler::sample8_into`]).
     #[inline(always)]
     fn sample_into(&self, p: Uv8, dst: &mut [[f32; 3]]) {
-        let f = self.footprint(p);
-        self.sampler.gather8_into(&f, dst);
+        self.sampler.sample8_into(&self.map(p), self.filter, dst);
     }
 
     /// Samples a batch of points and adds each into its texel of the row.
@@ -126,16 +123,16 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
         let mut at = at;
         for u in &mut lanes {
             let u: [f32; LANES] = u.try_into().unwrap_or([0.5; LANES]);
-            let f = self.footprint(Uv8::new(chart, f32x8::new(u), v));
-            ahead.push(self.sampler, f, at, LANES, px);
+            let q = self.map(Uv8::new(chart, f32x8::new(u), v));
+            ahead.push(self.sampler, &q, self.filter, at, LANES, px);
             at += LANES;
         }
         let u = lanes.remainder();
         if let Some(&last) = u.last() {
             // The tail: unused lanes repeat the last texel.
             let lanes = core::array::from_fn(|k| u.get(k).copied().unwrap_or(last));
-            let f = self.footprint(Uv8::new(chart, f32x8::new(lanes), v));
-            ahead.push(self.sampler, f, at, u.len(), px);
+            let q = self.map(Uv8::new(chart, f32x8::new(lanes), v));
+            ahead.push(self.sampler, &q, self.filter, at, u.len(), px);
         }
     }
 }
@@ -155,11 +152,36 @@ struct Ahead {
 }
 
 impl Ahead {
-    /// Queues a batch for `px[at..at + len]`, filtering the oldest one when
-    /// the queue is full.
+    /// Queues the batch of chart points `q` for `px[at..at + len]`:
+    /// addresses it and starts loading its texels, after filtering the
+    /// oldest batch when the queue is full. The footprint is written in
+    /// place, into the slot it will be filtered from.
     #[inline(always)]
-    fn push(&mut self, s: &Sampler<'_>, f: Footprint8, at: usize, len: usize, px: &mut [[f32; 3]]) {
-        s.prefetch8(&f);
+    fn push(
+        &mut self,
+        s: &Sampler<'_>,
+        q: &Uv8,
+        filter: Filter,
+        at: usize,
+        len: usize,
+        px: &mut [[f32; 3]],
+    ) {
+        let k = if self.len == AHEAD {
+            let k = self.head;
+            let (f, a, n) = &self.queue[k];
+            if let Some(o) = px.get_mut(*a..*a + *n) {
+                s.gather8_into(f, o);
+            }
+            self.head = (k + 1) % AHEAD;
+            k
+        } else {
+            self.len += 1;
+            (self.head + self.len - 1) % AHEAD
+        };
+        let slot = &mut self.queue[k];
+        s.footprint8_into(q, filter, &mut slot.0);
+        (slot.1, slot.2) = (at, len);
+        s.prefetch8(&slot.0);
         #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
         {
             if let Some(p) = px.get(at) {
@@ -168,17 +190,6 @@ impl Ahead {
             if let Some(p) = px.get(at + len - 1) {
                 safe_arch::prefetch_et0(p);
             }
-        }
-        if self.len == AHEAD {
-            let slot = &mut self.queue[self.head];
-            if let Some(o) = px.get_mut(slot.1..slot.1 + slot.2) {
-                s.gather8_into(&slot.0, o);
-            }
-            *slot = (f, at, len);
-            self.head = (self.head + 1) % AHEAD;
-        } else {
-            self.queue[(self.head + self.len) % AHEAD] = (f, at, len);
-            self.len += 1;
         }
     }
 

@@ -251,6 +251,15 @@ impl<'a> Sampler<'a> {
     #[inline]
     #[must_use]
     pub fn footprint8(&self, q: &Uv8, filter: Filter) -> Footprint8 {
+        let mut f = Footprint8::default();
+        self.footprint8_into(q, filter, &mut f);
+        f
+    }
+
+    /// [`Sampler::footprint8`] written into `f`, which a caller can keep in
+    /// place (a queue slot) instead of moving.
+    #[inline]
+    pub fn footprint8_into(&self, q: &Uv8, filter: Filter, f: &mut Footprint8) {
         let (cw, ch) = (self.cw as f32, self.ch as f32);
         let bilinear = filter == Filter::Bilinear;
         let (x, y, inside) = if bilinear {
@@ -309,13 +318,11 @@ impl<'a> Sampler<'a> {
         };
         let (fx, fy) = (x - i.round_float(), y - j.round_float());
         let (gx, gy) = (f32x8::ONE - fx, f32x8::ONE - fy);
-        Footprint8 {
-            q: *q,
-            bilinear,
-            at: at.to_array(),
-            fast,
-            weights: [gx * gy, fx * gy, gx * fy, fx * fy].map(f32x8::to_array),
-        }
+        f.q = *q;
+        f.bilinear = bilinear;
+        f.at = at.to_array();
+        f.fast = fast;
+        f.weights = [gx * gy, fx * gy, gx * fy, fx * fy].map(f32x8::to_array);
     }
 
     /// Asks the processor to start loading the texels that the plain lanes
