@@ -354,16 +354,58 @@ impl<'a> Sampler<'a> {
     /// Filters the footprints `f` (from [`Sampler::footprint8`]) into
     /// `dst`: lane `k` into `dst[k]`, for the first `min(8, dst.len())`
     /// lanes, exactly as [`Sampler::sample8_into`] does.
-    #[inline]
+    #[inline(always)]
     pub fn gather8_into(&self, f: &Footprint8, dst: &mut [[f32; 3]]) {
+        if f.bilinear && f.fast == 0xff {
+            if let Some(Ok(full)) = dst
+                .get_mut(..8)
+                .map(|d| <&mut [f32; 24]>::try_from(d.as_flattened_mut()))
+            {
+                if self.bilinear8_plain(f, full) {
+                    return;
+                }
+            }
+        }
+        self.gather8_general(f, dst);
+    }
+
+    /// The common case, eight plain bilinear lanes, small enough to inline:
+    /// lane k's two rows are eight floats at `at[k]` and a row below
+    /// (`footprint8` checked that they fit; false, with `out` partly
+    /// written, if one does not).
+    #[inline(always)]
+    fn bilinear8_plain(&self, f: &Footprint8, out: &mut [f32; 24]) -> bool {
+        let flat = self.pixels.as_flattened();
+        let below = flat.get(3 * self.width..).unwrap_or_default();
+        for k in 0..8 {
+            let at = f.at[k] as u32 as usize;
+            let (Some(t), Some(b)) = (flat.get(at..at + 8), below.get(at..at + 8)) else {
+                return false;
+            };
+            let ((a, b), (c, d)) = (split4(t), split4(b));
+            let w = |n: usize| f32x4::splat(f.weights[n][k]);
+            let v = (a * w(0) + b * w(1) + c * w(2) + d * w(3)).to_array();
+            // Lane k's red, green and blue land at 3k..3k+3; a four-wide
+            // store's fourth float goes into the next lane's red, which is
+            // written after it (the last lane stores three floats).
+            if k < 7 {
+                out[3 * k..3 * k + 4].copy_from_slice(&v);
+            } else {
+                out[21..24].copy_from_slice(&v[..3]);
+            }
+        }
+        true
+    }
+
+    /// Every other case of [`Sampler::gather8_into`]: plain lanes one by one
+    /// with range checks, the others through [`Sampler::sample`].
+    #[inline(never)]
+    fn gather8_general(&self, f: &Footprint8, dst: &mut [[f32; 3]]) {
         let lanes = dst.len().min(8);
         let out = dst[..lanes].as_flattened_mut();
         let flat = self.pixels.as_flattened();
         let (at, mask, weights) = (&f.at, f.fast, &f.weights);
         let row = 3 * self.width;
-        // Lane k's red, green and blue land at 3k..3k+3 of `out`; a
-        // four-wide store's fourth float goes into the next lane's red,
-        // which is written after it (the last lane stores three floats).
         let store = |out: &mut [f32], k: usize, v: [f32; 4]| match out.get_mut(3 * k..3 * k + 4) {
             Some(o) => o.copy_from_slice(&v),
             None => {
@@ -373,29 +415,7 @@ impl<'a> Sampler<'a> {
             }
         };
         let mut rest = 0u32;
-        let full = <&mut [f32; 24]>::try_from(&mut *out);
-        let filter = if let (true, 0xff, Ok(full)) = (f.bilinear, mask, full) {
-            // The common case, eight plain lanes: lane k's two rows are
-            // eight floats at `at[k]` and a row below (`footprint8` checked
-            // that they fit).
-            let below = flat.get(row..).unwrap_or_default();
-            for k in 0..8 {
-                let at = at[k] as u32 as usize;
-                let (Some(t), Some(b)) = (flat.get(at..at + 8), below.get(at..at + 8)) else {
-                    rest |= 1 << k;
-                    continue;
-                };
-                let ((a, b), (c, d)) = (split4(t), split4(b));
-                let w = |n: usize| f32x4::splat(weights[n][k]);
-                let v = (a * w(0) + b * w(1) + c * w(2) + d * w(3)).to_array();
-                if k < 7 {
-                    full[3 * k..3 * k + 4].copy_from_slice(&v);
-                } else {
-                    full[21..24].copy_from_slice(&v[..3]);
-                }
-            }
-            Filter::Bilinear
-        } else if f.bilinear {
+        let filter = if f.bilinear {
             for k in 0..lanes {
                 // Both rows of the footprint: texels (i, j), (i+1, j) and
                 // (i, j+1), (i+1, j+1), each with one float to spare.
