@@ -1,5 +1,6 @@
 //! Times one conversion, latlong 4096×2048 → cube 6×1024² (a horizontal
-//! strip), one sample per texel, into a reused output image:
+//! strip), one sample per texel unless `SAMPLES` says otherwise, into a reused
+//! output image:
 //!
 //! ```text
 //! cargo run --release -p envmap-render --example timing [nearest] [latlong] [zero]
@@ -10,7 +11,9 @@
 //! never-written (all-zero) input, whose pages are all the one zero page, so
 //! the difference from a real input is the time spent waiting for memory. Prints the median
 //! and minimum of `ITERS` runs (default 10). `RAYON_NUM_THREADS` sets the
-//! thread count.
+//! thread count, `EDGE` the cube's face edge (default 1024) and `SAMPLES`
+//! the sub-samples per texel side (default 1; `auto` or any other word for
+//! the automatic choice).
 use std::time::Instant;
 
 use envmap_core::{AnyMapping, Atlas, Frame};
@@ -46,12 +49,19 @@ fn main() {
         let strip = Atlas::CUBE_HORIZONTAL_STRIP;
         let repr = Representation::new(AnyMapping::Cube, strip, Frame::IDENTITY)
             .expect("the strip is a cube layout");
-        (repr, 6144, 1024)
+        let e: u32 = std::env::var("EDGE")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(1024);
+        (repr, 6 * e, e)
     };
     let mut out = EnvImage::new(w, h, repr).expect("the output fits the size limit");
     let opts = ConvertOptions {
         filter,
-        samples: Some(1),
+        samples: match std::env::var("SAMPLES") {
+            Ok(v) => v.parse().ok(),
+            Err(_) => Some(1),
+        },
         rotation: None,
     };
     let mut ms: Vec<f64> = (0..iters)

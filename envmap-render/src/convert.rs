@@ -370,90 +370,148 @@ where
     // neighbouring input texels, are mapped one after another.
     const BAND: u32 = 32;
     const TILE: u32 = 64;
-    // One sample at each texel centre of charts that fill their cells:
-    // eight texels of a row at a time, written in place (no accumulation).
-    let direct = n == 1 && !disk;
+    // Charts that fill their cells (every mapping but the disks) are
+    // sampled eight points of a row at a time through the `Ahead` queue:
+    // one sample per texel straight into the output; N×N sub-samples into
+    // a scratch tile, then averaged. Disk charts keep only the sub-samples
+    // inside the disk, so they are batched point by point and counted.
     let w = width as usize;
     out.pixels_mut()
         .par_chunks_mut(w * BAND as usize)
         .enumerate()
-        .for_each_init(Vec::new, |count: &mut Vec<u16>, (band, px)| {
-            let y0 = band as u32 * BAND;
-            let rows = (px.len() / w) as u32;
-            if direct {
-                // Every texel of a chart is written once; only cells
-                // outside every chart (a cross's corners) need clearing.
-                for r in 0..rows {
-                    let gy = (y0 + r) / ch;
-                    for gx in (0..atlas.cols).filter(|&gx| atlas.cell_at(gx, gy).is_none()) {
-                        let at = (r * width + gx * cw) as usize;
-                        px[at..at + cw as usize].fill([0.0; 3]);
+        .for_each_init(
+            || (Vec::new(), Vec::new()),
+            |(count, scratch): &mut (Vec<u16>, Vec<[f32; 3]>), (band, px)| {
+                let y0 = band as u32 * BAND;
+                let rows = (px.len() / w) as u32;
+                if disk {
+                    px.fill([0.0; 3]);
+                    count.clear();
+                    count.resize(px.len(), 0);
+                } else {
+                    // Every texel of a chart is written once; only cells
+                    // outside every chart (a cross's corners) need clearing.
+                    for r in 0..rows {
+                        let gy = (y0 + r) / ch;
+                        for gx in (0..atlas.cols).filter(|&gx| atlas.cell_at(gx, gy).is_none()) {
+                            let at = (r * width + gx * cw) as usize;
+                            px[at..at + cw as usize].fill([0.0; 3]);
+                        }
                     }
                 }
-            } else {
-                px.fill([0.0; 3]);
-                count.clear();
-                count.resize(px.len(), 0);
-            }
-            let mut batch = Batch::default();
-            let mut ahead = Ahead::default();
-            for gx in 0..atlas.cols {
-                for tx in (0..cw).step_by(TILE as usize) {
-                    for r in 0..rows {
-                        let y = y0 + r;
-                        let (gy, ly) = (y / ch, y % ch);
-                        let Some(cell) = atlas.cell_at(gx, gy) else {
-                            continue;
-                        };
-                        let half = cell.turn == Turn::Half;
-                        let j = if half { ch - 1 - ly } else { ly };
-                        let row_base = r * width + gx * cw;
+                let mut batch = Batch::default();
+                let mut ahead = Ahead::default();
+                for gx in 0..atlas.cols {
+                    for tx in (0..cw).step_by(TILE as usize) {
                         let end = (tx + TILE).min(cw);
-                        if direct {
-                            let us = if half { &centres_turned } else { &offsets_u };
-                            ctx.run_row(
-                                cell.chart,
-                                &us[tx as usize..end as usize],
-                                offsets_v[j as usize],
-                                (row_base + tx) as usize,
-                                &mut ahead,
-                                px,
-                            );
-                            continue;
+                        // Scratch layout for N > 1: row r, sub-row b, then
+                        // the tile's sub-samples left to right.
+                        let run = ((end - tx) * n) as usize;
+                        if !disk && n > 1 {
+                            scratch.clear();
+                            scratch.resize(rows as usize * n as usize * run, [0.0; 3]);
                         }
-                        for b in 0..n {
-                            let v = offsets_v[(j * n + b) as usize];
-                            for lx in tx..end {
-                                let i = if half { cw - 1 - lx } else { lx };
-                                for a in 0..n {
-                                    let u = offsets_u[(i * n + a) as usize];
-                                    if (!disk || dst.in_chart(cell.chart, u, v))
-                                        && batch.push(cell.chart, u, v, row_base + lx)
-                                    {
-                                        ctx.run(&mut batch, px, count);
+                        for r in 0..rows {
+                            let y = y0 + r;
+                            let (gy, ly) = (y / ch, y % ch);
+                            let Some(cell) = atlas.cell_at(gx, gy) else {
+                                continue;
+                            };
+                            let half = cell.turn == Turn::Half;
+                            let j = if half { ch - 1 - ly } else { ly };
+                            let row_base = r * width + gx * cw;
+                            if !disk {
+                                let us = if half { &centres_turned } else { &offsets_u };
+                                let us = &us[(tx * n) as usize..(end * n) as usize];
+                                if n == 1 {
+                                    let (v, at) = (offsets_v[j as usize], (row_base + tx) as usize);
+                                    ctx.run_row(cell.chart, us, v, at, &mut ahead, px);
+                                    continue;
+                                }
+                                for b in 0..n {
+                                    let v = offsets_v[(j * n + b) as usize];
+                                    let at = (r * n + b) as usize * run;
+                                    ctx.run_row(cell.chart, us, v, at, &mut ahead, scratch);
+                                }
+                                continue;
+                            }
+                            for b in 0..n {
+                                let v = offsets_v[(j * n + b) as usize];
+                                for lx in tx..end {
+                                    let i = if half { cw - 1 - lx } else { lx };
+                                    for a in 0..n {
+                                        let u = offsets_u[(i * n + a) as usize];
+                                        if dst.in_chart(cell.chart, u, v)
+                                            && batch.push(cell.chart, u, v, row_base + lx)
+                                        {
+                                            ctx.run(&mut batch, px, count);
+                                        }
                                     }
                                 }
                             }
                         }
+                        if !disk && n > 1 {
+                            ahead.drain(ctx.sampler, scratch);
+                            average_tile(scratch, n, run, tx, (gx, cw, ch), &atlas, y0, width, px);
+                        }
                     }
                 }
-            }
-            ctx.run(&mut batch, px, count);
-            ahead.drain(ctx.sampler, px);
-            // Average over the sub-samples inside the chart (a disk's rim
-            // texels have fewer).
-            if n > 1 || disk {
-                for (p, &k) in px.iter_mut().zip(count.iter()) {
-                    if k > 1 {
-                        let r = 1.0 / f32::from(k);
-                        p[0] *= r;
-                        p[1] *= r;
-                        p[2] *= r;
+                ctx.run(&mut batch, px, count);
+                ahead.drain(ctx.sampler, px);
+                // Average over the sub-samples inside the chart (a disk's rim
+                // texels have fewer).
+                if disk {
+                    for (p, &k) in px.iter_mut().zip(count.iter()) {
+                        if k > 1 {
+                            let r = 1.0 / f32::from(k);
+                            p[0] *= r;
+                            p[1] *= r;
+                            p[2] *= r;
+                        }
                     }
                 }
+                if let Some(p) = progress {
+                    p(rows);
+                }
+            },
+        );
+}
+
+/// Averages a scratch tile of N×N sub-samples per texel (rows of `run`
+/// sub-samples: output row r, sub-row b at `(r·N + b)·run`) into the output
+/// texels of columns `tx..` of cell column `gx` in the band starting at row
+/// `y0`, for rows inside a chart.
+#[allow(clippy::too_many_arguments)]
+fn average_tile(
+    scratch: &[[f32; 3]],
+    n: u32,
+    run: usize,
+    tx: u32,
+    (gx, cw, ch): (u32, u32, u32),
+    atlas: &envmap_core::Atlas,
+    y0: u32,
+    width: u32,
+    px: &mut [[f32; 3]],
+) {
+    let n = n as usize;
+    let r_k = 1.0 / (n * n) as f32;
+    let rows = px.len() / width as usize;
+    for r in 0..rows {
+        if atlas.cell_at(gx, (y0 + r as u32) / ch).is_none() {
+            continue;
+        }
+        let row_base = r * width as usize + (gx * cw + tx) as usize;
+        for (lx, p) in px[row_base..row_base + run / n].iter_mut().enumerate() {
+            let mut acc = [0.0f32; 3];
+            for b in 0..n {
+                let at = (r * n + b) * run + lx * n;
+                for s in &scratch[at..at + n] {
+                    acc[0] += s[0];
+                    acc[1] += s[1];
+                    acc[2] += s[2];
+                }
             }
-            if let Some(p) = progress {
-                p(rows);
-            }
-        });
+            *p = [acc[0] * r_k, acc[1] * r_k, acc[2] * r_k];
+        }
+    }
 }
