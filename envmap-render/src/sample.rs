@@ -258,7 +258,7 @@ impl<'a> Sampler<'a> {
 
     /// [`Sampler::footprint8`] written into `f`, which a caller can keep in
     /// place (a queue slot) instead of moving.
-    #[inline]
+    #[inline(always)]
     pub fn footprint8_into(&self, q: &Uv8, filter: Filter, f: &mut Footprint8) {
         let (cw, ch) = (self.cw as f32, self.ch as f32);
         let bilinear = filter == Filter::Bilinear;
@@ -325,24 +325,23 @@ impl<'a> Sampler<'a> {
         f.weights = [gx * gy, fx * gy, gx * fy, fx * fy].map(f32x8::to_array);
     }
 
-    /// Asks the processor to start loading the texels that the plain lanes
-    /// of `f` read (both rows of a bilinear footprint), without waiting for
+    /// Asks the processor to start loading the texels that the lanes of
+    /// `f` read (both rows of a bilinear footprint), without waiting for
     /// them. Only a hint: results never depend on it. Does nothing off
     /// x86-64.
-    #[inline]
+    #[inline(always)]
     pub fn prefetch8(&self, f: &Footprint8) {
         #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
         {
             let flat = self.pixels.as_flattened();
-            let row = if f.bilinear { 3 * self.width } else { 0 };
-            // The first lane's upper row, and every lane's lower row: along
-            // a walk, one lane's upper row is mostly a neighbour's lower row
-            // or the last batch's.
-            if let Some(t) = flat.get(f.at[0] as usize) {
-                safe_arch::prefetch_t0(t);
-            }
+            // Every lane's row, where its floats start, and for bilinear
+            // the row below.
+            let below = if f.bilinear { 3 * self.width } else { 0 };
             for &at in &f.at {
-                if let Some(t) = flat.get((at as usize).wrapping_add(row)) {
+                if let Some(t) = flat.get(at as usize) {
+                    safe_arch::prefetch_t0(t);
+                }
+                if let Some(t) = flat.get((at as usize).wrapping_add(below)) {
                     safe_arch::prefetch_t0(t);
                 }
             }
