@@ -138,7 +138,7 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
 }
 
 /// How many batches are addressed before the first of them is filtered.
-const AHEAD: usize = 16;
+const AHEAD: usize = 32;
 
 /// Batches whose footprints are known and whose texels are loading
 /// ([`Sampler::prefetch8`]), filtered `AHEAD` batches later, so that the
