@@ -335,14 +335,15 @@ impl<'a> Sampler<'a> {
         {
             let flat = self.pixels.as_flattened();
             // Every lane's row, where its floats start, and for bilinear
-            // the row below.
+            // the row below: one range check covers both, as `top` and
+            // `bottom` have one length.
             let below = if f.bilinear { 3 * self.width } else { 0 };
+            let bottom = flat.get(below..).unwrap_or_default();
+            let top = flat.get(..bottom.len()).unwrap_or_default();
             for &at in &f.at {
-                if let Some(t) = flat.get(at as usize) {
+                if let (Some(t), Some(b)) = (top.get(at as usize), bottom.get(at as usize)) {
                     safe_arch::prefetch_t0(t);
-                }
-                if let Some(t) = flat.get((at as usize).wrapping_add(below)) {
-                    safe_arch::prefetch_t0(t);
+                    safe_arch::prefetch_t0(b);
                 }
             }
         }
