@@ -18,7 +18,7 @@ use wide::{f32x8, u32x8};
 
 use crate::error::Result;
 use crate::image::{EnvImage, Representation};
-use crate::sample::{Filter, Footprint8, Sampler};
+use crate::sample::{Ahead, Filter, Sampler};
 
 /// Up to eight output sample points waiting to be mapped together.
 #[derive(Default)]
@@ -134,75 +134,6 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
             let q = self.map(Uv8::new(chart, f32x8::new(lanes), v));
             ahead.push(self.sampler, &q, self.filter, at, u.len(), px);
         }
-    }
-}
-
-/// How many batches are addressed before the first of them is filtered.
-const AHEAD: usize = 32;
-
-/// Batches whose footprints are known and whose texels are loading
-/// ([`Sampler::prefetch8`]), filtered `AHEAD` batches later, so that the
-/// filter rarely waits for memory.
-#[derive(Default)]
-struct Ahead {
-    /// Footprint, and where its lanes go in the band (start, count).
-    queue: [(Footprint8, usize, usize); AHEAD],
-    head: usize,
-    len: usize,
-}
-
-impl Ahead {
-    /// Queues the batch of chart points `q` for `px[at..at + len]`:
-    /// addresses it and starts loading its texels, after filtering the
-    /// oldest batch when the queue is full. The footprint is written in
-    /// place, into the slot it will be filtered from.
-    #[inline(always)]
-    fn push(
-        &mut self,
-        s: &Sampler<'_>,
-        q: &Uv8,
-        filter: Filter,
-        at: usize,
-        len: usize,
-        px: &mut [[f32; 3]],
-    ) {
-        let k = if self.len == AHEAD {
-            let k = self.head;
-            let (f, a, n) = &self.queue[k];
-            if let Some(o) = px.get_mut(*a..*a + *n) {
-                s.gather8_into(f, o);
-            }
-            self.head = (k + 1) % AHEAD;
-            k
-        } else {
-            self.len += 1;
-            (self.head + self.len - 1) % AHEAD
-        };
-        let slot = &mut self.queue[k];
-        s.footprint8_into(q, filter, &mut slot.0);
-        (slot.1, slot.2) = (at, len);
-        s.prefetch8(&slot.0);
-        #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
-        {
-            if let Some(p) = px.get(at) {
-                safe_arch::prefetch_et0(p);
-            }
-            if let Some(p) = px.get(at + len - 1) {
-                safe_arch::prefetch_et0(p);
-            }
-        }
-    }
-
-    /// Filters every queued batch.
-    fn drain(&mut self, s: &Sampler<'_>, px: &mut [[f32; 3]]) {
-        for k in 0..self.len {
-            let (f, a, n) = &self.queue[(self.head + k) % AHEAD];
-            if let Some(o) = px.get_mut(*a..*a + *n) {
-                s.gather8_into(f, o);
-            }
-        }
-        self.len = 0;
-        self.head = 0;
     }
 }
 

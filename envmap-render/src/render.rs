@@ -24,7 +24,7 @@ use rayon::prelude::*;
 
 use crate::image::{EnvImage, RgbImage};
 use crate::mesh::Mesh;
-use crate::sample::{Filter, Sampler};
+use crate::sample::{Ahead, Filter, Sampler};
 
 /// A pinhole camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -336,28 +336,26 @@ fn render_map(
                     }
                 }
             }
-            // Eight lookups at a time, then shading per pixel.
-            for (n, ((out, hits), fres)) in px
-                .chunks_mut(LANES)
-                .zip(hits.chunks(LANES))
-                .zip(fres.chunks(LANES))
-                .enumerate()
-            {
-                let at = n * LANES..(n * LANES + out.len());
+            // Eight lookups at a time, queued so that their texels load
+            // ahead of filtering (see `Ahead`); then shading per pixel.
+            let mut ahead = Ahead::default();
+            for start in (0..px.len()).step_by(LANES) {
+                let at = start..(start + LANES).min(px.len());
                 let q = if per_vertex {
-                    Uv8::from_partial(&coords[at])
+                    Uv8::from_partial(&coords[at.clone()])
                 } else {
-                    mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at]))
+                    mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at.clone()]))
                 };
-                sampler.sample8_into(&q, opts.filter, out);
-                for ((out, hit), f) in out.iter_mut().zip(hits).zip(fres) {
-                    match hit {
-                        None if !opts.background => *out = [0.0; 3],
-                        None => {}
-                        Some(_) => {
-                            for (c, t) in out.iter_mut().zip(opts.tint) {
-                                *c = *c * f * t;
-                            }
+                ahead.push(sampler, &q, opts.filter, at.start, at.len(), px);
+            }
+            ahead.drain(sampler, px);
+            for ((out, hit), f) in px.iter_mut().zip(&hits).zip(&fres) {
+                match hit {
+                    None if !opts.background => *out = [0.0; 3],
+                    None => {}
+                    Some(_) => {
+                        for (c, t) in out.iter_mut().zip(opts.tint) {
+                            *c = *c * f * t;
                         }
                     }
                 }

@@ -587,3 +587,72 @@ impl<'a> Sampler<'a> {
         }
     }
 }
+
+/// How many batches are addressed before the first of them is filtered.
+const AHEAD: usize = 32;
+
+/// Batches whose footprints are known and whose texels are loading
+/// ([`Sampler::prefetch8`]), filtered `AHEAD` batches later, so that the
+/// filter rarely waits for memory.
+#[derive(Default)]
+pub(crate) struct Ahead {
+    /// Footprint, and where its lanes go in the band (start, count).
+    queue: [(Footprint8, usize, usize); AHEAD],
+    head: usize,
+    len: usize,
+}
+
+impl Ahead {
+    /// Queues the batch of chart points `q` for `px[at..at + len]`:
+    /// addresses it and starts loading its texels, after filtering the
+    /// oldest batch when the queue is full. The footprint is written in
+    /// place, into the slot it will be filtered from.
+    #[inline(always)]
+    pub(crate) fn push(
+        &mut self,
+        s: &Sampler<'_>,
+        q: &Uv8,
+        filter: Filter,
+        at: usize,
+        len: usize,
+        px: &mut [[f32; 3]],
+    ) {
+        let k = if self.len == AHEAD {
+            let k = self.head;
+            let (f, a, n) = &self.queue[k];
+            if let Some(o) = px.get_mut(*a..*a + *n) {
+                s.gather8_into(f, o);
+            }
+            self.head = (k + 1) % AHEAD;
+            k
+        } else {
+            self.len += 1;
+            (self.head + self.len - 1) % AHEAD
+        };
+        let slot = &mut self.queue[k];
+        s.footprint8_into(q, filter, &mut slot.0);
+        (slot.1, slot.2) = (at, len);
+        s.prefetch8(&slot.0);
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+        {
+            if let Some(p) = px.get(at) {
+                safe_arch::prefetch_et0(p);
+            }
+            if let Some(p) = px.get(at + len - 1) {
+                safe_arch::prefetch_et0(p);
+            }
+        }
+    }
+
+    /// Filters every queued batch.
+    pub(crate) fn drain(&mut self, s: &Sampler<'_>, px: &mut [[f32; 3]]) {
+        for k in 0..self.len {
+            let (f, a, n) = &self.queue[(self.head + k) % AHEAD];
+            if let Some(o) = px.get_mut(*a..*a + *n) {
+                s.gather8_into(f, o);
+            }
+        }
+        self.len = 0;
+        self.head = 0;
+    }
+}
