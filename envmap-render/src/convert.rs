@@ -6,7 +6,11 @@
 //! input's axes (with an optional rotation on the way; see
 //! [`Representation::frame`]), forward-mapped into the input's charts and
 //! filtered there ([`Sampler`]). Texels outside every chart (cross corners,
-//! the corners around a disk) are black. Rows run in parallel (rayon).
+//! the corners around a disk) are black. Bands of rows run in parallel
+//! (rayon); within a band, batches are addressed 32 ahead of filtering while
+//! their texels load (see the [`crate::sample`] module). N×N sub-samples are
+//! filtered into a scratch tile and averaged; on disk charts, where only the
+//! sub-samples inside the disk count, points are batched one by one.
 
 use envmap_core::atlas::Turn;
 use envmap_core::glam::Mat3;

@@ -11,6 +11,13 @@
 //!
 //! Nearest sampling picks the texel containing the point (clamped, never out
 //! of range).
+//!
+//! Eight points at a time ([`Sampler::sample8_into`]) is two steps:
+//! [`Sampler::footprint8`] addresses the texels and weights, and
+//! [`Sampler::gather8_into`] filters. Conversions and the renderer keep 32
+//! batches between the two and ask the processor for their texels in the
+//! meantime ([`Sampler::prefetch8`]), so that filtering rarely waits for
+//! memory (the README's `envmap` section has the measurements).
 
 use envmap_core::cube::{face_direction, CubeFace};
 use envmap_core::texel::{bilinear_footprint, texel_index};
