@@ -24,30 +24,6 @@ use crate::error::Result;
 use crate::image::{EnvImage, Representation};
 use crate::sample::{Ahead, Filter, Sampler};
 
-/// Up to eight output sample points waiting to be mapped together.
-#[derive(Default)]
-struct Batch {
-    chart: [u32; LANES],
-    u: [f32; LANES],
-    v: [f32; LANES],
-    x: [u32; LANES],
-    len: usize,
-}
-
-impl Batch {
-    /// Adds a point; true when the batch is full.
-    #[inline]
-    fn push(&mut self, chart: u32, u: f32, v: f32, x: u32) -> bool {
-        let k = self.len;
-        self.chart[k] = chart;
-        self.u[k] = u;
-        self.v[k] = v;
-        self.x[k] = x;
-        self.len += 1;
-        self.len == LANES
-    }
-}
-
 /// What every batch of a conversion shares.
 struct RowContext<'a, D, S> {
     dst: D,
@@ -74,39 +50,6 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
             );
         }
         self.src.forward8::<Fine>(d)
-    }
-
-    /// Maps eight output points and samples the input there, into `dst`
-    /// (see [`Sampler::sample8_into`]).
-    #[inline(always)]
-    fn sample_into(&self, p: Uv8, dst: &mut [[f32; 3]]) {
-        self.sampler.sample8_into(&self.map(p), self.filter, dst);
-    }
-
-    /// Samples a batch of points and adds each into its texel of the row.
-    #[inline]
-    fn run(&self, b: &mut Batch, row: &mut [[f32; 3]], count: &mut [u16]) {
-        if b.len == 0 {
-            return;
-        }
-        // Unused lanes repeat the first point (valid work, results dropped).
-        for k in b.len..LANES {
-            b.chart[k] = b.chart[0];
-            b.u[k] = b.u[0];
-            b.v[k] = b.v[0];
-        }
-        let p = Uv8::new(u32x8::new(b.chart), f32x8::new(b.u), f32x8::new(b.v));
-        let mut s = [[0.0f32; 3]; LANES];
-        self.sample_into(p, &mut s);
-        for (k, s) in s.iter().enumerate().take(b.len) {
-            let x = b.x[k] as usize;
-            let px = &mut row[x];
-            px[0] += s[0];
-            px[1] += s[1];
-            px[2] += s[2];
-            count[x] = count[x].saturating_add(1);
-        }
-        b.len = 0;
     }
 
     /// One sample at each of the texel centres `us` (u per texel, all at
@@ -305,148 +248,107 @@ where
     // neighbouring input texels, are mapped one after another.
     const BAND: u32 = 32;
     const TILE: u32 = 64;
-    // Charts that fill their cells (every mapping but the disks) are
-    // sampled eight points of a row at a time through the `Ahead` queue:
-    // one sample per texel straight into the output; N×N sub-samples into
-    // a scratch tile, then averaged. Disk charts keep only the sub-samples
-    // inside the disk, so they are batched point by point and counted.
+    // Rows of a cell are sampled eight points at a time through the `Ahead`
+    // queue: one sample per texel straight into the output; N×N sub-samples,
+    // or any sample of a disk chart, into a scratch tile that is then
+    // averaged (on a disk, over the sub-samples inside it).
+    let direct = n == 1 && !disk;
     let w = width as usize;
     out.pixels_mut()
         .par_chunks_mut(w * BAND as usize)
         .enumerate()
-        .for_each_init(
-            || (Vec::new(), Vec::new()),
-            |(count, scratch): &mut (Vec<u16>, Vec<[f32; 3]>), (band, px)| {
-                let y0 = band as u32 * BAND;
-                let rows = (px.len() / w) as u32;
-                if disk {
-                    px.fill([0.0; 3]);
-                    count.clear();
-                    count.resize(px.len(), 0);
-                } else {
-                    // Every texel of a chart is written once; only cells
-                    // outside every chart (a cross's corners) need clearing.
-                    for r in 0..rows {
-                        let gy = (y0 + r) / ch;
-                        for gx in (0..atlas.cols).filter(|&gx| atlas.cell_at(gx, gy).is_none()) {
-                            let at = (r * width + gx * cw) as usize;
-                            px[at..at + cw as usize].fill([0.0; 3]);
-                        }
-                    }
-                }
-                let mut batch = Batch::default();
-                let mut ahead = Ahead::default();
-                for gx in 0..atlas.cols {
-                    for tx in (0..cw).step_by(TILE as usize) {
-                        let end = (tx + TILE).min(cw);
-                        // Scratch layout for N > 1: row r, sub-row b, then
-                        // the tile's sub-samples left to right.
-                        let run = ((end - tx) * n) as usize;
-                        if !disk && n > 1 {
-                            scratch.clear();
-                            scratch.resize(rows as usize * n as usize * run, [0.0; 3]);
-                        }
-                        for r in 0..rows {
-                            let y = y0 + r;
-                            let (gy, ly) = (y / ch, y % ch);
-                            let Some(cell) = atlas.cell_at(gx, gy) else {
-                                continue;
-                            };
-                            let half = cell.turn == Turn::Half;
-                            let j = if half { ch - 1 - ly } else { ly };
-                            let row_base = r * width + gx * cw;
-                            if !disk {
-                                let us = if half { &centres_turned } else { &offsets_u };
-                                let us = &us[(tx * n) as usize..(end * n) as usize];
-                                if n == 1 {
-                                    let (v, at) = (offsets_v[j as usize], (row_base + tx) as usize);
-                                    ctx.run_row(cell.chart, us, v, at, &mut ahead, px);
-                                    continue;
-                                }
-                                for b in 0..n {
-                                    let v = offsets_v[(j * n + b) as usize];
-                                    let at = (r * n + b) as usize * run;
-                                    ctx.run_row(cell.chart, us, v, at, &mut ahead, scratch);
-                                }
-                                continue;
-                            }
-                            for b in 0..n {
-                                let v = offsets_v[(j * n + b) as usize];
-                                for lx in tx..end {
-                                    let i = if half { cw - 1 - lx } else { lx };
-                                    for a in 0..n {
-                                        let u = offsets_u[(i * n + a) as usize];
-                                        if dst.in_chart(cell.chart, u, v)
-                                            && batch.push(cell.chart, u, v, row_base + lx)
-                                        {
-                                            ctx.run(&mut batch, px, count);
-                                        }
-                                    }
-                                }
-                            }
-                        }
-                        if !disk && n > 1 {
-                            ahead.drain(ctx.sampler, scratch);
-                            average_tile(scratch, n, run, tx, (gx, cw, ch), &atlas, y0, width, px);
-                        }
-                    }
-                }
-                ctx.run(&mut batch, px, count);
-                ahead.drain(ctx.sampler, px);
-                // Average over the sub-samples inside the chart (a disk's rim
-                // texels have fewer).
-                if disk {
-                    for (p, &k) in px.iter_mut().zip(count.iter()) {
-                        if k > 1 {
-                            let r = 1.0 / f32::from(k);
-                            p[0] *= r;
-                            p[1] *= r;
-                            p[2] *= r;
-                        }
-                    }
-                }
-                if let Some(p) = progress {
-                    p(rows);
-                }
-            },
-        );
-}
-
-/// Averages a scratch tile of N×N sub-samples per texel (rows of `run`
-/// sub-samples: output row r, sub-row b at `(r·N + b)·run`) into the output
-/// texels of columns `tx..` of cell column `gx` in the band starting at row
-/// `y0`, for rows inside a chart.
-#[allow(clippy::too_many_arguments)]
-fn average_tile(
-    scratch: &[[f32; 3]],
-    n: u32,
-    run: usize,
-    tx: u32,
-    (gx, cw, ch): (u32, u32, u32),
-    atlas: &envmap_core::Atlas,
-    y0: u32,
-    width: u32,
-    px: &mut [[f32; 3]],
-) {
-    let n = n as usize;
-    let r_k = 1.0 / (n * n) as f32;
-    let rows = px.len() / width as usize;
-    for r in 0..rows {
-        if atlas.cell_at(gx, (y0 + r as u32) / ch).is_none() {
-            continue;
-        }
-        let row_base = r * width as usize + (gx * cw + tx) as usize;
-        for (lx, p) in px[row_base..row_base + run / n].iter_mut().enumerate() {
-            let mut acc = [0.0f32; 3];
-            for b in 0..n {
-                let at = (r * n + b) * run + lx * n;
-                for s in &scratch[at..at + n] {
-                    acc[0] += s[0];
-                    acc[1] += s[1];
-                    acc[2] += s[2];
+        .for_each_init(Vec::new, |scratch: &mut Vec<[f32; 3]>, (band, px)| {
+            let y0 = band as u32 * BAND;
+            let rows = (px.len() / w) as u32;
+            // Every texel of a chart's cell is written once; only cells
+            // outside every chart (a cross's corners) need clearing.
+            for r in 0..rows {
+                let gy = (y0 + r) / ch;
+                for gx in (0..atlas.cols).filter(|&gx| atlas.cell_at(gx, gy).is_none()) {
+                    let at = (r * width + gx * cw) as usize;
+                    px[at..at + cw as usize].fill([0.0; 3]);
                 }
             }
-            *p = [acc[0] * r_k, acc[1] * r_k, acc[2] * r_k];
-        }
-    }
+            // The cell row r of the band is in, its chart, and the row of
+            // sub-sample coordinates u (left to right) and row index j.
+            let cell_row = |r: u32, gx: u32| {
+                let y = y0 + r;
+                let (gy, ly) = (y / ch, y % ch);
+                let cell = atlas.cell_at(gx, gy)?;
+                let half = cell.turn == Turn::Half;
+                let j = if half { ch - 1 - ly } else { ly };
+                let us = if half { &centres_turned } else { &offsets_u };
+                Some((cell.chart, us, j))
+            };
+            let mut ahead = Ahead::default();
+            for gx in 0..atlas.cols {
+                for tx in (0..cw).step_by(TILE as usize) {
+                    let end = (tx + TILE).min(cw);
+                    let (cols, lo, hi) =
+                        ((end - tx) as usize, (tx * n) as usize, (end * n) as usize);
+                    // Scratch layout: row r, sub-row b, then the tile's
+                    // sub-samples left to right (`run` of them).
+                    let run = cols * n as usize;
+                    if !direct {
+                        scratch.clear();
+                        scratch.resize(rows as usize * n as usize * run, [0.0; 3]);
+                    }
+                    for r in 0..rows {
+                        let Some((chart, us, j)) = cell_row(r, gx) else {
+                            continue;
+                        };
+                        let at = (r * width + gx * cw + tx) as usize;
+                        if direct {
+                            let v = offsets_v[j as usize];
+                            ctx.run_row(chart, &us[lo..hi], v, at, &mut ahead, px);
+                            continue;
+                        }
+                        for b in 0..n {
+                            let v = offsets_v[(j * n + b) as usize];
+                            let at = (r * n + b) as usize * run;
+                            ctx.run_row(chart, &us[lo..hi], v, at, &mut ahead, scratch);
+                        }
+                    }
+                    if direct {
+                        continue;
+                    }
+                    ahead.drain(ctx.sampler, scratch);
+                    // Average each texel's sub-samples (in order: sub-row,
+                    // then left to right), on a disk only those inside it.
+                    let n = n as usize;
+                    for r in 0..rows {
+                        let Some((chart, us, j)) = cell_row(r, gx) else {
+                            continue;
+                        };
+                        let at = r as usize * w + (gx * cw + tx) as usize;
+                        for (lx, p) in px[at..at + cols].iter_mut().enumerate() {
+                            let mut acc = [0.0f32; 3];
+                            let mut k = 0u32;
+                            for b in 0..n {
+                                let v = offsets_v[j as usize * n + b];
+                                let row = (r as usize * n + b) * run + lx * n;
+                                for (a, s) in scratch[row..row + n].iter().enumerate() {
+                                    if disk && !dst.in_chart(chart, us[lo + lx * n + a], v) {
+                                        continue;
+                                    }
+                                    acc[0] += s[0];
+                                    acc[1] += s[1];
+                                    acc[2] += s[2];
+                                    k += 1;
+                                }
+                            }
+                            if k > 1 {
+                                let rk = 1.0 / k as f32;
+                                acc = acc.map(|c| c * rk);
+                            }
+                            *p = acc;
+                        }
+                    }
+                }
+            }
+            ahead.drain(ctx.sampler, px);
+            if let Some(p) = progress {
+                p(rows);
+            }
+        });
 }
