@@ -8,9 +8,10 @@
 //! filtered there ([`Sampler`]). Texels outside every chart (cross corners,
 //! the corners around a disk) are black. Bands of rows run in parallel
 //! (rayon); within a band, batches are addressed 32 ahead of filtering while
-//! their texels load (see the [`crate::sample`] module). N×N sub-samples are
-//! filtered into a scratch tile and averaged; on disk charts, where only the
-//! sub-samples inside the disk count, points are batched one by one.
+//! their texels load (see the [`crate::sample`] module). With one sample per
+//! texel, samples go straight into the output; N×N sub-samples, and every
+//! sample on a disk chart, go into a scratch tile and are averaged (on a disk,
+//! over the sub-samples inside it).
 
 use envmap_core::atlas::Turn;
 use envmap_core::glam::Mat3;
