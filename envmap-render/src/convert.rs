@@ -270,8 +270,9 @@ where
                     px[at..at + cw as usize].fill([0.0; 3]);
                 }
             }
-            // The cell row r of the band is in, its chart, and the row of
-            // sub-sample coordinates u (left to right) and row index j.
+            // Row r of the band in cell column gx: its chart, the u of its
+            // sub-samples left to right (reversed in a half-turned cell) and
+            // its row index j in the chart; `None` outside every chart.
             let cell_row = |r: u32, gx: u32| {
                 let y = y0 + r;
                 let (gy, ly) = (y / ch, y % ch);
