@@ -171,16 +171,23 @@ pub fn run_unary(stats: &mut Stats, f: Unary, reference: fn(f64) -> f64, xs: &[f
     }
 }
 
+/// `f` on up to eight `(y, x)` pairs at once (unused lanes get zeros); lane
+/// `i` of the result belongs to `pairs[i]`.
+#[must_use]
+pub fn apply_binary(f: Binary, pairs: &[(f32, f32)]) -> [f32; 8] {
+    let mut ys = [0.0_f32; 8];
+    let mut xs = [0.0_f32; 8];
+    for (i, &(y, x)) in pairs.iter().take(8).enumerate() {
+        ys[i] = y;
+        xs[i] = x;
+    }
+    f(f32x8::new(ys), f32x8::new(xs)).to_array()
+}
+
 /// [`run_unary`] for a two-argument function on `(y, x)` pairs.
 pub fn run_binary(stats: &mut Stats, f: Binary, reference: fn(f64, f64) -> f64, ps: &[(f32, f32)]) {
     for chunk in ps.chunks(8) {
-        let mut ys = [0.0_f32; 8];
-        let mut xs = [0.0_f32; 8];
-        for (i, &(y, x)) in chunk.iter().enumerate() {
-            ys[i] = y;
-            xs[i] = x;
-        }
-        let got = f(f32x8::new(ys), f32x8::new(xs)).to_array();
+        let got = apply_binary(f, chunk);
         for (i, &(y, x)) in chunk.iter().enumerate() {
             stats.add((y, x), got[i], reference(f64::from(y), f64::from(x)));
         }

@@ -318,6 +318,9 @@ where
                     // Average each texel's sub-samples (in order: sub-row,
                     // then left to right), on a disk only those inside it.
                     let n = n as usize;
+                    // 1/k for the usual count, all N×N sub-samples, once.
+                    let all = (n * n) as u32;
+                    let r_all = 1.0 / all as f32;
                     for r in 0..rows {
                         let Some((chart, us, j)) = cell_row(r, gx) else {
                             continue;
@@ -340,7 +343,7 @@ where
                                 }
                             }
                             if k > 1 {
-                                let rk = 1.0 / k as f32;
+                                let rk = if k == all { r_all } else { 1.0 / k as f32 };
                                 acc = acc.map(|c| c * rk);
                             }
                             *p = acc;

@@ -86,6 +86,19 @@ pub struct Footprint8 {
     weights: [[f32; 8]; 4],
 }
 
+impl Footprint8 {
+    /// Lane `k`'s bilinear sum over its taps: `top` and `bottom` start at
+    /// texel (i, j) and (i, j+1), each with the texel after it and a spare
+    /// float (red, green, blue, spare). The same weighted sum, in the same
+    /// order, as [`Sampler::bilinear_interior`].
+    #[inline(always)]
+    fn blend(&self, k: usize, top: &[f32], bottom: &[f32]) -> [f32; 4] {
+        let ((a, b), (c, d)) = (split4(top), split4(bottom));
+        let w = |n: usize| f32x4::splat(self.weights[n][k]);
+        (a * w(0) + b * w(1) + c * w(2) + d * w(3)).to_array()
+    }
+}
+
 /// A read-only view of an [`EnvImage`] that samples chart points.
 #[derive(Debug)]
 pub struct Sampler<'a> {
@@ -389,9 +402,7 @@ impl<'a> Sampler<'a> {
             let (Some(t), Some(b)) = (flat.get(at..at + 8), below.get(at..at + 8)) else {
                 return false;
             };
-            let ((a, b), (c, d)) = (split4(t), split4(b));
-            let w = |n: usize| f32x4::splat(f.weights[n][k]);
-            let v = (a * w(0) + b * w(1) + c * w(2) + d * w(3)).to_array();
+            let v = f.blend(k, t, b);
             // Lane k's red, green and blue land at 3k..3k+3; a four-wide
             // store's fourth float goes into the next lane's red, which is
             // written after it (the last lane stores three floats).
@@ -411,7 +422,7 @@ impl<'a> Sampler<'a> {
         let lanes = dst.len().min(8);
         let out = dst[..lanes].as_flattened_mut();
         let flat = self.pixels.as_flattened();
-        let (at, mask, weights) = (&f.at, f.fast, &f.weights);
+        let (at, mask) = (&f.at, f.fast);
         let row = 3 * self.width;
         let store = |out: &mut [f32], k: usize, v: [f32; 4]| match out.get_mut(3 * k..3 * k + 4) {
             Some(o) => o.copy_from_slice(&v),
@@ -423,24 +434,17 @@ impl<'a> Sampler<'a> {
         };
         let mut rest = 0u32;
         let filter = if f.bilinear {
-            for k in 0..lanes {
+            for (k, &at) in at.iter().enumerate().take(lanes) {
                 // Both rows of the footprint: texels (i, j), (i+1, j) and
                 // (i, j+1), (i+1, j+1), each with one float to spare.
-                let taps = match flat.get(at[k] as usize..(at[k] as usize).wrapping_add(row + 7)) {
+                let taps = match flat.get(at as usize..(at as usize).wrapping_add(row + 7)) {
                     Some(t) if (mask >> k) & 1 != 0 => t,
                     _ => {
                         rest |= 1 << k;
                         continue;
                     }
                 };
-                let (a, b) = split4(taps);
-                let (c, d) = split4(&taps[row..]);
-                let w = |n: usize| f32x4::splat(weights[n][k]);
-                store(
-                    out,
-                    k,
-                    (a * w(0) + b * w(1) + c * w(2) + d * w(3)).to_array(),
-                );
+                store(out, k, f.blend(k, taps, &taps[row..]));
             }
             Filter::Bilinear
         } else {

@@ -16,8 +16,8 @@
 //! fast tier at most 10⁻⁴ rad (absolute).
 
 use envmap_bench::accuracy::{
-    acos_of, asin_of, atan_of, cos_of, function_stats, sin_of, tier_kernel, Density, Function,
-    Stats,
+    acos_of, apply_binary, asin_of, atan_of, cos_of, function_stats, sin_of, tier_kernel, Density,
+    Function, Stats,
 };
 use envmap_simd::approx::{self, Exact, Fast, Fine, Tier};
 use envmap_tests::SplitMix64;
@@ -197,13 +197,7 @@ fn special_values<T: Tier>() {
         }
     }
     for chunk in pairs.chunks(8) {
-        let mut ys = [0.0_f32; 8];
-        let mut xs = [0.0_f32; 8];
-        for (i, &(y, x)) in chunk.iter().enumerate() {
-            ys[i] = y;
-            xs[i] = x;
-        }
-        let got = approx::atan2::<T>(f32x8::new(ys), f32x8::new(xs)).to_array();
+        let got = apply_binary(approx::atan2::<T>, chunk);
         for (i, &(y, x)) in chunk.iter().enumerate() {
             let want = y.atan2(x);
             assert!(
