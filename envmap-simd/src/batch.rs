@@ -266,9 +266,20 @@ impl Uv8 {
 #[inline]
 #[must_use]
 pub(crate) fn valid_direction(d: &Dir8) -> f32x8 {
-    let finite = d.x.is_finite() & d.y.is_finite() & d.z.is_finite();
-    let m = d.x.abs().max(d.y.abs()).max(d.z.abs());
-    finite & m.simd_gt(f32x8::ZERO)
+    // 0·x is ±0 for a finite x and NaN for ±Inf or NaN, so the sum is zero
+    // exactly when all three components are finite.
+    let zero = f32x8::ZERO;
+    let finite = (zero * d.x + zero * d.y + zero * d.z).simd_eq(zero);
+    finite & max_abs(d).simd_gt(f32x8::ZERO)
+}
+
+/// The largest component magnitude of each lane, `max(|x|, |y|, |z|)`, with
+/// the plain (not NaN-aware) maximum: unspecified for a lane with a NaN
+/// component, which [`valid_direction`] marks invalid anyway.
+#[inline(always)]
+#[must_use]
+pub(crate) fn max_abs(d: &Dir8) -> f32x8 {
+    d.x.abs().fast_max(d.y.abs()).fast_max(d.z.abs())
 }
 
 /// Normalises each lane as `envmap_core::normalize_direction` does: divide by
@@ -276,7 +287,7 @@ pub(crate) fn valid_direction(d: &Dir8) -> f32x8 {
 #[inline]
 #[must_use]
 pub(crate) fn normalize(d: &Dir8) -> Dir8 {
-    let m = d.x.abs().max(d.y.abs()).max(d.z.abs());
+    let m = max_abs(d);
     let (x, y, z) = (d.x / m, d.y / m, d.z / m);
     let len = (x * x + y * y + z * z).sqrt();
     Dir8::new(x / len, y / len, z / len)
@@ -289,18 +300,18 @@ pub(crate) fn normalize(d: &Dir8) -> Dir8 {
 #[inline]
 #[must_use]
 pub(crate) fn scale_pow2(d: &Dir8) -> Dir8 {
-    let m = d.x.abs().max(d.y.abs()).max(d.z.abs());
+    let m = max_abs(d);
     // Denormal or tiny lanes: first lift them by 2^64 so the exponent is normal.
     let tiny = m.simd_lt(f32x8::splat(1e-18));
     let lift = tiny.select(f32x8::splat(18_446_744_073_709_551_616.0), f32x8::ONE);
     let m = m * lift;
     // 2^-e for m = 1.x · 2^e: exponent field 254 − biased(e), clamped to a
-    // valid normal exponent.
-    let e = (m.to_bits() >> 23) & u32x8::splat(0xff);
-    let inv_e = u32x8::splat(254)
-        .saturating_sub(e)
-        .max(u32x8::ONE)
-        .min(u32x8::splat(254));
+    // valid normal exponent (m is not negative, so its bits above the
+    // exponent field are zero).
+    let bits: u32x8 = m.to_bits();
+    let e: u32x8 = bits >> 23;
+    let e = e.min(u32x8::splat(254));
+    let inv_e = (u32x8::splat(254) - e).max(u32x8::ONE);
     let k = f32x8::from_bits(inv_e << 23);
     Dir8::new(d.x * lift * k, d.y * lift * k, d.z * lift * k)
 }

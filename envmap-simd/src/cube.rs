@@ -78,22 +78,39 @@ pub fn inverse8(c: Uv8) -> Dir8 {
     let sc = two * c.u - one;
     let tc = two * c.v - one;
     let f = c.chart;
-    let is = |k: u32| f32x8::from_bits(f.simd_eq(u32x8::splat(k)));
-    let (px, nx, py, ny, pz) = (is(0), is(1), is(2), is(3), is(4));
     let neg = |x: f32x8| -x;
-    // Rows of the face table solved for (x, y, z) with |ma| = 1.
-    let x = px.select(
-        one,
-        nx.select(-one, py.select(sc, ny.select(sc, pz.select(sc, neg(sc))))),
-    );
-    let y = px.select(
-        neg(tc),
-        nx.select(neg(tc), py.select(one, ny.select(-one, neg(tc)))),
-    );
-    let z = px.select(
-        neg(sc),
-        nx.select(sc, py.select(tc, ny.select(neg(tc), pz.select(one, -one)))),
-    );
+    // Rows of the face table solved for (x, y, z) with |ma| = 1; charts
+    // above 5 take the −z row (they come out NaN below).
+    let row = |face: u32| match face {
+        0 => (one, neg(tc), neg(sc)),
+        1 => (-one, neg(tc), sc),
+        2 => (sc, one, tc),
+        3 => (sc, -one, neg(tc)),
+        4 => (sc, neg(tc), one),
+        _ => (neg(sc), neg(tc), -one),
+    };
+    let first = f.as_array()[0];
+    let (x, y, z) = if f.simd_eq(u32x8::splat(first)).all() {
+        // One face for the whole batch (a row of a face, as conversions
+        // map): its row directly. The same values as the blend below.
+        row(first)
+    } else {
+        let is = |k: u32| f32x8::from_bits(f.simd_eq(u32x8::splat(k)));
+        let (px, nx, py, ny, pz) = (is(0), is(1), is(2), is(3), is(4));
+        let x = px.select(
+            one,
+            nx.select(-one, py.select(sc, ny.select(sc, pz.select(sc, neg(sc))))),
+        );
+        let y = px.select(
+            neg(tc),
+            nx.select(neg(tc), py.select(one, ny.select(-one, neg(tc)))),
+        );
+        let z = px.select(
+            neg(sc),
+            nx.select(sc, py.select(tc, ny.select(neg(tc), pz.select(one, -one)))),
+        );
+        (x, y, z)
+    };
     let len = (x * x + y * y + z * z).sqrt();
     let valid =
         crate::kernel::in_unit_square(c.u, c.v) & f32x8::from_bits(f.simd_lt(u32x8::splat(6)));

@@ -14,7 +14,7 @@ use wide::{f32x8, u32x8};
 
 use crate::approx::Tier;
 use crate::batch::{finish, scale_pow2, valid_direction, Dir8, Uv8};
-use crate::kernel::{chart_below, clamp01, in_unit_square, mask_dir, Mapping8};
+use crate::kernel::{chart_below, in_unit_square, mask_dir, Mapping8};
 
 impl Mapping8 for LatLong {
     #[inline]
@@ -32,7 +32,8 @@ impl Mapping8 for LatLong {
         let u = u.simd_ge(f32x8::ONE).select(f32x8::ZERO, u);
         let rho = (n.x * n.x + n.y * n.y).sqrt();
         let theta = T::atan2_finite(rho, n.z);
-        let v = clamp01(theta * f32x8::splat(1.0 / PI));
+        // θ is +0 or positive (ρ is), so only the upper clamp can apply.
+        let v = (theta * f32x8::splat(1.0 / PI)).fast_min(f32x8::ONE);
         finish(valid, u32x8::ZERO, u, v)
     }
 

@@ -331,3 +331,57 @@ fn batch_loads() {
     assert_eq!(c.lane(0), None); // the zero vector
     assert_eq!(c.lane(1), AnyMapping::Cube.forward(v[1]));
 }
+
+/// A chart point's inverse does not depend on its batch: batches whose eight
+/// lanes share one chart (as a conversion's rows do, which the cube maps
+/// with a shortcut) give each lane bit for bit what the same point gives in
+/// a batch of mixed charts.
+#[test]
+fn inverse_lanes_do_not_depend_on_their_batch() {
+    fn check<T: Tier>(m: AnyMapping, rng: &mut SplitMix64) {
+        // Groups of eight points on one chart each: random points, then the
+        // edges, corners and bad points of every chart (and one chart past
+        // the last), charts taken in turn.
+        let charts = m.chart_count() + 1;
+        let mut points = Vec::new();
+        for g in 0..64 * charts {
+            let c = g % charts;
+            for k in 0..8 {
+                let (u, v) = if g < 60 * charts {
+                    (unit(rng), unit(rng))
+                } else {
+                    [(0.0, 0.0), (1.0, 1.0), (0.5, -0.0), (1.0, 0.25)][k % 4]
+                };
+                let u = if k == 7 && g % 3 == 0 { f32::NAN } else { u };
+                points.push(ChartUv::new(c, u, v));
+            }
+        }
+        let groups = points.len() / 8;
+        // The same points with consecutive entries from different groups.
+        let mixed: Vec<ChartUv> = (0..points.len())
+            .map(|i| points[(i % groups) * 8 + i / groups])
+            .collect();
+        assert!(mixed[..8].iter().any(|p| p.chart != mixed[0].chart));
+        let mut one = vec![Vec3::ZERO; points.len()];
+        let mut many = vec![Vec3::ZERO; points.len()];
+        inverse_slice::<_, T>(&m, &points, &mut one);
+        inverse_slice::<_, T>(&m, &mixed, &mut many);
+        for (i, got) in many.iter().enumerate() {
+            let j = (i % groups) * 8 + i / groups;
+            let want = one[j];
+            assert_eq!(
+                got.to_array().map(f32::to_bits),
+                want.to_array().map(f32::to_bits),
+                "{m} {} {:?}: {got} in a mixed batch, {want} in a one-chart batch",
+                T::NAME,
+                points[j]
+            );
+        }
+    }
+    let mut rng = SplitMix64::new(23);
+    for m in AnyMapping::ALL {
+        check::<Exact>(m, &mut rng);
+        check::<Fine>(m, &mut rng);
+        check::<Fast>(m, &mut rng);
+    }
+}

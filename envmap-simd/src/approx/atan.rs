@@ -79,7 +79,14 @@ impl Atan {
         } else {
             f32x8::ZERO
         };
-        let z = (both_inf | den.simd_eq(f32x8::ZERO)).select(f32x8::ZERO, num / den);
+        let z = if SPECIAL {
+            (both_inf | den.simd_eq(f32x8::ZERO)).select(f32x8::ZERO, num / den)
+        } else {
+            // den = 0 only when num = 0 too: dividing by the smallest
+            // subnormal instead gives the same +0, and leaves every other
+            // quotient as it is.
+            num / den.fast_max(f32x8::splat(f32::from_bits(1)))
+        };
         let xneg = x.is_sign_negative();
         // |angle| = base ± p with base 0, π/2 or π.
         let minus = swap ^ xneg;
