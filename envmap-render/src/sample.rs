@@ -656,11 +656,15 @@ impl Ahead {
         s.prefetch8(&slot.0);
         #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
         {
-            if let Some(p) = px.get(at) {
-                safe_arch::prefetch_et0(p);
-            }
-            if let Some(p) = px.get(at + len - 1) {
-                safe_arch::prefetch_et0(p);
+            // Where the batch's output will go, for writing: its first,
+            // middle and last float, less than a cache line apart (8 texels
+            // are 96 bytes), so every line the batch writes is asked for.
+            let out = px.as_flattened();
+            let (first, last) = (3 * at, 3 * (at + len));
+            for f in [first, (first + last) / 2, last.wrapping_sub(1)] {
+                if let Some(p) = out.get(f) {
+                    safe_arch::prefetch_et0(p);
+                }
             }
         }
     }
