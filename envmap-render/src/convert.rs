@@ -50,7 +50,9 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
                 s(c0.z) * d.x + s(c1.z) * d.y + s(c2.z) * d.z,
             );
         }
-        self.src.forward8::<Fine>(d)
+        // Unit directions (or NaN lanes), as inverse8 gives them and the
+        // rotation keeps them.
+        self.src.forward8_unit::<Fine>(d)
     }
 
     /// One sample at each of the texel centres `us` (u per texel, all at

@@ -24,6 +24,25 @@ pub trait Mapping8 {
     /// Inverse mapping of eight chart points to unit directions.
     fn inverse8<T: Tier>(&self, c: Uv8) -> Dir8;
 
+    /// [`Mapping8::forward8`] for directions known to have unit length
+    /// (within a few ulps, as [`Mapping8::inverse8`] returns them and
+    /// rotations keep them), or NaN in every component (`inverse8`'s
+    /// invalid lanes), so that a mapping can skip the rescaling and
+    /// validation that arbitrary input needs. On such lanes it agrees with
+    /// `forward8` within the tier's bound (same chart; a NaN lane gives
+    /// [`INVALID_CHART`] and NaN coordinates); other lanes give unspecified
+    /// values, never a panic. Conversions call it on the directions that the
+    /// output's `inverse8` gives.
+    ///
+    /// The default is `forward8` itself. The latlong overrides it: for a
+    /// unit direction it is bit for bit `forward8` except within about
+    /// 10⁻¹⁹ rad of a pole (where `x² + y²` underflows; the angle is still
+    /// within the bound).
+    #[inline]
+    fn forward8_unit<T: Tier>(&self, d: Dir8) -> Uv8 {
+        self.forward8::<T>(d)
+    }
+
     /// [`forward_slice`] for this mapping (override to dispatch once per slice).
     #[inline]
     fn forward_slice<T: Tier>(&self, dirs: &[Vec3], out: &mut [ChartUv]) -> usize {
@@ -228,6 +247,19 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Tennisball => Tennisball.forward8::<T>(d),
             AnyMapping::Octahedral => Octahedral.forward8::<T>(d),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8::<T>(d),
+        }
+    }
+    fn forward8_unit<T: Tier>(&self, d: Dir8) -> Uv8 {
+        use envmap_core::*;
+        match self {
+            AnyMapping::LatLong => LatLong.forward8_unit::<T>(d),
+            AnyMapping::Cube => Cube.forward8_unit::<T>(d),
+            AnyMapping::SphereMap => SphereMap::CLASS.forward8_unit::<T>(d),
+            AnyMapping::SphereMapGl => SphereMap::OPENGL.forward8_unit::<T>(d),
+            AnyMapping::DualParaboloid => DualParaboloid.forward8_unit::<T>(d),
+            AnyMapping::Tennisball => Tennisball.forward8_unit::<T>(d),
+            AnyMapping::Octahedral => Octahedral.forward8_unit::<T>(d),
+            AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8_unit::<T>(d),
         }
     }
     fn inverse8<T: Tier>(&self, c: Uv8) -> Dir8 {

@@ -16,25 +16,43 @@ use crate::approx::Tier;
 use crate::batch::{finish, scale_pow2, valid_direction, Dir8, Uv8};
 use crate::kernel::{chart_below, in_unit_square, mask_dir, Mapping8};
 
+/// u and v of eight directions: φ from `d` as given, θ from `n`, the same
+/// directions scaled (if at all) by a power of two so that `x² + y²`
+/// neither overflows nor underflows.
+#[inline(always)]
+fn angles<T: Tier>(d: &Dir8, n: &Dir8) -> (f32x8, f32x8) {
+    let phi = T::atan2_finite(d.y, d.x);
+    let u = phi * f32x8::splat(1.0 / TAU) + f32x8::ZERO;
+    let neg = u.simd_lt(f32x8::ZERO);
+    let u = neg.select(u + f32x8::ONE, u);
+    let u = u.simd_ge(f32x8::ONE).select(f32x8::ZERO, u);
+    let rho = (n.x * n.x + n.y * n.y).sqrt();
+    let theta = T::atan2_finite(rho, n.z);
+    // θ is +0 or positive (ρ is), so only the upper clamp can apply.
+    let v = (theta * f32x8::splat(1.0 / PI)).fast_min(f32x8::ONE);
+    (u, v)
+}
+
 impl Mapping8 for LatLong {
     #[inline]
     fn forward8<T: Tier>(&self, d: Dir8) -> Uv8 {
         let valid = valid_direction(&d);
         // No normalisation: both angles are scale-invariant, and an exact
         // power-of-two scaling keeps √(x² + y²) free of overflow and underflow.
-        let n = scale_pow2(&d);
         // φ from the components as given, as the core does: the scaling
         // could flush x and y of a direction near a pole into denormals.
-        let phi = T::atan2_finite(d.y, d.x);
-        let u = phi * f32x8::splat(1.0 / TAU) + f32x8::ZERO;
-        let neg = u.simd_lt(f32x8::ZERO);
-        let u = neg.select(u + f32x8::ONE, u);
-        let u = u.simd_ge(f32x8::ONE).select(f32x8::ZERO, u);
-        let rho = (n.x * n.x + n.y * n.y).sqrt();
-        let theta = T::atan2_finite(rho, n.z);
-        // θ is +0 or positive (ρ is), so only the upper clamp can apply.
-        let v = (theta * f32x8::splat(1.0 / PI)).fast_min(f32x8::ONE);
+        let (u, v) = angles::<T>(&d, &scale_pow2(&d));
         finish(valid, u32x8::ZERO, u, v)
+    }
+
+    /// Unit directions need no scaling (a unit direction scales by 1 or 2,
+    /// exactly, so the angles are the same bits unless `x² + y²`
+    /// underflows), and a NaN lane is found by its sum.
+    #[inline]
+    fn forward8_unit<T: Tier>(&self, d: Dir8) -> Uv8 {
+        let sum = d.x + d.y + d.z;
+        let (u, v) = angles::<T>(&d, &d);
+        finish(sum.simd_eq(sum), u32x8::ZERO, u, v)
     }
 
     #[inline]

@@ -385,3 +385,97 @@ fn inverse_lanes_do_not_depend_on_their_batch() {
         check::<Fast>(m, &mut rng);
     }
 }
+
+/// `forward8_unit` on unit directions (what every mapping's `inverse8`
+/// returns, normalised random directions, axes, seams and directions a
+/// hair from the poles) and on NaN lanes: the same chart as `forward8`, and
+/// the same u and v bit for bit, except within 10⁻¹⁸ rad of the z axis,
+/// where they stay within the tier's bound.
+#[test]
+fn forward8_unit_agrees_with_forward8_on_unit_directions() {
+    use envmap_simd::Dir8;
+    let mut rng = SplitMix64::new(31);
+    let mut dirs: Vec<Vec3> = Vec::new();
+    for m in AnyMapping::ALL {
+        let coords: Vec<ChartUv> = (0..4096)
+            .map(|_| {
+                let c = (rng.next_u64() % u64::from(m.chart_count())) as u32;
+                ChartUv::new(c, unit(&mut rng), unit(&mut rng))
+            })
+            .collect();
+        let mut out = vec![Vec3::ZERO; coords.len()];
+        inverse_slice::<_, Fine>(&m, &coords, &mut out);
+        dirs.extend(out.iter().filter(|d| !d.is_nan()));
+    }
+    dirs.extend((0..4096).map(|_| {
+        // Normalised in f64: any length normalises without overflow.
+        let d = dir(&mut rng).to_array().map(f64::from);
+        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        Vec3::from_array(d.map(|c| (c / l) as f32))
+    }));
+    for (x, y) in [
+        (1e-20f32, 1e-20f32),
+        (-1e-30, 0.0),
+        (0.0, -0.0),
+        (3e-19, -2e-19),
+    ] {
+        for z in [
+            1.0f32,
+            -1.0,
+            1.0 - f32::EPSILON / 2.0,
+            f32::EPSILON / 2.0 - 1.0,
+        ] {
+            dirs.push(Vec3::new(x, y, z));
+        }
+    }
+    // The named hard cases of unit length: axes, signed zeros, edges.
+    dirs.extend(
+        hard_cases()
+            .into_iter()
+            .filter(|d| (d.length() - 1.0).abs() < 1e-6),
+    );
+    dirs.push(Vec3::new(-1.0, -0.0, 0.0));
+    dirs.push(Vec3::new(-1.0, 0.0, -0.0));
+    dirs.push(Vec3::NAN);
+    while !dirs.len().is_multiple_of(8) {
+        dirs.push(Vec3::NAN);
+    }
+    fn check<T: Tier>(m: AnyMapping, dirs: &[Vec3]) {
+        let bound = simd_uv_bound(T::NAME);
+        let mut differing = 0;
+        for block in dirs.chunks_exact(8) {
+            let b: &[Vec3; 8] = block.try_into().unwrap();
+            let d = Dir8::from_vec3s(b);
+            let (full, unit) = (m.forward8::<T>(d), m.forward8_unit::<T>(d));
+            for (k, v) in b.iter().enumerate() {
+                let (f, u) = (full.lane_raw(k), unit.lane_raw(k));
+                assert_eq!(f.chart, u.chart, "{m} {} {v}", T::NAME);
+                if v.is_nan() {
+                    assert_eq!(u.chart, INVALID_CHART);
+                    assert!(u.u.is_nan() && u.v.is_nan());
+                    continue;
+                }
+                if (f.u.to_bits(), f.v.to_bits()) == (u.u.to_bits(), u.v.to_bits()) {
+                    continue;
+                }
+                differing += 1;
+                let near_pole = v.x.abs() < 1e-18 && v.y.abs() < 1e-18;
+                let e = (f.u - u.u).abs().max((f.v - u.v).abs());
+                assert!(
+                    near_pole && e <= bound,
+                    "{m} {} {v}: forward8 {f:?}, forward8_unit {u:?}",
+                    T::NAME
+                );
+            }
+        }
+        println!(
+            "{m:>22} {:>5}: {differing} lanes differ (near a pole)",
+            T::NAME
+        );
+    }
+    for m in AnyMapping::ALL {
+        check::<Exact>(m, &dirs);
+        check::<Fine>(m, &dirs);
+        check::<Fast>(m, &dirs);
+    }
+}
