@@ -69,11 +69,25 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
         px: &mut [[f32; 3]],
     ) {
         let (chart, v) = (u32x8::splat(chart), f32x8::splat(v));
-        let mut lanes = us.chunks_exact(LANES);
-        let mut at = at;
-        for u in &mut lanes {
+        let batch = |u: &[f32]| {
             let u: [f32; LANES] = u.try_into().unwrap_or([0.5; LANES]);
-            let q = self.map(Uv8::new(chart, f32x8::new(u), v));
+            Uv8::new(chart, f32x8::new(u), v)
+        };
+        let mut at = at;
+        // Two batches mapped before either is queued: the mapping is one
+        // long chain of dependent operations per batch, and two independent
+        // chains side by side keep the processor busy while each waits.
+        let mut pairs = us.chunks_exact(2 * LANES);
+        for u in &mut pairs {
+            let (u0, u1) = u.split_at(LANES);
+            let (q0, q1) = (self.map(batch(u0)), self.map(batch(u1)));
+            ahead.push(self.sampler, &q0, self.filter, at, LANES, px);
+            ahead.push(self.sampler, &q1, self.filter, at + LANES, LANES, px);
+            at += 2 * LANES;
+        }
+        let mut lanes = pairs.remainder().chunks_exact(LANES);
+        for u in &mut lanes {
+            let q = self.map(batch(u));
             ahead.push(self.sampler, &q, self.filter, at, LANES, px);
             at += LANES;
         }
