@@ -307,6 +307,9 @@ where
             };
             let mut ahead = Ahead::default();
             for gx in 0..atlas.cols {
+                // The rows of this cell column, looked up once for all its
+                // tiles.
+                let cells: Vec<_> = (0..rows).map(|r| cell_row(r, gx)).collect();
                 for tx in (0..cw).step_by(TILE as usize) {
                     let end = (tx + TILE).min(cw);
                     let (cols, lo, hi) =
@@ -318,8 +321,8 @@ where
                         scratch.clear();
                         scratch.resize(rows as usize * n as usize * run, [0.0; 3]);
                     }
-                    for r in 0..rows {
-                        let Some((chart, us, j)) = cell_row(r, gx) else {
+                    for (r, cell) in (0..rows).zip(&cells) {
+                        let Some((chart, us, j)) = *cell else {
                             continue;
                         };
                         let at = (r * width + gx * cw + tx) as usize;
@@ -344,8 +347,8 @@ where
                     // 1/k for the usual count, all N×N sub-samples, once.
                     let all = (n * n) as u32;
                     let r_all = 1.0 / all as f32;
-                    for r in 0..rows {
-                        let Some((chart, us, j)) = cell_row(r, gx) else {
+                    for (r, cell) in (0..rows).zip(&cells) {
+                        let Some((chart, us, j)) = *cell else {
                             continue;
                         };
                         let at = r as usize * w + (gx * cw + tx) as usize;

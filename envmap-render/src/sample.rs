@@ -619,7 +619,9 @@ const AHEAD: usize = 32;
 pub(crate) struct Ahead {
     /// Footprint, and where its lanes go in the band (start, count).
     queue: [(Footprint8, usize, usize); AHEAD],
-    head: usize,
+    /// The slot the next batch goes into: when the queue is full, the
+    /// oldest batch's.
+    next: usize,
     len: usize,
 }
 
@@ -638,18 +640,16 @@ impl Ahead {
         len: usize,
         px: &mut [[f32; 3]],
     ) {
-        let k = if self.len == AHEAD {
-            let k = self.head;
+        let k = self.next;
+        self.next = (k + 1) % AHEAD;
+        if self.len == AHEAD {
             let (f, a, n) = &self.queue[k];
             if let Some(o) = px.get_mut(*a..*a + *n) {
                 s.gather8_into(f, o);
             }
-            self.head = (k + 1) % AHEAD;
-            k
         } else {
             self.len += 1;
-            (self.head + self.len - 1) % AHEAD
-        };
+        }
         let slot = &mut self.queue[k];
         s.footprint8_into(q, filter, &mut slot.0);
         (slot.1, slot.2) = (at, len);
@@ -671,13 +671,13 @@ impl Ahead {
 
     /// Filters every queued batch.
     pub(crate) fn drain(&mut self, s: &Sampler<'_>, px: &mut [[f32; 3]]) {
-        for k in 0..self.len {
-            let (f, a, n) = &self.queue[(self.head + k) % AHEAD];
+        let oldest = self.next + AHEAD - self.len;
+        for k in oldest..oldest + self.len {
+            let (f, a, n) = &self.queue[k % AHEAD];
             if let Some(o) = px.get_mut(*a..*a + *n) {
                 s.gather8_into(f, o);
             }
         }
         self.len = 0;
-        self.head = 0;
     }
 }
