@@ -26,8 +26,7 @@ fn angles<T: Tier>(d: &Dir8, n: &Dir8) -> (f32x8, f32x8) {
     let neg = u.simd_lt(f32x8::ZERO);
     let u = neg.select(u + f32x8::ONE, u);
     let u = u.simd_ge(f32x8::ONE).select(f32x8::ZERO, u);
-    let rho = (n.x * n.x + n.y * n.y).sqrt();
-    let theta = T::atan2_finite(rho, n.z);
+    let theta = T::atan2_sqrt(n.x * n.x + n.y * n.y, n.z, n.z * n.z);
     // θ is +0 or positive (ρ is), so only the upper clamp can apply.
     let v = (theta * f32x8::splat(1.0 / PI)).fast_min(f32x8::ONE);
     (u, v)

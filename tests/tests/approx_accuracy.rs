@@ -407,3 +407,56 @@ fn tier_names() {
         ["exact", "fine", "fast"]
     );
 }
+
+/// `atan2_sqrt(y2, x, x²)` against `f64` `atan2(√y2, x)`, over angles ×
+/// radii from 2⁻⁴⁰ to 2⁴⁰ and pairs of unrelated magnitudes from 2⁻⁴⁰ to
+/// 2⁴⁰ (the function's domain), with `x²` rounded to `f32` as a caller
+/// computes it; bounds as for the other functions.
+fn atan2_sqrt_sweep<T: Tier>() {
+    let mut pairs: Vec<(f32, f32)> = Vec::new();
+    let angles = 20_000;
+    for k in 0..=angles {
+        // Polar angles from 0 to π: y = r·sin θ ≥ 0.
+        let theta = std::f64::consts::PI * f64::from(k) / f64::from(angles);
+        let (s, c) = theta.sin_cos();
+        for e in [-40, -30, -20, -3, 0, 1, 7, 20, 30, 39] {
+            let r = 2f64.powi(e) * 1.3;
+            let (y, x) = (r * s, r * c);
+            pairs.push(((y * y) as f32, x as f32));
+        }
+    }
+    let mut rng = SplitMix64::new(0xA7A2_5077);
+    for ey in -40..40 {
+        for ex in -40..40 {
+            let m = |rng: &mut SplitMix64, e: i32| (1.0 + rng.next_f64()) * 2f64.powi(e);
+            let (y, x) = (m(&mut rng, ey), m(&mut rng, ex));
+            let x = if rng.next_u64() & 1 == 1 { -x } else { x };
+            pairs.push(((y * y) as f32, x as f32));
+        }
+    }
+    let mut stats = Stats::EMPTY;
+    for chunk in pairs.chunks(8) {
+        let lane = |k: usize| chunk.get(k).copied().unwrap_or(chunk[0]);
+        let y2 = f32x8::new(core::array::from_fn(|k| lane(k).0));
+        let x = f32x8::new(core::array::from_fn(|k| lane(k).1));
+        let got = approx::atan2_sqrt::<T>(y2, x, x * x).to_array();
+        for (k, &(y2, x)) in chunk.iter().enumerate() {
+            let want = f64::from(y2).sqrt().atan2(f64::from(x));
+            stats.add((y2, x), got[k], want);
+        }
+    }
+    check::<T>("atan2_sqrt", true, stats);
+}
+
+#[test]
+fn atan2_sqrt_exact() {
+    atan2_sqrt_sweep::<Exact>();
+}
+#[test]
+fn atan2_sqrt_fine() {
+    atan2_sqrt_sweep::<Fine>();
+}
+#[test]
+fn atan2_sqrt_fast() {
+    atan2_sqrt_sweep::<Fast>();
+}

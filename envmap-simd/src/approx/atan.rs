@@ -65,6 +65,30 @@ impl Atan {
         self.atan2_impl::<false>(y, x)
     }
 
+    /// `atan2(√y2, x)` for `y2 ≥ 0` (a square) and finite `x` with
+    /// `x2 = x²`, none of them overflowing: the quotient of the squares,
+    /// `min/max`, is `z²` of `atan2_finite`'s `z`, so the polynomial in `z²`
+    /// starts right after the division while `z = √(z²)` is taken beside
+    /// it, instead of a square root before the division. The exact tier
+    /// (split polynomials) takes `atan2_finite(√y2, x)` itself.
+    #[inline(always)]
+    pub(crate) fn atan2_sqrt(&self, y2: f32x8, x: f32x8, x2: f32x8) -> f32x8 {
+        if self.split {
+            return self.atan2_finite(y2.sqrt(), x);
+        }
+        let swap = y2.simd_gt(x2);
+        let num = swap.select(x2, y2);
+        // den = 0 only when num = 0 too: as in `atan2_impl`.
+        let den = swap
+            .select(y2, x2)
+            .fast_max(f32x8::splat(f32::from_bits(1)));
+        let u = num / den;
+        let xneg = x.is_sign_negative();
+        let minus = swap ^ xneg;
+        let base_hi = swap.select(f32x8::splat(PIO2_HI), keep(xneg, PI_HI));
+        negate_where(self.poly.eval(u.sqrt(), u), minus) + base_hi
+    }
+
     #[inline(always)]
     fn atan2_impl<const SPECIAL: bool>(&self, y: f32x8, x: f32x8) -> f32x8 {
         let ax = x.abs();
