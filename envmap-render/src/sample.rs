@@ -129,6 +129,11 @@ pub struct Sampler<'a> {
     /// footprint is surely inside the disk, `(1 − 2√2 / edge)²`; there the
     /// plain interior path applies.
     disk_inner: f32,
+    /// The last float at which a plain lane can start, nearest and
+    /// bilinear (four floats, or eight floats and the same a row below,
+    /// must follow); −1 when there is none or the image is too large for
+    /// `i32` offsets (then every lane takes the scalar path).
+    last: [i32; 2],
 }
 
 impl<'a> Sampler<'a> {
@@ -159,7 +164,13 @@ impl<'a> Sampler<'a> {
                 *o = 3 * (r.y0 as usize * width + r.x0 as usize);
             }
         }
+        let floats = 3 * img.pixels().len();
+        let last = |reach: usize| match floats.checked_sub(reach) {
+            Some(l) if floats < i32::MAX as usize => l as i32,
+            _ => -1,
+        };
         Self {
+            last: [last(4), last(3 * width + 8)],
             pixels: img.pixels(),
             width,
             origin,
@@ -323,8 +334,7 @@ impl<'a> Sampler<'a> {
         // large for that, beyond the default size limit, take the scalar
         // path): the chart's origin (a select per chart) plus the texel's
         // offset in it.
-        let flat = self.pixels.as_flattened();
-        let fits = flat.len() < i32::MAX as usize;
+        let fits = self.last[0] >= 0;
         let mut origin = i32x8::splat(-1);
         for (c, &o) in self.origin.iter().enumerate().take(self.charts as usize) {
             if o != usize::MAX && fits {
@@ -333,11 +343,11 @@ impl<'a> Sampler<'a> {
                     bytemuck::cast::<u32x8, i32x8>(here).select(i32x8::splat(o as i32), origin);
             }
         }
-        let at = origin + (j * i32x8::splat(self.width as i32) + i) * i32x8::splat(3);
+        let row = i32x8::splat(3 * self.width as i32);
+        let at = origin + j * row + (i + i + i);
         // Plain lanes read whole rows of eight floats from `at` (and from
         // `at` plus a row, for bilinear), inside `flat`.
-        let reach = if bilinear { 3 * self.width + 8 } else { 4 };
-        let last = i32::try_from(flat.len().saturating_sub(reach)).unwrap_or(-1);
+        let last = self.last[usize::from(bilinear)];
         let fast = if fits {
             (inside.to_bitmask()
                 & !origin.simd_lt(i32x8::ZERO).to_bitmask()
