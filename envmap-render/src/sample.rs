@@ -13,7 +13,7 @@
 //! of range).
 //!
 //! Eight points at a time ([`Sampler::sample8_into`]) is two steps:
-//! [`Sampler::footprint8`] addresses the texels and weights, and
+//! [`Sampler::footprint8`] addresses the texels and fractions, and
 //! [`Sampler::gather8_into`] filters. Conversions and the renderer keep 32
 //! batches between the two and ask the processor for their texels in the
 //! meantime ([`Sampler::prefetch8`]), so that filtering rarely waits for
@@ -71,17 +71,21 @@ fn split4(t: &[f32]) -> (f32x4, f32x4) {
     (four(t), four(t.get(3..).unwrap_or_default()))
 }
 
-/// The bilinear sum `a·w₀ + b·w₁ + c·w₂ + d·w₃` of four taps (red, green,
-/// blue and a spare float each), with weights `w(0)..w(3)`, as one chain of
-/// `wide`'s multiply-adds (fused where the target has FMA). The scalar and the
-/// eight-lane samplers both call it, so they agree bit for bit on every
-/// target.
+/// The bilinear blend of four taps (red, green, blue and a spare float
+/// each): `a`, `b` on the upper row, `c`, `d` below, at fractions `fx`
+/// across and `fy` down, as two vertical and one horizontal
+/// interpolation `p + f·(q − p)` with `wide`'s multiply-adds (fused where
+/// the target has FMA). Exact at the texel centres (`f = 0`). The scalar
+/// and the eight-lane samplers both call it, so they agree bit for bit on
+/// every target.
 #[inline(always)]
-fn bilinear4(a: f32x4, b: f32x4, c: f32x4, d: f32x4, w: impl Fn(usize) -> f32x4) -> f32x4 {
-    d.mul_add(w(3), c.mul_add(w(2), b.mul_add(w(1), a * w(0))))
+fn bilinear4(a: f32x4, b: f32x4, c: f32x4, d: f32x4, fx: f32x4, fy: f32x4) -> f32x4 {
+    let left = (c - a).mul_add(fy, a);
+    let right = (d - b).mul_add(fy, b);
+    (right - left).mul_add(fx, left)
 }
 
-/// Eight chart points' texel addresses and bilinear weights, from
+/// Eight chart points' texel addresses and bilinear fractions, from
 /// [`Sampler::footprint8`], for [`Sampler::prefetch8`] and
 /// [`Sampler::gather8_into`].
 #[derive(Clone, Copy, Debug, Default)]
@@ -93,7 +97,8 @@ pub struct Footprint8 {
     /// Lanes that take the plain path (bit k for lane k); the others go
     /// through [`Sampler::sample`].
     fast: u32,
-    weights: [[f32; 8]; 4],
+    /// Each lane's bilinear fractions across and down.
+    frac: [[f32; 8]; 2],
 }
 
 impl Footprint8 {
@@ -104,7 +109,8 @@ impl Footprint8 {
     #[inline(always)]
     fn blend(&self, k: usize, top: &[f32], bottom: &[f32]) -> [f32; 4] {
         let ((a, b), (c, d)) = (split4(top), split4(bottom));
-        bilinear4(a, b, c, d, |n| f32x4::splat(self.weights[n][k])).to_array()
+        let f = |n: usize| f32x4::splat(self.frac[n][k]);
+        bilinear4(a, b, c, d, f(0), f(1)).to_array()
     }
 }
 
@@ -248,8 +254,6 @@ impl<'a> Sampler<'a> {
         }
         let (i, j) = (x as u32, y as u32);
         let (fx, fy) = (x - i as f32, y - j as f32);
-        let (gx, gy) = (1.0 - fx, 1.0 - fy);
-        let w = [gx * gy, fx * gy, gx * fy, fx * fy];
         let base = (r.y0 + j) as usize * self.width + (r.x0 + i) as usize;
         let (a, b) = (self.pixels[base], self.pixels[base + 1]);
         let (c, d) = (
@@ -257,7 +261,8 @@ impl<'a> Sampler<'a> {
             self.pixels[base + self.width + 1],
         );
         let tap = |p: [f32; 3]| f32x4::new([p[0], p[1], p[2], 0.0]);
-        let sum = bilinear4(tap(a), tap(b), tap(c), tap(d), |n| f32x4::splat(w[n]));
+        let (fx, fy) = (f32x4::splat(fx), f32x4::splat(fy));
+        let sum = bilinear4(tap(a), tap(b), tap(c), tap(d), fx, fy);
         let [r, g, b, _] = sum.to_array();
         Some([r, g, b])
     }
@@ -357,12 +362,12 @@ impl<'a> Sampler<'a> {
             0
         };
         let (fx, fy) = (x - i.round_float(), y - j.round_float());
-        let (gx, gy) = (f32x8::ONE - fx, f32x8::ONE - fy);
+
         f.q = *q;
         f.bilinear = bilinear;
         f.at = at.to_array();
         f.fast = fast;
-        f.weights = [gx * gy, fx * gy, gx * fy, fx * fy].map(f32x8::to_array);
+        f.frac = [fx.to_array(), fy.to_array()];
     }
 
     /// Asks the processor to start loading the texels that the lanes of
