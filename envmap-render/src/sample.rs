@@ -59,18 +59,6 @@ struct Rect {
     turn: Turn,
 }
 
-/// The texel at the start of `t` and the texel after it, each with the
-/// float that follows (red, green, blue, spare) as a four-wide register;
-/// zeros if `t` holds fewer than seven floats (callers pass longer slices).
-#[inline(always)]
-fn split4(t: &[f32]) -> (f32x4, f32x4) {
-    let four = |t: &[f32]| {
-        t.first_chunk::<4>()
-            .map_or(f32x4::ZERO, |&t| f32x4::from(t))
-    };
-    (four(t), four(t.get(3..).unwrap_or_default()))
-}
-
 /// The bilinear blend of four taps (red, green, blue and a spare float
 /// each): `a`, `b` on the upper row, `c`, `d` below, at fractions `fx`
 /// across and `fy` down, as two vertical and one horizontal
@@ -102,15 +90,28 @@ pub struct Footprint8 {
 }
 
 impl Footprint8 {
-    /// Lane `k`'s bilinear sum over its taps: `top` and `bottom` start at
-    /// texel (i, j) and (i, j+1), each with the texel after it and a spare
-    /// float (red, green, blue, spare). The same weighted sum, in the same
-    /// order, as [`Sampler::bilinear_interior`].
+    /// Lane `k`'s bilinear blend: `top` and `bottom` start at texel (i, j)
+    /// and (i, j+1), each with the texel after it and two spare floats (red,
+    /// green, blue, red, green, blue, spare, spare). Each float goes
+    /// through the same operations as in `bilinear4`, which
+    /// [`Sampler::bilinear_interior`] calls, so the two agree bit for bit.
     #[inline(always)]
     fn blend(&self, k: usize, top: &[f32], bottom: &[f32]) -> [f32; 4] {
-        let ((a, b), (c, d)) = (split4(top), split4(bottom));
-        let f = |n: usize| f32x4::splat(self.frac[n][k]);
-        bilinear4(a, b, c, d, f(0), f(1)).to_array()
+        let eight = |t: &[f32]| {
+            t.first_chunk::<8>()
+                .map_or(f32x8::ZERO, |&t| f32x8::from(t))
+        };
+        let (t, b) = (eight(top), eight(bottom));
+        // Both columns' vertical interpolation at once (floats 0..3 and
+        // 3..6), then the horizontal one between them.
+        let v = (b - t).mul_add(f32x8::splat(self.frac[1][k]), t);
+        let shifted: u32x8 =
+            bytemuck::cast::<f32x8, u32x8>(v).shuffle(u32x8::new([3, 4, 5, 6, 7, 7, 7, 7]));
+        let low = |x: f32x8| bytemuck::cast::<f32x8, [f32x4; 2]>(x)[0];
+        let (left, right) = (low(v), low(bytemuck::cast(shifted)));
+        (right - left)
+            .mul_add(f32x4::splat(self.frac[0][k]), left)
+            .to_array()
     }
 }
 
@@ -461,8 +462,8 @@ impl<'a> Sampler<'a> {
         let filter = if f.bilinear {
             for (k, &at) in at.iter().enumerate().take(lanes) {
                 // Both rows of the footprint: texels (i, j), (i+1, j) and
-                // (i, j+1), (i+1, j+1), each with one float to spare.
-                let taps = match flat.get(at as usize..(at as usize).wrapping_add(row + 7)) {
+                // (i, j+1), (i+1, j+1), each row with two floats to spare.
+                let taps = match flat.get(at as usize..(at as usize).wrapping_add(row + 8)) {
                     Some(t) if (mask >> k) & 1 != 0 => t,
                     _ => {
                         rest |= 1 << k;
