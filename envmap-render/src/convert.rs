@@ -40,7 +40,8 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
     /// input.
     #[inline(always)]
     fn map(&self, p: Uv8) -> Uv8 {
-        let mut d = self.dst.inverse8::<Fine>(p);
+        // Rays (unit or not), as the forward mapping needs only the ray.
+        let mut d = self.dst.inverse8_ray::<Fine>(p);
         if let Some(m) = self.m {
             let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
             let s = |k: f32| f32x8::splat(k);
@@ -50,9 +51,9 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
                 s(c0.z) * d.x + s(c1.z) * d.y + s(c2.z) * d.z,
             );
         }
-        // Unit directions (or NaN lanes), as inverse8 gives them and the
-        // rotation keeps them.
-        self.src.forward8_unit::<Fine>(d)
+        // Rays of moderate length (or NaN lanes), as inverse8_ray gives
+        // them and the rotation keeps them.
+        self.src.forward8_ray::<Fine>(d)
     }
 
     /// One sample at each of the texel centres `us` (u per texel, all at

@@ -68,11 +68,13 @@ pub fn forward8(d: Dir8) -> Uv8 {
     finish(valid, face, s, t)
 }
 
-/// Cube inverse mapping (any tier): invalid lanes (face > 5, NaN, outside
-/// `[0, 1]²`) give NaN.
+/// The cube inverse mapping's ray (any tier): the face table's row
+/// `(±1, ±s, ±t)` in some order, with `s`, `t` in `[−1, 1]`, unnormalised
+/// (its largest component is ±1); invalid lanes (face > 5, NaN, outside
+/// `[0, 1]²`) give NaN. [`inverse8`] is this divided by its length.
 #[inline]
 #[must_use]
-pub fn inverse8(c: Uv8) -> Dir8 {
+pub fn ray8(c: Uv8) -> Dir8 {
     let two = f32x8::splat(2.0);
     let one = f32x8::ONE;
     let sc = two * c.u - one;
@@ -111,15 +113,24 @@ pub fn inverse8(c: Uv8) -> Dir8 {
         );
         (x, y, z)
     };
-    let len = (x * x + y * y + z * z).sqrt();
     let valid =
         crate::kernel::in_unit_square(c.u, c.v) & f32x8::from_bits(f.simd_lt(u32x8::splat(6)));
     let nan = f32x8::splat(f32::NAN);
     Dir8::new(
-        valid.select(x / len, nan),
-        valid.select(y / len, nan),
-        valid.select(z / len, nan),
+        valid.select(x, nan),
+        valid.select(y, nan),
+        valid.select(z, nan),
     )
+}
+
+/// Cube inverse mapping (any tier): invalid lanes (face > 5, NaN, outside
+/// `[0, 1]²`) give NaN.
+#[inline]
+#[must_use]
+pub fn inverse8(c: Uv8) -> Dir8 {
+    let r = ray8(c);
+    let len = (r.x * r.x + r.y * r.y + r.z * r.z).sqrt();
+    Dir8::new(r.x / len, r.y / len, r.z / len)
 }
 
 impl Mapping8 for Cube {
@@ -130,5 +141,10 @@ impl Mapping8 for Cube {
     #[inline]
     fn inverse8<T: Tier>(&self, c: Uv8) -> Dir8 {
         inverse8(c)
+    }
+    /// The face table's row, unnormalised: see [`ray8`].
+    #[inline]
+    fn inverse8_ray<T: Tier>(&self, c: Uv8) -> Dir8 {
+        ray8(c)
     }
 }

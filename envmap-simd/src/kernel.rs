@@ -24,22 +24,38 @@ pub trait Mapping8 {
     /// Inverse mapping of eight chart points to unit directions.
     fn inverse8<T: Tier>(&self, c: Uv8) -> Dir8;
 
-    /// [`Mapping8::forward8`] for directions known to have unit length
-    /// (within a few ulps, as [`Mapping8::inverse8`] returns them and
-    /// rotations keep them), or NaN in every component (`inverse8`'s
-    /// invalid lanes), so that a mapping can skip the rescaling and
-    /// validation that arbitrary input needs. On such lanes it agrees with
-    /// `forward8` within the tier's bound (same chart; a NaN lane gives
-    /// [`INVALID_CHART`] and NaN coordinates); other lanes give unspecified
-    /// values, never a panic. Conversions call it on the directions that the
-    /// output's `inverse8` gives.
+    /// [`Mapping8::inverse8`] up to a positive scale: each lane's direction
+    /// on the ray through `inverse8`'s unit direction, with its largest
+    /// component between 1/2 and 2 (NaN where `inverse8` gives NaN), for
+    /// callers that need only the ray, such as
+    /// [`Mapping8::forward8_ray`]. Conversions map their output texels with
+    /// it.
     ///
-    /// The default is `forward8` itself. The latlong overrides it: for a
-    /// unit direction it is bit for bit `forward8` except within about
+    /// The default is `inverse8` itself. The cube overrides it with the
+    /// face table's row `(±1, ±s, ±t)`, skipping the normalisation (a
+    /// square root and three divisions); `inverse8` is that row divided by
+    /// its length, bit for bit.
+    #[inline]
+    fn inverse8_ray<T: Tier>(&self, c: Uv8) -> Dir8 {
+        self.inverse8::<T>(c)
+    }
+
+    /// [`Mapping8::forward8`] for directions of moderate length: each
+    /// lane's largest component between 1/2 and 2 (unit directions as
+    /// [`Mapping8::inverse8`] returns them, rays as
+    /// [`Mapping8::inverse8_ray`] returns them, either of them rotated), or
+    /// NaN in every component (those methods' invalid lanes), so that a
+    /// mapping can skip the rescaling and validation that arbitrary input
+    /// needs. On such lanes it agrees with `forward8` within the tier's
+    /// bound (same chart; a NaN lane gives [`INVALID_CHART`] and NaN
+    /// coordinates); other lanes give unspecified values, never a panic.
+    ///
+    /// The default is `forward8` itself. The latlong overrides it: on such
+    /// a direction it is bit for bit `forward8` except within about
     /// 10⁻¹⁹ rad of a pole (where `x² + y²` underflows; the angle is still
     /// within the bound).
     #[inline]
-    fn forward8_unit<T: Tier>(&self, d: Dir8) -> Uv8 {
+    fn forward8_ray<T: Tier>(&self, d: Dir8) -> Uv8 {
         self.forward8::<T>(d)
     }
 
@@ -249,17 +265,30 @@ impl Mapping8 for AnyMapping {
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8::<T>(d),
         }
     }
-    fn forward8_unit<T: Tier>(&self, d: Dir8) -> Uv8 {
+    fn forward8_ray<T: Tier>(&self, d: Dir8) -> Uv8 {
         use envmap_core::*;
         match self {
-            AnyMapping::LatLong => LatLong.forward8_unit::<T>(d),
-            AnyMapping::Cube => Cube.forward8_unit::<T>(d),
-            AnyMapping::SphereMap => SphereMap::CLASS.forward8_unit::<T>(d),
-            AnyMapping::SphereMapGl => SphereMap::OPENGL.forward8_unit::<T>(d),
-            AnyMapping::DualParaboloid => DualParaboloid.forward8_unit::<T>(d),
-            AnyMapping::Tennisball => Tennisball.forward8_unit::<T>(d),
-            AnyMapping::Octahedral => Octahedral.forward8_unit::<T>(d),
-            AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8_unit::<T>(d),
+            AnyMapping::LatLong => LatLong.forward8_ray::<T>(d),
+            AnyMapping::Cube => Cube.forward8_ray::<T>(d),
+            AnyMapping::SphereMap => SphereMap::CLASS.forward8_ray::<T>(d),
+            AnyMapping::SphereMapGl => SphereMap::OPENGL.forward8_ray::<T>(d),
+            AnyMapping::DualParaboloid => DualParaboloid.forward8_ray::<T>(d),
+            AnyMapping::Tennisball => Tennisball.forward8_ray::<T>(d),
+            AnyMapping::Octahedral => Octahedral.forward8_ray::<T>(d),
+            AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8_ray::<T>(d),
+        }
+    }
+    fn inverse8_ray<T: Tier>(&self, c: Uv8) -> Dir8 {
+        use envmap_core::*;
+        match self {
+            AnyMapping::LatLong => LatLong.inverse8_ray::<T>(c),
+            AnyMapping::Cube => Cube.inverse8_ray::<T>(c),
+            AnyMapping::SphereMap => SphereMap::CLASS.inverse8_ray::<T>(c),
+            AnyMapping::SphereMapGl => SphereMap::OPENGL.inverse8_ray::<T>(c),
+            AnyMapping::DualParaboloid => DualParaboloid.inverse8_ray::<T>(c),
+            AnyMapping::Tennisball => Tennisball.inverse8_ray::<T>(c),
+            AnyMapping::Octahedral => Octahedral.inverse8_ray::<T>(c),
+            AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse8_ray::<T>(c),
         }
     }
     fn inverse8<T: Tier>(&self, c: Uv8) -> Dir8 {

@@ -44,11 +44,12 @@ impl Mapping8 for LatLong {
         finish(valid, u32x8::ZERO, u, v)
     }
 
-    /// Unit directions need no scaling (a unit direction scales by 1 or 2,
-    /// exactly, so the angles are the same bits unless `x² + y²`
-    /// underflows), and a NaN lane is found by its sum.
+    /// Directions whose largest component is between 1/2 and 2 need no
+    /// scaling (`forward8` would scale them by a power of two, exactly, so
+    /// the angles are the same bits unless `x² + y²` underflows), and a NaN
+    /// lane is found by its sum.
     #[inline]
-    fn forward8_unit<T: Tier>(&self, d: Dir8) -> Uv8 {
+    fn forward8_ray<T: Tier>(&self, d: Dir8) -> Uv8 {
         let sum = d.x + d.y + d.z;
         let (u, v) = angles::<T>(&d, &d);
         finish(sum.simd_eq(sum), u32x8::ZERO, u, v)

@@ -386,33 +386,71 @@ fn inverse_lanes_do_not_depend_on_their_batch() {
     }
 }
 
-/// `forward8_unit` on unit directions (what every mapping's `inverse8`
-/// returns, normalised random directions, axes, seams and directions a
-/// hair from the poles) and on NaN lanes: the same chart as `forward8`, and
-/// the same u and v bit for bit, except within 10⁻¹⁸ rad of the z axis,
-/// where they stay within the tier's bound.
+/// Random chart points of every chart of `m`, eight at a time: what
+/// `inverse8` and `inverse8_ray` give for them.
+fn inverses(m: AnyMapping, rng: &mut SplitMix64) -> Vec<(Vec3, Vec3)> {
+    use envmap_simd::Uv8;
+    let mut out = Vec::new();
+    for _ in 0..512 {
+        let c: [ChartUv; 8] = core::array::from_fn(|_| {
+            let c = (rng.next_u64() % u64::from(m.chart_count())) as u32;
+            ChartUv::new(c, unit(rng), unit(rng))
+        });
+        let q = Uv8::from_chart_uvs(&c);
+        let (unit, ray) = (m.inverse8::<Fine>(q), m.inverse8_ray::<Fine>(q));
+        out.extend((0..8).map(|k| (unit.lane(k), ray.lane(k))));
+    }
+    out
+}
+
+/// `inverse8_ray`: NaN exactly where `inverse8` is, and otherwise the same
+/// ray (within 2e-7 rad) with its largest component between 1/2 and 2; for
+/// the cube, `inverse8` is the ray divided by its length bit for bit.
 #[test]
-fn forward8_unit_agrees_with_forward8_on_unit_directions() {
+fn inverse8_ray_is_inverse8_up_to_scale() {
+    let mut rng = SplitMix64::new(37);
+    for m in AnyMapping::ALL {
+        for (unit, ray) in inverses(m, &mut rng) {
+            assert_eq!(unit.is_nan(), ray.is_nan(), "{m}: {unit} against {ray}");
+            if unit.is_nan() {
+                continue;
+            }
+            let big = ray.abs().max_element();
+            assert!((0.5..=2.0).contains(&big), "{m}: ray {ray}");
+            assert!(angle(unit, ray) <= 2e-7, "{m}: {unit} against {ray}");
+            if m == AnyMapping::Cube {
+                let len = (ray.x * ray.x + ray.y * ray.y + ray.z * ray.z).sqrt();
+                assert_eq!((ray / len).to_array(), unit.to_array(), "{m}");
+            }
+        }
+    }
+}
+
+/// `forward8_ray` on rays of moderate length (what every mapping's
+/// `inverse8` and `inverse8_ray` return, normalised random directions and
+/// the same scaled by 1/2 to 2, axes, seams and directions a hair from the
+/// poles) and on NaN lanes: the same chart as `forward8`, and the same u
+/// and v bit for bit, except within 10⁻¹⁸ rad of the z axis, where they
+/// stay within the tier's bound.
+#[test]
+fn forward8_ray_agrees_with_forward8_on_rays() {
     use envmap_simd::Dir8;
     let mut rng = SplitMix64::new(31);
     let mut dirs: Vec<Vec3> = Vec::new();
     for m in AnyMapping::ALL {
-        let coords: Vec<ChartUv> = (0..4096)
-            .map(|_| {
-                let c = (rng.next_u64() % u64::from(m.chart_count())) as u32;
-                ChartUv::new(c, unit(&mut rng), unit(&mut rng))
-            })
-            .collect();
-        let mut out = vec![Vec3::ZERO; coords.len()];
-        inverse_slice::<_, Fine>(&m, &coords, &mut out);
-        dirs.extend(out.iter().filter(|d| !d.is_nan()));
+        for (unit, ray) in inverses(m, &mut rng) {
+            if !unit.is_nan() {
+                dirs.extend([unit, ray]);
+            }
+        }
     }
-    dirs.extend((0..4096).map(|_| {
+    for _ in 0..4096 {
         // Normalised in f64: any length normalises without overflow.
         let d = dir(&mut rng).to_array().map(f64::from);
         let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        Vec3::from_array(d.map(|c| (c / l) as f32))
-    }));
+        let u = Vec3::from_array(d.map(|c| (c / l) as f32));
+        dirs.extend([u, u * (0.5 + 1.5 * unit(&mut rng))]);
+    }
     for (x, y) in [
         (1e-20f32, 1e-20f32),
         (-1e-30, 0.0),
@@ -446,7 +484,7 @@ fn forward8_unit_agrees_with_forward8_on_unit_directions() {
         for block in dirs.chunks_exact(8) {
             let b: &[Vec3; 8] = block.try_into().unwrap();
             let d = Dir8::from_vec3s(b);
-            let (full, unit) = (m.forward8::<T>(d), m.forward8_unit::<T>(d));
+            let (full, unit) = (m.forward8::<T>(d), m.forward8_ray::<T>(d));
             for (k, v) in b.iter().enumerate() {
                 let (f, u) = (full.lane_raw(k), unit.lane_raw(k));
                 assert_eq!(f.chart, u.chart, "{m} {} {v}", T::NAME);
@@ -463,7 +501,7 @@ fn forward8_unit_agrees_with_forward8_on_unit_directions() {
                 let e = (f.u - u.u).abs().max((f.v - u.v).abs());
                 assert!(
                     near_pole && e <= bound,
-                    "{m} {} {v}: forward8 {f:?}, forward8_unit {u:?}",
+                    "{m} {} {v}: forward8 {f:?}, forward8_ray {u:?}",
                     T::NAME
                 );
             }
