@@ -10,7 +10,11 @@
 //!   output; no threads and no allocation, so engines call them from their own
 //!   job systems.
 //! * [`approx`]: the `atan`, `atan2`, `asin`, `acos` and `sin_cos`
-//!   approximations behind the tiers.
+//!   approximations behind the tiers, and `atan2_sqrt` (a polar angle from
+//!   squares).
+//! * [`Mapping8::inverse8_ray`] and [`Mapping8::forward8_ray`]: an inverse
+//!   mapping chained into a forward one (as conversions do) without
+//!   normalising in between.
 //!
 //! `wide` picks SSE or AVX at compile time: build with
 //! `RUSTFLAGS="-C target-cpu=native"` for the full 8-wide speed.
