@@ -363,7 +363,6 @@ impl<'a> Sampler<'a> {
             0
         };
         let (fx, fy) = (x - i.round_float(), y - j.round_float());
-
         f.q = *q;
         f.bilinear = bilinear;
         f.at = at.to_array();

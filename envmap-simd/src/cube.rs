@@ -94,23 +94,16 @@ pub fn ray8(c: Uv8) -> Dir8 {
     let first = f.as_array()[0];
     let (x, y, z) = if f.simd_eq(u32x8::splat(first)).all() {
         // One face for the whole batch (a row of a face, as conversions
-        // map): its row directly. The same values as the blend below.
+        // map): its row directly.
         row(first)
     } else {
-        let is = |k: u32| f32x8::from_bits(f.simd_eq(u32x8::splat(k)));
-        let (px, nx, py, ny, pz) = (is(0), is(1), is(2), is(3), is(4));
-        let x = px.select(
-            one,
-            nx.select(-one, py.select(sc, ny.select(sc, pz.select(sc, neg(sc))))),
-        );
-        let y = px.select(
-            neg(tc),
-            nx.select(neg(tc), py.select(one, ny.select(-one, neg(tc)))),
-        );
-        let z = px.select(
-            neg(sc),
-            nx.select(sc, py.select(tc, ny.select(neg(tc), pz.select(one, -one)))),
-        );
+        // Each lane's row, blended from the six (the −z row by default).
+        let (mut x, mut y, mut z) = row(5);
+        for k in (0..5).rev() {
+            let here = f32x8::from_bits(f.simd_eq(u32x8::splat(k)));
+            let (rx, ry, rz) = row(k);
+            (x, y, z) = (here.select(rx, x), here.select(ry, y), here.select(rz, z));
+        }
         (x, y, z)
     };
     let valid =

@@ -16,8 +16,8 @@
 //! fast tier at most 10⁻⁴ rad (absolute).
 
 use envmap_bench::accuracy::{
-    acos_of, apply_binary, asin_of, atan_of, cos_of, function_stats, sin_of, tier_kernel, Density,
-    Function, Stats,
+    acos_of, apply_binary, asin_of, atan_of, cos_of, function_stats, run_binary, sin_of,
+    tier_kernel, Density, Function, Stats,
 };
 use envmap_simd::approx::{self, Exact, Fast, Fine, Tier};
 use envmap_tests::SplitMix64;
@@ -435,16 +435,12 @@ fn atan2_sqrt_sweep<T: Tier>() {
         }
     }
     let mut stats = Stats::EMPTY;
-    for chunk in pairs.chunks(8) {
-        let lane = |k: usize| chunk.get(k).copied().unwrap_or(chunk[0]);
-        let y2 = f32x8::new(core::array::from_fn(|k| lane(k).0));
-        let x = f32x8::new(core::array::from_fn(|k| lane(k).1));
-        let got = approx::atan2_sqrt::<T>(y2, x, x * x).to_array();
-        for (k, &(y2, x)) in chunk.iter().enumerate() {
-            let want = f64::from(y2).sqrt().atan2(f64::from(x));
-            stats.add((y2, x), got[k], want);
-        }
-    }
+    run_binary(
+        &mut stats,
+        |y2, x| approx::atan2_sqrt::<T>(y2, x, x * x),
+        |y2, x| y2.sqrt().atan2(x),
+        &pairs,
+    );
     check::<T>("atan2_sqrt", true, stats);
 }
 
