@@ -1,38 +1,50 @@
-//! Environment-map images and their I/O.
+//! Environment-map images and their files, filtering and conversion, the
+//! renderer, and the `envmap` command.
 //!
-//! * [`image`]: [`EnvImage`], linear f32 RGB texels tagged with their
-//!   [`Representation`] (mapping, atlas layout, frame).
-//! * [`layout`]: named layouts ([`Layout`]) and telling a representation from
-//!   an image's size ([`layout::detect`], [`layout::resolve`]).
-//! * [`io`]: loading and saving PNG, JPEG, Radiance HDR and OpenEXR, cubes as
-//!   six files, with atomic writes ([`io::load`], [`io::save`]).
-//! * [`sample`]: nearest and bilinear sampling with each representation's
-//!   edge rule ([`sample::Sampler`]).
-//! * [`convert`]: any representation to any other, one generic loop
-//!   ([`convert::convert`]).
-//! * [`procedural`]: environments defined by a function of direction.
-//! * [`text`]: the line formats of `envmap map` and `envmap unmap`.
-//! * [`error`]: the crate's [`Error`], whose messages name the file.
+//! The crate is four folders by concern, each using only the ones above it:
+//!
+//! | folder | what lives there | may use |
+//! | --- | --- | --- |
+//! | [`image`] | [`EnvImage`] and its [`Representation`], layouts, every file format ([`image::io`]: PNG/JPEG, Radiance HDR, OpenEXR, six-file cubes, safe writes) | `envmap-core` |
+//! | [`filter`] | sampling with each representation's edge rule ([`filter::sample`]), the one conversion loop ([`filter::convert`]) | `image`, `envmap-simd` |
+//! | [`scene`] | built-in environments, procedural environments, meshes, the renderer, the demo | `image`, `filter` |
+//! | [`cli`] | the `envmap` command, one file per subcommand | everything |
+//!
+//! [`Error`] (in `error.rs`) is shared by all of them: every message names
+//! the file it concerns.
+//!
+//! The paths of the first release keep working: [`io`], [`layout`],
+//! [`sample`], [`convert`](mod@convert), [`procedural`], [`environments`],
+//! [`mesh`], [`render`](mod@render), [`demo`] and [`text`] are the modules
+//! above under their old names.
+//!
+//! Conventions (axes, frames, layouts, image coordinates) are in
+//! `docs/conventions.md`; speed in `docs/performance.md`; what bad input gives
+//! in `docs/bad-input.md`; the command's flags in `docs/cli.md`.
 #![forbid(unsafe_code)]
 #![cfg_attr(
     not(test),
     deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)
 )]
 
-pub mod convert;
-pub mod demo;
-pub mod environments;
+pub mod cli;
 pub mod error;
+pub mod filter;
 pub mod image;
-pub mod io;
-pub mod layout;
-pub mod mesh;
-pub mod procedural;
-pub mod render;
-pub mod sample;
-pub mod text;
+pub mod scene;
 
 pub use crate::error::{Error, Result};
-pub use crate::image::{EnvImage, Representation, RgbImage, Stats};
-pub use crate::io::{load, save, LoadOptions, NonFinite, SaveOptions};
-pub use crate::layout::Layout;
+pub use crate::filter::convert::{convert, convert_into, ConvertOptions};
+pub use crate::image::io::{load, save, LoadOptions, NonFinite, SaveOptions};
+pub use crate::image::{EnvImage, Layout, Representation, RgbImage, Stats};
+pub use crate::scene::render::render;
+
+// The module paths of the first release.
+#[doc(no_inline)]
+pub use crate::cli::text;
+#[doc(no_inline)]
+pub use crate::filter::{convert, sample};
+#[doc(no_inline)]
+pub use crate::image::{io, layout};
+#[doc(no_inline)]
+pub use crate::scene::{demo, environments, mesh, procedural, render};

@@ -7,7 +7,7 @@
 //! follow, how the charts lie in the image ([`Atlas`]), and the axis
 //! convention ([`Frame`]). A cube is always one image in memory (cross,
 //! vertical cross, strip or vertical strip); six files are only an on-disk
-//! layout (see [`crate::io`]).
+//! layout (see [`crate::image::io`]).
 //!
 //! Sizes are checked before any allocation against a limit on the number of
 //! texels ([`DEFAULT_MAX_TEXELS`] unless given), so a corrupt header cannot
@@ -18,7 +18,7 @@ use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Atlas, Frame, Mapping};
 
 use crate::error::{Error, Result};
-use crate::layout::{check_compatible, check_fits, Layout};
+use crate::image::layout::{check_compatible, Representation};
 
 /// The default limit on texels per image: 2²⁸ (e.g. 16384 × 16384, or a
 /// 23170 × 11585 latlong), 3 GiB of f32 RGB.
@@ -48,63 +48,6 @@ pub fn check_size(width: u32, height: u32, count: u32, max_texels: u64) -> Resul
         texels,
         limit: usize::MAX as u64,
     })
-}
-
-/// What an image's texels mean: the mapping, the layout of its charts, and
-/// the axis convention.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Representation {
-    /// The parameterization the charts follow.
-    pub mapping: AnyMapping,
-    /// Where each chart lies in the image.
-    pub atlas: Atlas,
-    /// The axes the map was made in: the mapping's formulas are applied to
-    /// directions expressed in these axes, and `frame.to_canonical` takes
-    /// them to envmap's canonical z-up, right-handed world. A z-up map (seed
-    /// `000`, Blender) has [`Frame::Z_UP_RH`]; a cube map for GL, Vulkan or
-    /// wgpu, whose +y face is up, has [`Frame::Y_UP_RH`].
-    pub frame: Frame,
-}
-
-impl Representation {
-    /// A representation; an error unless `atlas` can hold `mapping` (one cell
-    /// per chart, cells of the mapping's shape).
-    pub fn new(mapping: AnyMapping, atlas: Atlas, frame: Frame) -> Result<Self> {
-        check_compatible(mapping, &atlas)?;
-        Ok(Self {
-            mapping,
-            atlas,
-            frame,
-        })
-    }
-
-    /// `mapping` in its default atlas ([`Mapping::atlas`]) and the identity frame.
-    #[must_use]
-    pub fn default_for(mapping: AnyMapping) -> Self {
-        Self {
-            mapping,
-            atlas: mapping.atlas(),
-            frame: Frame::IDENTITY,
-        }
-    }
-
-    /// The named layout of this atlas, if it is one of the built-in ones.
-    #[must_use]
-    pub fn layout(&self) -> Option<Layout> {
-        Layout::from_atlas(&self.atlas)
-    }
-
-    /// Image size for cells `cell_width` texels wide (a cube's face edge, a
-    /// latlong's width); `None` if the cell height would not be whole.
-    #[must_use]
-    pub fn size_for_cell_width(&self, cell_width: u32) -> Option<(u32, u32)> {
-        self.atlas.image_size_for_cell_width(cell_width)
-    }
-
-    /// Checks that a `width × height` image fits this representation.
-    pub fn check_size(&self, width: u32, height: u32) -> Result<()> {
-        check_fits(self.mapping, &self.atlas, width, height)
-    }
 }
 
 /// A plain RGB image with no representation: what a file holds before its
@@ -681,36 +624,6 @@ mod tests {
         let v = cross.relayout(Atlas::CUBE_VERTICAL_CROSS).unwrap();
         assert_eq!(v.get(5, 11), cross.chart_texel(5, 0, 0).unwrap());
         assert!(cross.relayout(Atlas::LATLONG).is_err());
-    }
-
-    #[test]
-    fn sphere_means_agree_across_representations() {
-        use crate::procedural::{fill, smooth};
-        // One environment in every representation: the solid-angle weighted
-        // means agree; the per-texel means do not (a latlong over-counts its
-        // poles). Measured at this size: within 4.6e-4 of each other, against a
-        // 7 % spread of the per-texel means.
-        let mut means = Vec::new();
-        for m in AnyMapping::ALL {
-            let repr = Representation::default_for(m);
-            let (w, h) = repr.atlas.image_size_for_cell_width(192).unwrap();
-            let s = fill(repr, w, h, smooth).unwrap().stats();
-            means.push((m, s.sphere_mean_luminance, s.mean_luminance));
-        }
-        let reference = means[0].1;
-        for &(m, sphere, _) in &means {
-            assert!(
-                (sphere - reference).abs() < 1e-3 * reference,
-                "{m}: {sphere} vs {reference}"
-            );
-        }
-        let per_texel: Vec<f64> = means.iter().map(|m| m.2).collect();
-        let spread = per_texel.iter().copied().fold(0.0, f64::max)
-            - per_texel.iter().copied().fold(f64::INFINITY, f64::min);
-        assert!(
-            spread > 1e-2 * reference,
-            "per-texel means spread only {spread}"
-        );
     }
 
     #[test]

@@ -29,7 +29,7 @@ use envmap_core::{AnyMapping, Atlas, Frame};
 
 use crate::error::{Error, Result};
 use crate::image::{EnvImage, Representation};
-use crate::procedural;
+use crate::scene::procedural;
 
 const BLACK: [f32; 3] = [0.0; 3];
 

@@ -31,7 +31,7 @@ use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 use envmap_core::glam::Vec3;
 
 /// The Utah teapot's patches in the `bpt` text format (public domain).
-const TEAPOT_BPT: &str = include_str!("../data/teapot.bpt");
+const TEAPOT_BPT: &str = include_str!("../../data/teapot.bpt");
 
 /// Grid step, in model units, used to weld the teapot's vertices: points
 /// that round to the same multiple of it become one vertex.

@@ -22,9 +22,9 @@ use envmap_core::{reflect_view, ChartUv};
 use envmap_simd::{forward_slice, Dir8, Fine, Mapping8, Uv8, LANES};
 use rayon::prelude::*;
 
+use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::image::{EnvImage, RgbImage};
-use crate::mesh::Mesh;
-use crate::sample::{Ahead, Filter, Sampler};
+use crate::scene::mesh::Mesh;
 
 /// A pinhole camera.
 #[derive(Clone, Copy, Debug, PartialEq)]

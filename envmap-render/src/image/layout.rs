@@ -25,7 +25,6 @@ use std::str::FromStr;
 use envmap_core::{AnyMapping, Atlas, Frame, Mapping};
 
 use crate::error::{Error, Result};
-use crate::image::Representation;
 
 /// A named layout of a representation's charts, as the command line spells it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -158,6 +157,63 @@ impl Layout {
         }
         let (w, h) = self.atlas().image_aspect();
         format!("{w}:{h}")
+    }
+}
+
+/// What an image's texels mean: the mapping, the layout of its charts, and
+/// the axis convention.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Representation {
+    /// The parameterization the charts follow.
+    pub mapping: AnyMapping,
+    /// Where each chart lies in the image.
+    pub atlas: Atlas,
+    /// The axes the map was made in: the mapping's formulas are applied to
+    /// directions expressed in these axes, and `frame.to_canonical` takes
+    /// them to envmap's canonical z-up, right-handed world. A z-up map (seed
+    /// `000`, Blender) has [`Frame::Z_UP_RH`]; a cube map for GL, Vulkan or
+    /// wgpu, whose +y face is up, has [`Frame::Y_UP_RH`].
+    pub frame: Frame,
+}
+
+impl Representation {
+    /// A representation; an error unless `atlas` can hold `mapping` (one cell
+    /// per chart, cells of the mapping's shape).
+    pub fn new(mapping: AnyMapping, atlas: Atlas, frame: Frame) -> Result<Self> {
+        check_compatible(mapping, &atlas)?;
+        Ok(Self {
+            mapping,
+            atlas,
+            frame,
+        })
+    }
+
+    /// `mapping` in its default atlas ([`Mapping::atlas`]) and the identity frame.
+    #[must_use]
+    pub fn default_for(mapping: AnyMapping) -> Self {
+        Self {
+            mapping,
+            atlas: mapping.atlas(),
+            frame: Frame::IDENTITY,
+        }
+    }
+
+    /// The named layout of this atlas, if it is one of the built-in ones.
+    #[must_use]
+    pub fn layout(&self) -> Option<Layout> {
+        Layout::from_atlas(&self.atlas)
+    }
+
+    /// Image size for cells `cell_width` texels wide (a cube's face edge, a
+    /// latlong's width); `None` if the cell height would not be whole.
+    #[must_use]
+    pub fn size_for_cell_width(&self, cell_width: u32) -> Option<(u32, u32)> {
+        self.atlas.image_size_for_cell_width(cell_width)
+    }
+
+    /// Checks that a `width × height` image fits this representation.
+    pub fn check_size(&self, width: u32, height: u32) -> Result<()> {
+        check_fits(self.mapping, &self.atlas, width, height)
     }
 }
 

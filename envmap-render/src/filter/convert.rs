@@ -11,7 +11,7 @@
 //! black. Bands of up to 128 rows run in parallel (rayon), each walked in
 //! tiles of 32 columns; within a band, batches are mapped two at a time and
 //! addressed 32 ahead of filtering while their texels load (see the
-//! [`crate::sample`] module). With one sample per
+//! [`crate::filter::sample`] module). With one sample per
 //! texel, samples go straight into the output; N×N sub-samples, and every
 //! sample on a disk chart, go into a scratch tile and are averaged (on a disk,
 //! over the sub-samples inside it).
@@ -25,8 +25,8 @@ use rayon::prelude::*;
 use wide::{f32x8, u32x8};
 
 use crate::error::Result;
+use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::image::{EnvImage, Representation};
-use crate::sample::{Ahead, Filter, Sampler};
 
 /// What every batch of a conversion shares.
 struct RowContext<'a, D, S> {

@@ -10,12 +10,12 @@ use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Mapping};
 
-use crate::environments::Builtin;
 use crate::error::{Error, Result};
+use crate::image::io::{linear_to_srgb, write_rgb, SaveOptions};
 use crate::image::{Representation, RgbImage};
-use crate::io::{linear_to_srgb, write_rgb, SaveOptions};
-use crate::mesh::Mesh;
-use crate::render::{render, Camera, EnvSource, Mode, RenderOptions};
+use crate::scene::environments::Builtin;
+use crate::scene::mesh::Mesh;
+use crate::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
 
 /// What the demo makes.
 #[derive(Clone, Debug, PartialEq)]
@@ -128,7 +128,7 @@ fn displayed(img: &RgbImage, exposure: f32) -> Vec<[f32; 3]> {
 }
 
 fn psnr_displayed(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool]) -> f64 {
-    crate::procedural::psnr(a, b, |k| mask[k], 1.0)
+    crate::scene::procedural::psnr(a, b, |k| mask[k], 1.0)
 }
 
 /// A heat map of |a − b| on displayed values: black (0) to red, yellow, white (≥ 0.25).
@@ -149,7 +149,7 @@ fn heat_map(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool], w: u32, h: u32) -> Rg
                 (3.0 * t - 1.0).clamp(0.0, 1.0),
                 (3.0 * t - 2.0).clamp(0.0, 1.0),
             ];
-            ramp.map(crate::io::srgb_to_linear)
+            ramp.map(crate::image::io::srgb_to_linear)
         })
         .collect();
     RgbImage {

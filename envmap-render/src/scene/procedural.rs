@@ -73,3 +73,38 @@ pub fn psnr(a: &[[f32; 3]], b: &[[f32; 3]], mask: impl Fn(usize) -> bool, peak: 
     }
     10.0 * (peak * peak / (se / n as f64)).log10()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use envmap_core::AnyMapping;
+
+    #[test]
+    fn sphere_means_agree_across_representations() {
+        // One environment in every representation: the solid-angle weighted
+        // means agree; the per-texel means do not (a latlong over-counts its
+        // poles). Measured at this size: within 4.6e-4 of each other, against a
+        // 7 % spread of the per-texel means.
+        let mut means = Vec::new();
+        for m in AnyMapping::ALL {
+            let repr = Representation::default_for(m);
+            let (w, h) = repr.atlas.image_size_for_cell_width(192).unwrap();
+            let s = fill(repr, w, h, smooth).unwrap().stats();
+            means.push((m, s.sphere_mean_luminance, s.mean_luminance));
+        }
+        let reference = means[0].1;
+        for &(m, sphere, _) in &means {
+            assert!(
+                (sphere - reference).abs() < 1e-3 * reference,
+                "{m}: {sphere} vs {reference}"
+            );
+        }
+        let per_texel: Vec<f64> = means.iter().map(|m| m.2).collect();
+        let spread = per_texel.iter().copied().fold(0.0, f64::max)
+            - per_texel.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(
+            spread > 1e-2 * reference,
+            "per-texel means spread only {spread}"
+        );
+    }
+}

@@ -1,0 +1,125 @@
+//! Argument parsers and helpers the subcommands share.
+
+use std::path::Path;
+
+use envmap_core::glam::Vec3;
+use envmap_core::{AnyMapping, Frame};
+
+use crate::image::layout::Layout;
+use crate::image::Representation;
+use crate::scene::render::Mode;
+
+pub(crate) type CliResult = Result<(), String>;
+
+pub(crate) fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v: Result<Vec<f32>, _> = s.split(',').map(|t| t.trim().parse::<f32>()).collect();
+    match v {
+        Ok(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => Ok(Vec3::new(v[0], v[1], v[2])),
+        _ => Err(format!("expected x,y,z (e.g. 0,-9.5,4), got '{s}'")),
+    }
+}
+
+pub(crate) fn parse_mode(s: &str) -> Result<Mode, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "per-pixel" | "pixel" => Ok(Mode::PerPixel),
+        "per-vertex" | "vertex" => Ok(Mode::PerVertex),
+        _ => Err(format!(
+            "unknown mode '{s}'; expected per-pixel or per-vertex"
+        )),
+    }
+}
+
+/// The mapping names the command accepts.
+pub(crate) fn parse_mapping(s: &str) -> Result<AnyMapping, String> {
+    s.parse::<AnyMapping>().map_err(|e| e.to_string())
+}
+
+pub(crate) fn parse_layout(s: &str) -> Result<Layout, String> {
+    s.parse::<Layout>().map_err(|e| e.to_string())
+}
+
+pub(crate) fn parse_frame(s: &str) -> Result<Frame, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "z-up" | "zup" | "z-up-rh" => Ok(Frame::Z_UP_RH),
+        "y-up" | "yup" | "y-up-rh" | "gl" | "gltf" => Ok(Frame::Y_UP_RH),
+        "y-up-lh" | "d3d" | "unity" => Ok(Frame::Y_UP_LH),
+        _ => Err(format!(
+            "unknown frame '{s}'; expected z-up, y-up (OpenGL, glTF) or y-up-lh (Direct3D, Unity)"
+        )),
+    }
+}
+
+/// `yaw,pitch,roll` in degrees.
+pub(crate) fn parse_rotation(s: &str) -> Result<Frame, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let v: Result<Vec<f32>, _> = parts.iter().map(|p| p.parse::<f32>()).collect();
+    match v {
+        Ok(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => Ok(Frame::from_yaw_pitch_roll(
+            v[0].to_radians(),
+            v[1].to_radians(),
+            v[2].to_radians(),
+        )),
+        _ => Err(format!(
+            "expected yaw,pitch,roll in degrees (e.g. 90,0,0), got '{s}'"
+        )),
+    }
+}
+
+/// A load error's message, with how to raise the size limit when that is
+/// what stopped it.
+pub(crate) fn load_error(e: &crate::Error) -> String {
+    fn too_large(e: &crate::Error) -> bool {
+        match e {
+            crate::Error::TooLarge { .. } => true,
+            crate::Error::InFile { source, .. } => too_large(source),
+            _ => false,
+        }
+    }
+    if too_large(e) {
+        format!("{e} (raise the limit with --max-megatexels)")
+    } else {
+        e.to_string()
+    }
+}
+
+/// Says on standard error how many NaN or infinite texels loading replaced.
+pub(crate) fn warn_replaced(path: &Path, n: u64) {
+    if n > 0 {
+        eprintln!(
+            "envmap: warning: {}: {n} texel{} with NaN or infinite values replaced by black",
+            path.display(),
+            if n == 1 { "" } else { "s" }
+        );
+    }
+}
+
+/// The image size for `--size` in a representation: a cube's face edge, any
+/// other atlas's width.
+pub(crate) fn output_size(repr: &Representation, size: u32) -> Result<(u32, u32), String> {
+    let atlas = repr.atlas;
+    // The image width must be a whole number of cells whose height is whole.
+    let (step, what) = if repr.mapping == AnyMapping::Cube {
+        (atlas.cell_aspect_w, "face edge")
+    } else {
+        (atlas.cols * atlas.cell_aspect_w, "width")
+    };
+    let cell = if repr.mapping == AnyMapping::Cube {
+        Some(size)
+    } else {
+        size.is_multiple_of(atlas.cols).then_some(size / atlas.cols)
+    };
+    cell.and_then(|c| atlas.image_size_for_cell_width(c))
+        .ok_or_else(|| {
+            let lower = size / step * step;
+            let upper = lower + step;
+            let suggest = if lower == 0 {
+                format!("{upper}")
+            } else {
+                format!("{lower} or {upper}")
+            };
+            format!(
+                "--size {size}: a {} in the {} layout needs a {what} divisible by {step}; try {suggest}",
+                repr.mapping, atlas.name
+            )
+        })
+}

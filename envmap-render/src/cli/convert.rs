@@ -1,0 +1,241 @@
+//! `envmap convert`: one representation into another.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+use clap::Args;
+use envmap_core::{AnyMapping, Frame};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::cli::args::{
+    load_error, output_size, parse_frame, parse_layout, parse_mapping, parse_rotation,
+    warn_replaced, CliResult,
+};
+use crate::filter::convert::{auto_samples, convert, ConvertOptions};
+use crate::filter::sample::Filter;
+use crate::image::io::{
+    load_detailed, save, ExrPrecision, LoadOptions, Loaded, NonFinite, SaveOptions,
+};
+use crate::image::layout::Layout;
+use crate::image::{EnvImage, Representation};
+
+#[derive(Args)]
+pub(crate) struct ConvertArgs {
+    /// Input file (.png, .jpg, .hdr, .exr; a six-file cube by one face's name).
+    pub(crate) input: PathBuf,
+    /// Output file (.png, .hdr, .exr); `{face}` in the name, or --layout faces, writes six files.
+    pub(crate) output: PathBuf,
+    /// Output mapping: latlong, cube, sphere, sphere-gl, paraboloid, tennisball, octahedral, octahedral-equal-area.
+    #[arg(long, value_parser = parse_mapping)]
+    pub(crate) to: AnyMapping,
+    /// Output layout (cube: cross, vcross, strip, vstrip, faces); default: the mapping's own.
+    #[arg(long, value_parser = parse_layout)]
+    pub(crate) layout: Option<Layout>,
+    /// Face edge of a cube, width of any other atlas, in texels (default: about the input's texel count).
+    #[arg(long)]
+    pub(crate) size: Option<u32>,
+    /// Input mapping, when the aspect ratio does not say (e.g. a square image).
+    #[arg(long, value_parser = parse_mapping)]
+    pub(crate) from: Option<AnyMapping>,
+    /// Input layout, when the aspect ratio does not say.
+    #[arg(long, value_parser = parse_layout)]
+    pub(crate) from_layout: Option<Layout>,
+    /// Axis convention of the input's directions.
+    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
+    pub(crate) from_frame: Frame,
+    /// Axis convention of the output's directions.
+    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
+    pub(crate) to_frame: Frame,
+    /// Reconstruction filter: nearest or bilinear.
+    #[arg(long, default_value = "bilinear")]
+    pub(crate) filter: Filter,
+    /// Sub-samples per output texel side (N×N); default: automatic from the size ratio.
+    #[arg(long)]
+    pub(crate) samples: Option<u32>,
+    /// Rotation on the way, yaw,pitch,roll in degrees (about z, y, x).
+    #[arg(long, value_parser = parse_rotation, allow_hyphen_values = true)]
+    pub(crate) rotate: Option<Frame>,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub(crate) threads: Option<usize>,
+    /// Exposure in stops for 8-bit outputs (PNG).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub(crate) exposure: f32,
+    /// Write OpenEXR as 16-bit half floats.
+    #[arg(long)]
+    pub(crate) half: bool,
+    /// Allow the output to replace the input file.
+    #[arg(long)]
+    pub(crate) overwrite_input: bool,
+    /// Largest image accepted, in millions of texels.
+    #[arg(long, default_value_t = 268)]
+    pub(crate) max_megatexels: u64,
+    /// No progress bar or summary.
+    #[arg(long, short)]
+    pub(crate) quiet: bool,
+}
+
+/// Default `--size`: about as many texels as the input.
+fn default_size(repr: &Representation, input_texels: u64) -> u32 {
+    let a = repr.atlas;
+    let (aw, ah) = (
+        f64::from(a.cols * a.cell_aspect_w),
+        f64::from(a.rows * a.cell_aspect_h),
+    );
+    // width × height = texels with width : height = aw : ah
+    let width = (input_texels as f64 * aw / ah).sqrt();
+    let unit = f64::from(a.cols * a.cell_aspect_w);
+    let cells = (width / unit).round().max(1.0);
+    let width = (cells * unit) as u32;
+    if repr.mapping == AnyMapping::Cube {
+        width / a.cols
+    } else {
+        width
+    }
+}
+
+fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), String> {
+    let layout = a.layout.unwrap_or_else(|| {
+        if a.output.to_string_lossy().contains("{face}") && a.to == AnyMapping::Cube {
+            Layout::Faces
+        } else {
+            Layout::for_mapping(a.to)[0]
+        }
+    });
+    if !Layout::for_mapping(a.to).contains(&layout) {
+        let names: Vec<&str> = Layout::for_mapping(a.to).iter().map(|l| l.name()).collect();
+        return Err(format!(
+            "--layout {}: {} has no such layout; its layouts: {}",
+            layout.name(),
+            a.to,
+            names.join(", ")
+        ));
+    }
+    let six = layout.is_six_files();
+    Ok((
+        Representation::new(a.to, layout.atlas(), a.to_frame).map_err(|e| e.to_string())?,
+        six,
+    ))
+}
+
+pub(crate) fn run(a: &ConvertArgs) -> CliResult {
+    if let Some(n) = a.threads {
+        if n == 0 {
+            return Err("--threads must be at least 1".into());
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| format!("--threads {n}: {e}"))?;
+    }
+    if a.samples == Some(0) || a.samples.is_some_and(|s| s > 16) {
+        return Err("--samples must be between 1 and 16".into());
+    }
+    let t0 = Instant::now();
+    let opts = LoadOptions {
+        mapping: a.from,
+        layout: a.from_layout,
+        frame: a.from_frame,
+        max_texels: a.max_megatexels.saturating_mul(1_000_000),
+        non_finite: NonFinite::Zero,
+    };
+    let loaded = load_detailed(&a.input, &opts).map_err(|e| load_error(&e))?;
+    warn_replaced(&a.input, loaded.replaced);
+    let Loaded {
+        image: src,
+        files: inputs,
+        ..
+    } = loaded;
+    let t_load = t0.elapsed();
+    let (repr, six) = output_representation(a)?;
+    let in_texels = u64::from(src.width()) * u64::from(src.height());
+    let size = a.size.unwrap_or_else(|| default_size(&repr, in_texels));
+    if size == 0 {
+        return Err("--size must be at least 1".into());
+    }
+    let (w, h) = output_size(&repr, size)?;
+    let need = EnvImage::memory_bytes_for(w, h);
+    if u64::from(w) * u64::from(h) > a.max_megatexels.saturating_mul(1_000_000) {
+        return Err(format!(
+            "output {w}×{h} ({:.1} Mtexels, {:.1} GiB) exceeds --max-megatexels {}",
+            f64::from(w) * f64::from(h) / 1e6,
+            need as f64 / f64::from(1u32 << 30),
+            a.max_megatexels
+        ));
+    }
+    let copts = ConvertOptions {
+        filter: a.filter,
+        samples: a.samples,
+        rotation: a.rotate,
+    };
+    let samples = a
+        .samples
+        .unwrap_or_else(|| auto_samples(in_texels, u64::from(w) * u64::from(h)));
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::new(u64::from(h));
+        b.set_style(
+            ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} rows ({eta})")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        b.set_message("converting");
+        b
+    };
+    let done = AtomicU64::new(0);
+    let tick = |k: u32| {
+        let n = done.fetch_add(u64::from(k), Ordering::Relaxed) + u64::from(k);
+        if n.is_multiple_of(64) {
+            bar.set_position(n);
+        }
+    };
+    let t1 = Instant::now();
+    let out = convert(&src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
+    let t_convert = t1.elapsed();
+    // The input is no longer needed: free it before encoding, which may
+    // need buffers of its own.
+    let (src_w, src_h, src_mapping) = (src.width(), src.height(), src.mapping());
+    drop(src);
+    bar.finish_and_clear();
+    let sopts = SaveOptions {
+        exposure: a.exposure,
+        exr_precision: if a.half {
+            ExrPrecision::F16
+        } else {
+            ExrPrecision::F32
+        },
+        six_files: six,
+        inputs,
+        overwrite_input: a.overwrite_input,
+    };
+    let t2 = Instant::now();
+    let written = save(&out, &a.output, &sopts).map_err(|e| e.to_string())?;
+    let t_save = t2.elapsed();
+    if !a.quiet {
+        eprintln!(
+            "{} {}×{} {} -> {} {}×{} {} ({}, {}×{} samples): load {:.0} ms, convert {:.0} ms, save {:.0} ms",
+            a.input.display(),
+            src_w,
+            src_h,
+            src_mapping,
+            written
+                .first()
+                .map_or_else(|| a.output.display().to_string(), |p| p.display().to_string()),
+            w,
+            h,
+            repr.mapping,
+            match a.filter {
+                Filter::Nearest => "nearest",
+                Filter::Bilinear => "bilinear",
+            },
+            samples,
+            samples,
+            t_load.as_secs_f64() * 1e3,
+            t_convert.as_secs_f64() * 1e3,
+            t_save.as_secs_f64() * 1e3,
+        );
+    }
+    Ok(())
+}

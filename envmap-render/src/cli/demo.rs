@@ -1,0 +1,74 @@
+//! `envmap demo`: every representation of the built-in sky side by side.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::cli::args::CliResult;
+
+#[derive(Args)]
+pub(crate) struct DemoArgs {
+    /// Output directory.
+    #[arg(long, default_value = "envmap-demo")]
+    pub(crate) out: PathBuf,
+    /// Texel budget per representation, in thousands.
+    #[arg(long, default_value_t = 393)]
+    pub(crate) ktexels: u64,
+    /// Render width in pixels (height is 3/4 of it).
+    #[arg(long, default_value_t = 480)]
+    pub(crate) width: u32,
+    /// Supersampling of the renders (N×N).
+    #[arg(long, default_value_t = 2)]
+    pub(crate) samples: u32,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub(crate) quiet: bool,
+}
+
+pub(crate) fn run(a: &DemoArgs) -> CliResult {
+    if a.ktexels == 0
+        || a.ktexels > 100_000
+        || a.width < 16
+        || a.width > 8192
+        || a.samples == 0
+        || a.samples > 8
+    {
+        return Err("--ktexels 1..100000, --width 16..8192, --samples 1..8".into());
+    }
+    let opts = crate::scene::demo::DemoOptions {
+        out: a.out.clone(),
+        texels: a.ktexels * 1000,
+        width: a.width,
+        samples: a.samples,
+        ..crate::scene::demo::DemoOptions::default()
+    };
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::new(1);
+        b.set_style(
+            ProgressStyle::with_template("{msg:>24} [{bar:30}] {pos}/{len} ({elapsed})")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        b
+    };
+    let t = Instant::now();
+    let rows = crate::scene::demo::run(&opts, &|done, total, what| {
+        bar.set_length(u64::from(total));
+        bar.set_position(u64::from(done));
+        bar.set_message(what.to_owned());
+    })
+    .map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
+    print!("{}", crate::scene::demo::report_table(&rows));
+    println!(
+        "\nwrote {} ({} images and report.md) in {:.1} s",
+        a.out.display(),
+        1 + 5 * rows.len(),
+        t.elapsed().as_secs_f64()
+    );
+    Ok(())
+}

@@ -1,0 +1,139 @@
+//! `envmap info`: what is in a file.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use clap::Args;
+use envmap_core::{AnyMapping, Mapping};
+
+use crate::cli::args::{load_error, parse_layout, parse_mapping, CliResult};
+use crate::image::io::{load_detailed, LoadOptions};
+use crate::image::layout::Layout;
+use crate::image::EnvImage;
+
+#[derive(Args)]
+pub(crate) struct InfoArgs {
+    /// The file.
+    pub(crate) file: PathBuf,
+    /// Mapping, when the aspect ratio does not say.
+    #[arg(long, value_parser = parse_mapping)]
+    pub(crate) from: Option<AnyMapping>,
+    /// Layout, when the aspect ratio does not say.
+    #[arg(long, value_parser = parse_layout)]
+    pub(crate) layout: Option<Layout>,
+    /// Largest image accepted, in millions of texels.
+    #[arg(long, default_value_t = 268)]
+    pub(crate) max_megatexels: u64,
+}
+
+pub(crate) fn run(a: &InfoArgs) -> CliResult {
+    let opts = LoadOptions {
+        mapping: a.from,
+        layout: a.layout,
+        max_texels: a.max_megatexels.saturating_mul(1_000_000),
+        ..LoadOptions::default()
+    };
+    let loaded = load_detailed(&a.file, &opts).map_err(|e| load_error(&e))?;
+    let img = &loaded.image;
+    let repr = img.representation();
+    let s = img.stats();
+    let mut out = std::io::stdout().lock();
+    let p = |out: &mut dyn Write, k: &str, v: String| writeln!(out, "{k:<16} {v}");
+    let files: Vec<String> = loaded
+        .files
+        .iter()
+        .map(|f| f.display().to_string())
+        .collect();
+    let r = (|| -> std::io::Result<()> {
+        p(&mut out, "file", files.join(", "))?;
+        p(
+            &mut out,
+            "dimensions",
+            format!("{} × {}", img.width(), img.height()),
+        )?;
+        p(
+            &mut out,
+            "pixel format",
+            format!("{:?}, {}", loaded.source.format, loaded.source.pixel_format),
+        )?;
+        p(&mut out, "mapping", repr.mapping.to_string())?;
+        let (cw, ch) = img.cell_size();
+        p(
+            &mut out,
+            "layout",
+            format!(
+                "{} ({} chart{} of {cw} × {ch})",
+                repr.atlas.name,
+                repr.mapping.chart_count(),
+                if repr.mapping.chart_count() == 1 {
+                    ""
+                } else {
+                    "s"
+                }
+            ),
+        )?;
+        p(
+            &mut out,
+            "texels",
+            format!(
+                "{} in charts (of {} in the image)",
+                s.texels,
+                u64::from(img.width()) * u64::from(img.height())
+            ),
+        )?;
+        p(
+            &mut out,
+            "radiance min",
+            format!(
+                "{:.6} {:.6} {:.6} (luminance {:.6})",
+                s.min[0], s.min[1], s.min[2], s.min_luminance
+            ),
+        )?;
+        p(
+            &mut out,
+            "radiance max",
+            format!(
+                "{:.6} {:.6} {:.6} (luminance {:.6})",
+                s.max[0], s.max[1], s.max[2], s.max_luminance
+            ),
+        )?;
+        p(
+            &mut out,
+            "radiance mean",
+            format!(
+                "{:.6} {:.6} {:.6} (luminance {:.6}; over the sphere, by solid angle)",
+                s.sphere_mean[0], s.sphere_mean[1], s.sphere_mean[2], s.sphere_mean_luminance
+            ),
+        )?;
+        p(
+            &mut out,
+            "texel mean",
+            format!(
+                "{:.6} {:.6} {:.6} (luminance {:.6}; every texel counted once)",
+                s.mean[0], s.mean[1], s.mean[2], s.mean_luminance
+            ),
+        )?;
+        p(&mut out, "NaN texels", s.nan.to_string())?;
+        p(&mut out, "Inf texels", s.inf.to_string())?;
+        let mib = |b: u64| b as f64 / f64::from(1u32 << 20);
+        let held = EnvImage::memory_bytes_for(img.width(), img.height());
+        p(
+            &mut out,
+            "memory",
+            format!("{:.1} MiB as linear f32 RGB", mib(held)),
+        )?;
+        p(
+            &mut out,
+            "conversion",
+            format!(
+                "needs about {:.1} MiB at the default output size: this image plus an output \
+                 of as many texels, 12 bytes each (another --size: {:.1} MiB plus 12 bytes \
+                 per output texel)",
+                mib(2 * held),
+                mib(held)
+            ),
+        )?;
+        Ok(())
+    })();
+    r.map_err(|e| format!("<stdout>: {e}"))
+}

@@ -1,0 +1,90 @@
+//! The `envmap` command: convert environment maps between representations,
+//! inspect them, map directions to texture coordinates and back, render and
+//! demonstrate. `src/bin/envmap.rs` calls [`main`].
+//!
+//! One file per subcommand (`convert.rs`, `info.rs`, `map.rs` for `map` and
+//! `unmap`, `render.rs`, `demo.rs`), the argument parsers and helpers they
+//! share in `args.rs`, and [`text`], the line formats of `map` and `unmap`.
+//!
+//! Exit codes: 0 success; 1 a runtime error (a file that cannot be read,
+//! decoded or written, an image above the size limit or fitting no layout,
+//! a bad input line); 2 a usage error (unknown command, flag or value,
+//! reported by the argument parser). `--help` prints them.
+//!
+//! This folder may use every other folder of the crate; nothing else uses it.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod args;
+mod convert;
+mod demo;
+mod info;
+mod map;
+mod render;
+pub mod text;
+
+/// The exit codes, as `--help` prints them.
+const EXIT_STATUS: &str = "Exit status: 0 success; 1 an error while running (a file that \
+cannot be read, decoded or written, an image above the size limit or fitting no layout, a bad \
+input line); 2 a usage error (an unknown command, flag or value). Errors are one line on \
+standard error, naming the file and the problem.";
+
+#[derive(Parser)]
+#[command(
+    name = "envmap",
+    version,
+    about = "Environment maps: convert between every representation, inspect, map directions.",
+    long_about = None,
+    after_help = EXIT_STATUS
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Convert an environment map into another representation.
+    ///
+    /// Example: envmap convert studio.hdr studio_cube.exr --to cube --layout cross --size 1024
+    Convert(convert::ConvertArgs),
+    /// Describe an environment map file: size, format, representation, radiance.
+    Info(info::InfoArgs),
+    /// Map directions (one `x y z` or `x,y,z` per line) to `chart,u,v` (CSV).
+    Map(map::MapArgs),
+    /// Map `chart,u,v` lines (as `map` prints them) back to unit directions `x,y,z`.
+    Unmap(map::UnmapArgs),
+    /// Every representation of the built-in sky, a mirror teapot in each, error maps and a report.
+    ///
+    /// Example: envmap demo --out envmap-demo
+    Demo(demo::DemoArgs),
+    /// Render a mirror object (teapot, sphere, torus) in an environment.
+    ///
+    /// Example: envmap render teapot.png --env sky --mapping latlong --mode per-vertex
+    Render(render::RenderArgs),
+}
+
+/// Runs the `envmap` command on the process's arguments: parses them
+/// (printing usage and exiting 2 on a usage error), runs the subcommand, and
+/// prints an error as one line on standard error (exit status 1).
+#[must_use]
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Convert(a) => convert::run(&a),
+        Command::Info(a) => info::run(&a),
+        Command::Map(a) => map::run_map(&a),
+        Command::Unmap(a) => map::run_unmap(&a),
+        Command::Render(a) => render::run(&a),
+        Command::Demo(a) => demo::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("envmap: error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}

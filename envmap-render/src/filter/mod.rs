@@ -1,0 +1,15 @@
+//! Filtering: sampling an environment map with each representation's edge
+//! rule, and the one conversion loop between any two representations.
+//!
+//! * [`sample`]: nearest and bilinear sampling at chart points, one at a time
+//!   or eight at a time ([`sample::Sampler`]).
+//! * [`convert`]: any representation to any other, one generic loop
+//!   ([`convert::convert`]).
+//!
+//! Mip pyramids and prefiltering for lighting belong here too.
+//!
+//! This folder uses `envmap-core`, `envmap-simd` and [`crate::image`];
+//! nothing from `scene` or `cli`.
+
+pub mod convert;
+pub mod sample;

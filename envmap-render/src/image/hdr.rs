@@ -1,0 +1,65 @@
+//! Radiance RGBE (`.hdr`): linear floating point with a shared 8-bit
+//! exponent, read and written with the `image` crate (within RGBE
+//! precision, about 1 %).
+
+use std::fs::File;
+use std::io::Write;
+use std::path::Path;
+
+use ::image::DynamicImage;
+
+use crate::error::Result;
+use crate::image::envimage::RgbImage;
+use crate::image::io::{decode_with_image, encode_error, expand, FileFormat, SourceFormat, View};
+
+/// Reads a Radiance file as linear RGB; refuses images above `max_texels`
+/// before allocating their pixels.
+pub(super) fn read(path: &Path, file: File, max_texels: u64) -> Result<(RgbImage, SourceFormat)> {
+    let format = FileFormat::Hdr;
+    let decoded = decode_with_image(path, file, format, max_texels)?;
+    let (width, height) = (decoded.width(), decoded.height());
+    let lin = |v: f32| v;
+    let pixels = match decoded {
+        // Float RGB (what the HDR decoder gives): the decoder's buffer
+        // becomes the texels as it is, so loading needs no second copy of
+        // the image.
+        DynamicImage::ImageRgb32F(b) => {
+            let raw = b.into_raw();
+            bytemuck::allocation::try_cast_vec::<f32, [f32; 3]>(raw)
+                .unwrap_or_else(|(_, raw)| expand(&raw, 3, lin))
+        }
+        DynamicImage::ImageRgba32F(b) => expand(b.as_raw(), 4, lin),
+        other => expand(other.to_rgb32f().as_raw(), 3, lin),
+    };
+    let rgb = RgbImage {
+        width,
+        height,
+        pixels,
+    };
+    let source = SourceFormat {
+        format,
+        pixel_format: "RGBE (shared 8-bit exponent), linear".to_owned(),
+    };
+    Ok((rgb, source))
+}
+
+/// Writes `view` as a Radiance file; NaN and negative values become 0 (RGBE
+/// holds non-negative finite values only).
+pub(super) fn encode<W: Write>(path: &Path, view: View<'_>, out: &mut W) -> Result<()> {
+    let px: Vec<::image::Rgb<f32>> = view
+        .pixels
+        .iter()
+        .map(|p| {
+            ::image::Rgb(p.map(|c| {
+                if c.is_nan() {
+                    0.0
+                } else {
+                    c.clamp(0.0, f32::MAX)
+                }
+            }))
+        })
+        .collect();
+    ::image::codecs::hdr::HdrEncoder::new(out)
+        .encode(&px, view.width as usize, view.height as usize)
+        .map_err(|e| encode_error(path, FileFormat::Hdr, e))
+}

@@ -1,0 +1,522 @@
+//! Loading and saving environment maps: the format by extension, the load
+//! and save options, and one entry point each ([`load`], [`save`]); each
+//! format lives in its own file beside this one.
+//!
+//! | extension | read | write | file |
+//! | --- | --- | --- | --- |
+//! | `.png` | 8- or 16-bit grey, grey+alpha, RGB, RGBA; sRGB decoded to linear | 8-bit sRGB RGB after exposure, clamped | `png_jpeg.rs` |
+//! | `.jpg`, `.jpeg` | 8-bit grey or RGB (CMYK converted); sRGB decoded to linear | 8-bit sRGB, quality 95, after exposure | `png_jpeg.rs` |
+//! | `.hdr` | Radiance RGBE, linear | Radiance RGBE, linear (within RGBE precision, ~1 %) | `hdr.rs` |
+//! | `.exr` | R, G, B channels (any of f16, f32, u32) of the first layer that has them; alpha and other channels ignored | f32 RGB (bit for bit), or f16 | `exr.rs` |
+//! | six files | a cube by one face's name or a `{face}` pattern | six faces | `faces.rs` |
+//!
+//! The format is chosen by the extension, case-insensitively. Alpha is
+//! dropped. Colour profiles and PNG gamma chunks are ignored: 8- and 16-bit
+//! files are taken as sRGB and decoded with the exact sRGB EOTF
+//! ([`srgb_to_linear`]).
+//!
+//! # Six-file cubes
+//!
+//! A cube can be written as six square files `<stem>_+x.<ext>`, `<stem>_-x.<ext>`,
+//! ..., `<stem>_-z.<ext>` (the names of [`CubeFace::name`](envmap_core::CubeFace::name)), each face exactly
+//! as GL expects it for `GL_TEXTURE_CUBE_MAP_POSITIVE_X + face`. A path with
+//! `{face}` in its file name is a pattern (`sky_{face}.exr`). A six-file cube
+//! is loaded from the pattern, from any one of the six names (the siblings
+//! are found), or from `<stem>.<ext>` with [`Layout::Faces`]; in memory it
+//! becomes a horizontal strip.
+//!
+//! # Safe writes
+//!
+//! Every output goes to a temporary file in the target's directory, which is
+//! renamed over the target only once it is complete; an error (a full disk,
+//! a missing directory, a target that is a directory) removes the temporary
+//! file and leaves any existing file at the target untouched. Six-file
+//! outputs write all six temporary files before renaming any. Writing over
+//! an input file (compared by canonical path, and on Unix by device and
+//! inode) is refused unless [`SaveOptions::overwrite_input`] is set.
+//!
+//! # Untrusted files
+//!
+//! Sizes are checked against [`LoadOptions::max_texels`] from the header,
+//! before pixel memory is allocated; corrupt or truncated files give an
+//! [`Error`] naming the file, never a panic. NaN and infinite texels are
+//! kept or replaced by black as [`LoadOptions::non_finite`] says (see
+//! [`NonFinite`]).
+
+use std::fs::File;
+use std::io::{BufReader, Seek, Write};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+
+use ::image::{DynamicImage, ImageDecoder, ImageReader};
+use envmap_core::{AnyMapping, Frame};
+
+use crate::error::{Error, Result};
+use crate::image::atomic::{check_target, persist, write_temp};
+use crate::image::envimage::{check_size, EnvImage, RgbImage, DEFAULT_MAX_TEXELS};
+use crate::image::layout::{resolve, Layout, Representation};
+use crate::image::{exr, faces, hdr, png_jpeg};
+
+pub use crate::image::exr::ExrPrecision;
+pub use crate::image::faces::{face_of_name, face_paths, is_face_pattern, FACE_PLACEHOLDER};
+pub use crate::image::srgb::{linear_to_srgb, linear_to_srgb8, srgb_to_linear};
+
+/// An image file format, chosen by extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FileFormat {
+    /// PNG (`.png`): 8- or 16-bit sRGB.
+    Png,
+    /// JPEG (`.jpg`, `.jpeg`): 8-bit sRGB.
+    Jpeg,
+    /// Radiance RGBE (`.hdr`): linear floating point, shared exponent.
+    Hdr,
+    /// OpenEXR (`.exr`): linear f16 or f32.
+    Exr,
+}
+
+impl FileFormat {
+    /// The accepted extensions, as listed in error messages.
+    pub const EXTENSIONS: &'static str = "png, jpg, jpeg, hdr, exr";
+
+    /// The format of a path's extension (case-insensitive); an error naming
+    /// the file and the accepted extensions otherwise.
+    pub fn from_path(path: &Path) -> Result<FileFormat> {
+        let ext = path.extension().map(|e| e.to_string_lossy().into_owned());
+        let format = match ext.as_deref().map(str::to_ascii_lowercase).as_deref() {
+            Some("png") => FileFormat::Png,
+            Some("jpg" | "jpeg") => FileFormat::Jpeg,
+            Some("hdr") => FileFormat::Hdr,
+            Some("exr") => FileFormat::Exr,
+            _ => {
+                return Err(Error::UnknownExtension {
+                    path: path.to_path_buf(),
+                    extension: ext,
+                    accepted: Self::EXTENSIONS,
+                })
+            }
+        };
+        Ok(format)
+    }
+
+    /// The format's usual name (`"PNG"`, `"OpenEXR"`, ...).
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            FileFormat::Png => "PNG",
+            FileFormat::Jpeg => "JPEG",
+            FileFormat::Hdr => "Radiance HDR",
+            FileFormat::Exr => "OpenEXR",
+        }
+    }
+
+    /// Whether the format stores linear floating-point values (HDR, EXR)
+    /// rather than 8- or 16-bit sRGB.
+    #[must_use]
+    pub const fn is_float(self) -> bool {
+        matches!(self, FileFormat::Hdr | FileFormat::Exr)
+    }
+}
+
+/// What a file held, for reporting (`envmap info`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SourceFormat {
+    /// The container format.
+    pub format: FileFormat,
+    /// The stored pixels, e.g. `"16-bit sRGB RGBA (alpha dropped)"` or
+    /// `"f16 RGBA (channels R, G, B, A; A ignored)"`.
+    pub pixel_format: String,
+}
+
+/// How to load an environment map.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoadOptions {
+    /// The mapping, if known; detected from the aspect ratio otherwise
+    /// (see [`crate::image::layout::resolve`]).
+    pub mapping: Option<AnyMapping>,
+    /// The layout, if known; [`Layout::Faces`] loads six files.
+    pub layout: Option<Layout>,
+    /// The axis convention to tag the image with.
+    pub frame: Frame,
+    /// Largest image accepted, in texels (all six faces together for a
+    /// six-file cube); checked before allocating.
+    pub max_texels: u64,
+    /// What to do with texels that hold a NaN or infinite value.
+    pub non_finite: NonFinite,
+}
+
+/// What loading does with texels that hold a NaN or an infinite component
+/// (only OpenEXR can store them; 8-bit, 16-bit and RGBE files cannot).
+///
+/// Sampling and conversion do not single such texels out: a bilinear filter
+/// or a sub-sample average that touches one gives NaN or infinity, so one
+/// bad texel of an input spreads over every output texel whose footprint
+/// covers it. [`NonFinite::Zero`] stops that at load time; `envmap info`
+/// loads with [`NonFinite::Keep`] to count them, and `envmap convert` and
+/// `envmap render` load with [`NonFinite::Zero`] and say how many texels
+/// they replaced.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum NonFinite {
+    /// Keep the values as stored (so that files round-trip bit for bit);
+    /// [`EnvImage::stats`] counts them.
+    #[default]
+    Keep,
+    /// Replace every texel that has a NaN or infinite component by black
+    /// (all three components 0); [`Loaded::replaced`] counts them.
+    Zero,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self {
+            mapping: None,
+            layout: None,
+            frame: Frame::IDENTITY,
+            max_texels: DEFAULT_MAX_TEXELS,
+            non_finite: NonFinite::Keep,
+        }
+    }
+}
+
+/// How to save an environment map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SaveOptions {
+    /// Exposure in stops for 8-bit outputs (PNG, JPEG): values are scaled by
+    /// 2^`exposure` before encoding. Float outputs keep their values.
+    pub exposure: f32,
+    /// Sample type of OpenEXR output.
+    pub exr_precision: ExrPrecision,
+    /// Write a cube as six files (also implied by `{face}` in the file name).
+    pub six_files: bool,
+    /// The files the image was read from: writing over one of them is
+    /// refused unless [`overwrite_input`](SaveOptions::overwrite_input) is set.
+    pub inputs: Vec<PathBuf>,
+    /// Allow writing over a file listed in [`inputs`](SaveOptions::inputs).
+    pub overwrite_input: bool,
+}
+
+impl Default for SaveOptions {
+    fn default() -> Self {
+        Self {
+            exposure: 0.0,
+            exr_precision: ExrPrecision::F32,
+            six_files: false,
+            inputs: Vec::new(),
+            overwrite_input: false,
+        }
+    }
+}
+
+/// A loaded environment map with where it came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Loaded {
+    /// The image.
+    pub image: EnvImage,
+    /// The file format and pixel format read (of the first face, for six files).
+    pub source: SourceFormat,
+    /// The files read: one, or the six faces in GL order.
+    pub files: Vec<PathBuf>,
+    /// Texels replaced by black under [`NonFinite::Zero`] (over all the
+    /// image, inside the charts or not); 0 under [`NonFinite::Keep`].
+    pub replaced: u64,
+}
+
+/// Replaces texels with a NaN or infinite component by black, as `policy`
+/// says; returns how many were replaced.
+pub(super) fn apply_non_finite(pixels: &mut [[f32; 3]], policy: NonFinite) -> u64 {
+    if policy == NonFinite::Keep {
+        return 0;
+    }
+    let mut n = 0;
+    for p in pixels
+        .iter_mut()
+        .filter(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        *p = [0.0; 3];
+        n += 1;
+    }
+    n
+}
+
+pub(super) fn decode_error(path: &Path, format: FileFormat, message: impl ToString) -> Error {
+    Error::Decode {
+        path: path.to_path_buf(),
+        format: format.name(),
+        message: message.to_string(),
+    }
+}
+
+/// Runs a decoder, turning a panic inside it into an error naming the file.
+fn guarded<T>(path: &Path, format: FileFormat, f: impl FnOnce() -> Result<T>) -> Result<T> {
+    catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|_| {
+        Err(decode_error(
+            path,
+            format,
+            "the decoder failed on this file (corrupt data)",
+        ))
+    })
+}
+
+fn open(path: &Path) -> Result<File> {
+    let file = File::open(path).map_err(|e| Error::read(path, e))?;
+    match file.metadata() {
+        Ok(m) if m.is_dir() => Err(Error::read(
+            path,
+            std::io::Error::new(std::io::ErrorKind::InvalidInput, "is a directory"),
+        )),
+        _ => Ok(file),
+    }
+}
+
+/// The size of an image file, from its header alone.
+pub fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
+    let format = FileFormat::from_path(path)?;
+    let file = open(path)?;
+    guarded(path, format, || match format {
+        FileFormat::Exr => {
+            let meta = ::exr::meta::MetaData::read_from_buffered(BufReader::new(file), false)
+                .map_err(|e| decode_error(path, format, e))?;
+            let header = exr::rgb_header(path, &meta)?;
+            exr::exr_size(path, header)
+        }
+        _ => {
+            let reader = ImageReader::with_format(BufReader::new(file), image_format(format));
+            reader
+                .into_dimensions()
+                .map_err(|e| decode_error(path, format, e))
+        }
+    })
+}
+
+/// Reads an image file as linear RGB, with no representation attached.
+///
+/// Refuses images above `max_texels` before allocating their pixels.
+pub fn read_rgb(path: &Path, max_texels: u64) -> Result<(RgbImage, SourceFormat)> {
+    let format = FileFormat::from_path(path)?;
+    let file = open(path)?;
+    guarded(path, format, || match format {
+        FileFormat::Exr => exr::read(path, file, max_texels),
+        FileFormat::Hdr => hdr::read(path, file, max_texels),
+        FileFormat::Png | FileFormat::Jpeg => png_jpeg::read(path, file, format, max_texels),
+    })
+}
+
+fn image_format(format: FileFormat) -> ::image::ImageFormat {
+    match format {
+        FileFormat::Png => ::image::ImageFormat::Png,
+        FileFormat::Jpeg => ::image::ImageFormat::Jpeg,
+        FileFormat::Hdr => ::image::ImageFormat::Hdr,
+        FileFormat::Exr => ::image::ImageFormat::OpenExr,
+    }
+}
+
+/// Decodes a PNG, JPEG or Radiance file with the `image` crate, after
+/// checking its size from the header against `max_texels`.
+pub(super) fn decode_with_image(
+    path: &Path,
+    file: File,
+    format: FileFormat,
+    max_texels: u64,
+) -> Result<DynamicImage> {
+    let err = |e: ::image::ImageError| decode_error(path, format, e);
+    let reader = ImageReader::with_format(BufReader::new(file), image_format(format));
+    let mut decoder = reader.into_decoder().map_err(err)?;
+    let (width, height) = decoder.dimensions();
+    if width == 0 || height == 0 {
+        return Err(decode_error(path, format, "the image is empty"));
+    }
+    check_size(width, height, 1, max_texels).map_err(|e| e.in_file(path))?;
+    // Our own limit is checked; let the decoder allocate what this size needs.
+    let mut limits = ::image::Limits::no_limits();
+    limits.max_alloc = Some(decoder.total_bytes().saturating_add(64 << 20));
+    decoder.set_limits(limits).map_err(err)?;
+    DynamicImage::from_decoder(decoder).map_err(err)
+}
+
+/// Interleaved samples with `channels` per texel → RGB (grey replicated,
+/// alpha dropped).
+pub(super) fn expand<T: Copy>(raw: &[T], channels: usize, f: impl Fn(T) -> f32) -> Vec<[f32; 3]> {
+    if channels < 3 {
+        raw.chunks_exact(channels)
+            .map(|p| {
+                let v = f(p[0]);
+                [v, v, v]
+            })
+            .collect()
+    } else {
+        raw.chunks_exact(channels)
+            .map(|p| [f(p[0]), f(p[1]), f(p[2])])
+            .collect()
+    }
+}
+
+/// Whether a load of `path` with `opts` reads six face files.
+fn loads_six_files(path: &Path, opts: &LoadOptions) -> bool {
+    match opts.layout {
+        Some(l) => l.is_six_files(),
+        None => {
+            opts.mapping.is_none_or(|m| m == AnyMapping::Cube)
+                && (is_face_pattern(path) || face_of_name(path).is_some())
+        }
+    }
+}
+
+/// Loads an environment map; see [`load_detailed`].
+pub fn load(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<EnvImage> {
+    load_detailed(path, opts).map(|l| l.image)
+}
+
+/// Loads an environment map, with the format read and the files it came from.
+///
+/// The representation comes from `opts` or, when not given, from the
+/// aspect ratio ([`crate::image::layout::resolve`]). A six-file cube is read when
+/// `opts.layout` is [`Layout::Faces`], or (with no layout given and no
+/// mapping other than cube) when the file name is a `{face}` pattern or
+/// one of the six names; see the [module docs](self).
+pub fn load_detailed(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<Loaded> {
+    let path = path.as_ref();
+    if loads_six_files(path, opts) {
+        return faces::load(path, opts);
+    }
+    let (mut rgb, source) = read_rgb(path, opts.max_texels)?;
+    let replaced = apply_non_finite(&mut rgb.pixels, opts.non_finite);
+    let (mapping, atlas) =
+        resolve(rgb.width, rgb.height, opts.mapping, opts.layout).map_err(|e| e.in_file(path))?;
+    let repr = Representation {
+        mapping,
+        atlas,
+        frame: opts.frame,
+    };
+    let image = EnvImage::from_rgb(rgb, repr).map_err(|e| e.in_file(path))?;
+    Ok(Loaded {
+        image,
+        source,
+        files: vec![path.to_path_buf()],
+        replaced,
+    })
+}
+
+// ---------------------------------------------------------------------------
+// Writing
+
+/// A borrowed RGB image to encode.
+#[derive(Clone, Copy)]
+pub(super) struct View<'a> {
+    pub(super) width: u32,
+    pub(super) height: u32,
+    pub(super) pixels: &'a [[f32; 3]],
+}
+
+/// Saves an environment map; returns the files written (one, or six faces
+/// in GL order).
+///
+/// The format follows the extension. A cube is written as six files when
+/// [`SaveOptions::six_files`] is set or the file name is a `{face}` pattern;
+/// otherwise the image is written in its atlas as is. Writes are atomic
+/// and refuse to replace an input; see the [module docs](self).
+pub fn save(image: &EnvImage, path: impl AsRef<Path>, opts: &SaveOptions) -> Result<Vec<PathBuf>> {
+    let path = path.as_ref();
+    let format = FileFormat::from_path(path)?;
+    if opts.six_files || is_face_pattern(path) {
+        return faces::save(image, path, format, opts);
+    }
+    check_target(path, &opts.inputs, opts.overwrite_input)?;
+    let view = View {
+        width: image.width(),
+        height: image.height(),
+        pixels: image.pixels(),
+    };
+    let temp = write_temp(path, |out| encode(path, format, view, opts, out))?;
+    persist(temp, path)?;
+    Ok(vec![path.to_path_buf()])
+}
+
+/// Writes a plain RGB image (atomically, refusing to replace an input, as
+/// [`save`] does).
+pub fn write_rgb(image: &RgbImage, path: impl AsRef<Path>, opts: &SaveOptions) -> Result<()> {
+    let path = path.as_ref();
+    let format = FileFormat::from_path(path)?;
+    if u64::try_from(image.pixels.len()).ok()
+        != Some(u64::from(image.width) * u64::from(image.height))
+        || image.pixels.is_empty()
+    {
+        return Err(Error::PixelCount {
+            width: image.width,
+            height: image.height,
+            len: image.pixels.len(),
+        }
+        .in_file(path));
+    }
+    check_target(path, &opts.inputs, opts.overwrite_input)?;
+    let view = View {
+        width: image.width,
+        height: image.height,
+        pixels: &image.pixels,
+    };
+    let temp = write_temp(path, |out| encode(path, format, view, opts, out))?;
+    persist(temp, path)
+}
+
+/// Encodes `view` in `format` into `out`.
+pub(super) fn encode<W: Write + Seek>(
+    path: &Path,
+    format: FileFormat,
+    view: View<'_>,
+    opts: &SaveOptions,
+    out: &mut W,
+) -> Result<()> {
+    match format {
+        FileFormat::Png | FileFormat::Jpeg => {
+            png_jpeg::encode(path, format, view, opts.exposure, out)
+        }
+        FileFormat::Hdr => hdr::encode(path, view, out),
+        FileFormat::Exr => exr::encode(path, view, opts.exr_precision, out),
+    }
+}
+
+/// An encoder's error: a write error when it was I/O, an encoding one otherwise.
+pub(super) fn encode_error(path: &Path, format: FileFormat, e: ::image::ImageError) -> Error {
+    match e {
+        ::image::ImageError::IoError(io) => Error::write(path, io),
+        other => Error::Encode {
+            path: path.to_path_buf(),
+            format: format.name(),
+            message: other.to_string(),
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_by_extension() {
+        assert_eq!(
+            FileFormat::from_path(Path::new("a.PNG")).unwrap(),
+            FileFormat::Png
+        );
+        assert_eq!(
+            FileFormat::from_path(Path::new("a.Jpeg")).unwrap(),
+            FileFormat::Jpeg
+        );
+        assert_eq!(
+            FileFormat::from_path(Path::new("a.hdr")).unwrap(),
+            FileFormat::Hdr
+        );
+        assert_eq!(
+            FileFormat::from_path(Path::new("a.EXR")).unwrap(),
+            FileFormat::Exr
+        );
+        let e = FileFormat::from_path(Path::new("a.tiff"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "a.tiff: unknown image extension \".tiff\"; accepted: png, jpg, jpeg, hdr, exr"
+        );
+        let e = FileFormat::from_path(Path::new("sky"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("sky: no file extension"), "{e}");
+    }
+}

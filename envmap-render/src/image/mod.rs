@@ -1,0 +1,34 @@
+//! Images and their files: the environment-map image type, its layouts, and
+//! every file format, one file per format.
+//!
+//! * `envimage.rs`: [`EnvImage`] (linear f32 RGB texels tagged with their
+//!   [`Representation`]), [`RgbImage`], [`Stats`], size limits.
+//! * [`layout`]: [`Representation`] (mapping, atlas, frame), the named
+//!   [`Layout`]s, and telling a representation from an image's size
+//!   ([`layout::detect`], [`layout::resolve`]).
+//! * [`io`]: the format by extension, load and save options, [`io::load`] and
+//!   [`io::save`].
+//! * One file per format: `png_jpeg.rs`, `hdr.rs`, `exr.rs`, and
+//!   `faces.rs` for cubes as six files; `srgb.rs` holds the sRGB transfer
+//!   functions and `atomic.rs` the safe-write helper every output goes
+//!   through (a temporary file renamed into place).
+//!
+//! Adding a format is one new file here plus its arm in [`io::FileFormat`].
+//!
+//! This folder uses only `envmap-core`, the image-file crates and the
+//! crate's [`Error`](crate::Error); nothing from `filter`, `scene` or `cli`.
+
+mod atomic;
+mod envimage;
+mod exr;
+mod faces;
+mod hdr;
+pub mod io;
+pub mod layout;
+mod png_jpeg;
+mod srgb;
+
+pub use envimage::{
+    check_size, luminance, EnvImage, RgbImage, Stats, BYTES_PER_TEXEL, DEFAULT_MAX_TEXELS,
+};
+pub use layout::{Layout, Representation};

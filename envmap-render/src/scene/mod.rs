@@ -1,0 +1,18 @@
+//! Scenes: what is rendered and how.
+//!
+//! * [`environments`]: the built-in sky and room (`--env sky`, `--env room`).
+//! * [`procedural`]: environments given as a function of direction, filled
+//!   into any representation; the smooth test environment; PSNR.
+//! * [`mesh`]: the sphere, torus and Utah teapot meshes.
+//! * [`render`]: the rasterizer, per pixel (seed `000`) and per vertex
+//!   (seed `002`).
+//! * [`demo`]: `envmap demo`, every representation side by side.
+//!
+//! This folder uses [`crate::image`] and [`crate::filter`]; nothing from
+//! `cli`.
+
+pub mod demo;
+pub mod environments;
+pub mod mesh;
+pub mod procedural;
+pub mod render;
