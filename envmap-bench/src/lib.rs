@@ -9,6 +9,15 @@
 //! * [`plot`]: the accuracy-versus-speed chart.
 //! * [`tune`]: minimax fits at a range of degrees, measured.
 //! * [`remez`]: the minimax fitter behind `envmap_simd::approx`'s coefficients.
+//!
+//! Two binaries: `envmap-report` (every function, mapping and tier timed and
+//! swept in one run; `--quick`, `--json`, `--check`, `--plot`, `--tune`) and
+//! `envmap-fit` (reprints the committed coefficients). Four criterion benches:
+//! `approx`, `mappings`, `convert` and `render` (`cargo bench -p envmap-bench`,
+//! with `RUSTFLAGS="-C target-cpu=native"` for full speed).
+//!
+//! The figures they produce, with their commands and dates, are in
+//! `docs/performance.md` (speed) and `docs/accuracy.md` (errors, `--tune`).
 #![forbid(unsafe_code)]
 
 pub mod accuracy;

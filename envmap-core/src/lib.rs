@@ -20,25 +20,18 @@
 //! Also: the two reflection formulas ([`reflect_view`], [`reflect_incident`]),
 //! axis conventions ([`Frame`], [`Framed`]), atlas layouts ([`Atlas`]), texel
 //! addressing ([`texel`]) and exact texel solid angles ([`solid_angle`]).
+//! [`AnyMapping`] (in [`any`]) picks one of them at run time.
 //!
-//! # Bad input
+//! Nothing panics, whatever the input, and the crate has no error type: a bad
+//! direction or chart point (NaN, infinite, zero, out of range, outside a disk)
+//! gives `None` from [`Mapping::forward`] or [`Mapping::inverse`], and
+//! [`texel::texel_index`] clamps any `u`. Every case, with what `envmap-simd`
+//! gives beside it, is in `docs/bad-input.md`; the `envmap-tests` crate checks
+//! each for every mapping.
 //!
-//! Nothing panics, whatever the input. The crate has no error type: bad input
-//! gives `None` (the `envmap-simd` column is there for comparison; the
-//! `envmap-tests` crate checks every row for every mapping):
-//!
-//! | input | scalar core (`Mapping`) | SIMD (`Mapping8`, slices), every tier |
-//! | --- | --- | --- |
-//! | direction with a NaN (either sign) or ±Inf component | `forward` → `None` | `INVALID_CHART`, u = v = NaN |
-//! | the zero vector, any signs of zero | `forward` → `None` | `INVALID_CHART`, u = v = NaN |
-//! | denormal, tiny (1e-30) or huge (1e30, `f32::MAX`) components, any length | a valid chart, u, v in `[0, 1]` inside its domain (no overflow or underflow) | the same chart; u, v within the tier's bound (bit for bit for cube, sphere maps, paraboloid, octahedral) |
-//! | `-0.0` components | their sign counts where it picks a side (cube faces, seams) | bit-identical choice |
-//! | chart ≥ `chart_count` (including `INVALID_CHART`) | `inverse` → `None` | direction (NaN, NaN, NaN) |
-//! | u or v NaN, ±Inf, below 0 or above 1 (`-0.0` counts as 0) | `inverse` → `None` | direction (NaN, NaN, NaN) |
-//! | u, v in `[0, 1]` but outside a disk chart (sphere map, paraboloid corners) | `inverse` → `None` | direction (NaN, NaN, NaN) |
-//! | a batch mixing good and bad lanes | — | every lane bit-identical to that input alone |
-//! | any u (NaN, ±Inf, `1.0`, out of range) in `texel::texel_index(u, n)` | an index in `[0, n − 1]` (`1.0` → `n − 1`, NaN → 0) | — |
-//! | any u in `texel::bilinear_footprint(u, n)` | indices in `[−1, n]` (u clamped to `[0, 1]`; NaN, ±Inf → `(0, 1, 0.0)`) | — |
+//! Conventions (axes, frame presets, every layout drawn, cube ties, image
+//! coordinates, reflection) are in `docs/conventions.md`; accuracy and round
+//! trips in `docs/accuracy.md`.
 //!
 //! `#![no_std]`, no unsafe code, no allocation. Math goes through `libm`, or
 //! `std` with the `std` feature.

@@ -10,6 +10,16 @@
 //! Nothing here depends on proptest (a dev-dependency of this crate): the
 //! test files build their strategies from raw integers and floats and call
 //! the builders below.
+//!
+//! The tests themselves are in `tests/tests/`: `core_contract.rs` (the mapping
+//! contract, by property tests over every mapping), `core_named_cases.rs` (the
+//! cube's face table, ties, poles, the tennisball erratum, the frame presets),
+//! `bad_input.rs` (the bad-input matrix of `docs/bad-input.md`),
+//! `simd_vs_scalar.rs` (every SIMD kernel against the core, lane by lane),
+//! `approx_accuracy.rs`, `approx_fit.rs` and `mapping_accuracy.rs` (the tier
+//! bounds, the committed coefficients and the mapping errors of
+//! `docs/accuracy.md`) and `fuzz_regressions.rs` (inputs the fuzz targets
+//! found). The README's Rust examples also run here, as doctests.
 #![forbid(unsafe_code)]
 
 use std::cell::RefCell;

@@ -6,7 +6,7 @@
 //! also every non-unit length); chart points are every chart number in and
 //! out of range (including [`INVALID_CHART`]) with u, v inside, on and
 //! outside `[0, 1]`, NaN and ±Inf. For each input the test checks the result
-//! documented in the crate docs and the README ("Bad input"):
+//! documented in `docs/bad-input.md`:
 //!
 //! * scalar `forward`: `None` exactly when a component is NaN or infinite or
 //!   all are zero; otherwise a chart below `chart_count`, u, v in `[0, 1]`
