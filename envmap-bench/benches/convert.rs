@@ -1,6 +1,7 @@
 //! Conversion speed: latlong 4096×2048 → cube 6×1024², bilinear, one sample
 //! per texel, f32 RGB, on one and on two threads, beside a plain copy of the
-//! input's bytes.
+//! input's bytes; on two threads also with a cancel flag given (never set),
+//! which the conversion checks once per band of rows.
 //!
 //! ```text
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench convert
@@ -35,6 +36,7 @@ fn bench(c: &mut Criterion) {
         filter: Filter::Bilinear,
         samples: Some(1),
         rotation: None,
+        cancel: None,
     };
     let mut g = c.benchmark_group("convert/latlong4096-cube1024");
     g.sample_size(20);
@@ -52,13 +54,29 @@ fn bench(c: &mut Criterion) {
             .build()
             .unwrap();
         g.bench_function(format!("bilinear/{threads}-threads"), |b| {
-            b.iter(|| pool.install(|| convert_into(black_box(&src), &mut out, &opts, None)))
+            b.iter(|| {
+                pool.install(|| {
+                    convert_into(black_box(&src), &mut out, &opts, None).expect("conversion")
+                })
+            })
         });
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
         .unwrap();
+    let never = std::sync::atomic::AtomicBool::new(false);
+    let with_flag = ConvertOptions {
+        cancel: Some(&never),
+        ..opts
+    };
+    g.bench_function("bilinear-cancel-flag/2-threads", |b| {
+        b.iter(|| {
+            pool.install(|| {
+                convert_into(black_box(&src), &mut out, &with_flag, None).expect("conversion")
+            })
+        })
+    });
     g.bench_function("bilinear-alloc/2-threads", |b| {
         b.iter(|| pool.install(|| convert(black_box(&src), repr, 6144, 1024, &opts, None).unwrap()))
     });

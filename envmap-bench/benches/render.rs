@@ -50,7 +50,11 @@ fn bench(c: &mut Criterion) {
             ..RenderOptions::default()
         };
         g.bench_function(format!("{name}/{threads}-threads"), |b| {
-            b.iter(|| pool.install(|| render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts)))
+            b.iter(|| {
+                pool.install(|| {
+                    render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts).expect("render")
+                })
+            })
         });
     }
     g.finish();

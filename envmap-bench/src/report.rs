@@ -635,6 +635,7 @@ pub fn convert_and_render(s: &Settings) -> Vec<Row> {
         filter: Filter::Bilinear,
         samples: Some(1),
         rotation: None,
+        cancel: None,
     };
     let mut out = convert(&src, repr, 6 * face, face, &opts, None).expect("cube image");
     let texels = 6 * (face as usize) * (face as usize);
@@ -644,7 +645,9 @@ pub fn convert_and_render(s: &Settings) -> Vec<Row> {
         copy.copy_from_slice(black_box(src.pixels()));
         black_box(&copy);
     });
-    let convert_ms = timed(&mut || convert_into(black_box(&src), &mut out, &opts, None));
+    let convert_ms = timed(&mut || {
+        convert_into(black_box(&src), &mut out, &opts, None).expect("conversion");
+    });
     let threads = rayon::current_num_threads();
     let mut rows = vec![Row {
         kind: "convert",
@@ -676,7 +679,7 @@ pub fn convert_and_render(s: &Settings) -> Vec<Row> {
     };
     let cam = Camera::default();
     let render_ms = timed(&mut || {
-        black_box(render(&mesh, EnvSource::Map(&env), &cam, &ropts));
+        black_box(render(&mesh, EnvSource::Map(&env), &cam, &ropts).expect("render"));
     });
     let pixels = (rw * rh) as usize;
     rows.push(Row {

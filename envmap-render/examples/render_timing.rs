@@ -28,7 +28,7 @@ fn main() {
         .unwrap_or(5)
     {
         let t = Instant::now();
-        let img = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts);
+        let img = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts).expect("render");
         println!(
             "{} ms ({} px)",
             t.elapsed().as_secs_f64() * 1e3,

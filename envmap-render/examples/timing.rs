@@ -63,11 +63,12 @@ fn main() {
             Err(_) => Some(1),
         },
         rotation: None,
+        cancel: None,
     };
     let mut ms: Vec<f64> = (0..iters)
         .map(|_| {
             let t = Instant::now();
-            convert_into(&src, &mut out, &opts, None);
+            convert_into(&src, &mut out, &opts, None).expect("conversion");
             t.elapsed().as_secs_f64() * 1e3
         })
         .collect();

@@ -149,6 +149,12 @@ pub enum Error {
         expected: String,
     },
 
+    /// The operation was cancelled through its `cancel` flag (see
+    /// [`crate::cancel`]) before it finished; nothing it was writing was
+    /// left behind.
+    #[error("cancelled")]
+    Cancelled,
+
     /// An error that names no file, given the file it concerns.
     #[error("{}: {source}", .path.display())]
     InFile {
@@ -191,7 +197,8 @@ impl Error {
             | Error::Layout(_)
             | Error::Input(_)
             | Error::PixelCount { .. }
-            | Error::UnknownName { .. } => None,
+            | Error::UnknownName { .. }
+            | Error::Cancelled => None,
         }
     }
 

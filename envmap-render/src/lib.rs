@@ -27,6 +27,7 @@
     deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)
 )]
 
+pub mod cancel;
 pub mod cli;
 pub mod error;
 pub mod filter;

@@ -205,6 +205,7 @@ fn nearest_and_explicit_samples_work() {
             filter,
             samples,
             rotation: None,
+            cancel: None,
         };
         let got = convert(&src, ro, 64, 64, &opts, None).unwrap();
         let want = fill(ro, 64, 64, smooth).unwrap();

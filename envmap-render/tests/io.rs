@@ -263,7 +263,7 @@ fn six_files_save_each_face_as_gl_expects_and_load_back() {
     );
     // Each file is its face in GL orientation: texel (i, j) of face f.
     for (f, p) in (0u32..).zip(&expected) {
-        let (face, _) = read_rgb(p, u64::MAX).unwrap();
+        let (face, _) = read_rgb(p, u64::MAX, None).unwrap();
         assert_eq!((face.width, face.height), (4, 4));
         for j in 0..4 {
             for i in 0..4 {

@@ -39,7 +39,7 @@ fn mirror_sphere_reflects_known_directions() {
         height: 101,
         ..RenderOptions::default()
     };
-    let img = render(&mesh, EnvSource::Map(&env), &cam, &opts);
+    let img = render(&mesh, EnvSource::Map(&env), &cam, &opts).unwrap();
     let px = |x: u32, y: u32| Vec3::from(img.pixels[(y * 101 + x) as usize]);
     // The pixel facing the camera reflects straight back towards it (−y).
     assert!((px(50, 50) - Vec3::NEG_Y).length() < 0.02, "{}", px(50, 50));
@@ -95,7 +95,7 @@ fn per_pixel_renders_match_the_reference() {
         samples: 1,
         ..RenderOptions::default()
     };
-    let reference = render(&mesh, EnvSource::Analytic(&smooth), &cam, &opts);
+    let reference = render(&mesh, EnvSource::Analytic(&smooth), &cam, &opts).unwrap();
     for m in AnyMapping::ALL {
         let repr = Representation::default_for(m);
         let cell = if repr.atlas.cell_aspect_w == 3 {
@@ -105,7 +105,7 @@ fn per_pixel_renders_match_the_reference() {
         };
         let (w, h) = repr.atlas.image_size_for_cell_width(cell).unwrap();
         let env = fill(repr, w, h, smooth).unwrap();
-        let img = render(&mesh, EnvSource::Map(&env), &cam, &opts);
+        let img = render(&mesh, EnvSource::Map(&env), &cam, &opts).unwrap();
         let p = psnr(&img.pixels, &reference.pixels, |_| true, 1.0);
         println!("{m:>22}: {p:.1} dB");
         // The smooth environment varies by about 1 over the sphere; 40 dB is
@@ -138,7 +138,7 @@ fn per_vertex_differs_at_the_latlong_seam_only() {
         background: false,
         ..RenderOptions::default()
     };
-    let pp = render(&mesh, EnvSource::Map(&env), &cam, &base);
+    let pp = render(&mesh, EnvSource::Map(&env), &cam, &base).unwrap();
     let pv = render(
         &mesh,
         EnvSource::Map(&env),
@@ -147,7 +147,8 @@ fn per_vertex_differs_at_the_latlong_seam_only() {
             mode: Mode::PerVertex,
             ..base
         },
-    );
+    )
+    .unwrap();
     // The latlong seam is the half plane y = 0, x > 0 (u = 0 ≡ 1). On the
     // sphere seen from −y, reflections point along +x (R.x > 0, R.y ≈ 0)
     // on the right-hand limb.

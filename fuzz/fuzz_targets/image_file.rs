@@ -45,6 +45,7 @@ fuzz_target!(|data: &[u8]| {
         } else {
             NonFinite::Zero
         },
+        cancel: None,
     };
     let Ok(loaded) = load_detailed(&path, &opts) else {
         return;
@@ -83,6 +84,7 @@ fuzz_target!(|data: &[u8]| {
             },
             samples: Some(1),
             rotation: None,
+            cancel: None,
         },
         None,
     )

@@ -1,7 +1,7 @@
 //! `envmap convert`: one representation into another.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use clap::Args;
@@ -74,6 +74,9 @@ pub(crate) struct ConvertArgs {
     /// No progress bar or summary.
     #[arg(long, short)]
     pub(crate) quiet: bool,
+    /// Print each stage (loading, converting, saving) on standard error as it begins.
+    #[arg(long, short)]
+    pub(crate) verbose: bool,
 }
 
 /// Default `--size`: about as many texels as the input.
@@ -119,7 +122,7 @@ fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), Stri
     ))
 }
 
-pub(crate) fn run(a: &ConvertArgs) -> CliResult {
+pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
     if let Some(n) = a.threads {
         if n == 0 {
             return Err("--threads must be at least 1".into());
@@ -132,6 +135,12 @@ pub(crate) fn run(a: &ConvertArgs) -> CliResult {
     if a.samples == Some(0) || a.samples.is_some_and(|s| s > 16) {
         return Err("--samples must be between 1 and 16".into());
     }
+    let stage = |what: String| {
+        if a.verbose {
+            eprintln!("envmap: {what}");
+        }
+    };
+    stage(format!("loading {}", a.input.display()));
     let t0 = Instant::now();
     let opts = LoadOptions {
         mapping: a.from,
@@ -139,6 +148,7 @@ pub(crate) fn run(a: &ConvertArgs) -> CliResult {
         frame: a.from_frame,
         max_texels: a.max_megatexels.saturating_mul(1_000_000),
         non_finite: NonFinite::Zero,
+        cancel: Some(stop),
     };
     let loaded = load_detailed(&a.input, &opts).map_err(|e| load_error(&e))?;
     warn_replaced(&a.input, loaded.replaced);
@@ -168,6 +178,7 @@ pub(crate) fn run(a: &ConvertArgs) -> CliResult {
         filter: a.filter,
         samples: a.samples,
         rotation: a.rotate,
+        cancel: Some(stop),
     };
     let samples = a
         .samples
@@ -191,6 +202,7 @@ pub(crate) fn run(a: &ConvertArgs) -> CliResult {
             bar.set_position(n);
         }
     };
+    stage(format!("converting to {} {w}×{h}", repr.mapping));
     let t1 = Instant::now();
     let out = convert(&src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
     let t_convert = t1.elapsed();
@@ -209,7 +221,9 @@ pub(crate) fn run(a: &ConvertArgs) -> CliResult {
         six_files: six,
         inputs,
         overwrite_input: a.overwrite_input,
+        cancel: Some(stop),
     };
+    stage(format!("saving {}", a.output.display()));
     let t2 = Instant::now();
     let written = save(&out, &a.output, &sopts).map_err(|e| e.to_string())?;
     let t_save = t2.elapsed();

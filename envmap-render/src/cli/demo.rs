@@ -1,6 +1,7 @@
 //! `envmap demo`: every representation of the built-in sky side by side.
 
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use clap::Args;
@@ -27,7 +28,7 @@ pub(crate) struct DemoArgs {
     pub(crate) quiet: bool,
 }
 
-pub(crate) fn run(a: &DemoArgs) -> CliResult {
+pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
     if a.ktexels == 0
         || a.ktexels > 100_000
         || a.width < 16
@@ -42,6 +43,7 @@ pub(crate) fn run(a: &DemoArgs) -> CliResult {
         texels: a.ktexels * 1000,
         width: a.width,
         samples: a.samples,
+        cancel: Some(stop),
         ..crate::scene::demo::DemoOptions::default()
     };
     let bar = if a.quiet {

@@ -2,6 +2,7 @@
 
 use std::io::Write;
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 
 use clap::Args;
 use envmap_core::{AnyMapping, Mapping};
@@ -26,11 +27,12 @@ pub(crate) struct InfoArgs {
     pub(crate) max_megatexels: u64,
 }
 
-pub(crate) fn run(a: &InfoArgs) -> CliResult {
+pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
     let opts = LoadOptions {
         mapping: a.from,
         layout: a.layout,
         max_texels: a.max_megatexels.saturating_mul(1_000_000),
+        cancel: Some(stop),
         ..LoadOptions::default()
     };
     let loaded = load_detailed(&a.file, &opts).map_err(|e| load_error(&e))?;

@@ -1,14 +1,19 @@
 //! `envmap map` and `envmap unmap`: directions to chart points and back,
 //! one line each (see [`crate::cli::text`]).
 
-use std::io::{BufRead, BufWriter, Write};
+use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::mpsc;
+use std::time::Duration;
 
 use clap::Args;
 use envmap_core::{AnyMapping, Frame, Mapping};
 
+use crate::cancel;
 use crate::cli::args::{output_size, parse_frame, parse_layout, parse_mapping, CliResult};
 use crate::cli::text::{MapLines, UnmapLines};
+use crate::error::Error;
 use crate::image::layout::Layout;
 use crate::image::Representation;
 
@@ -43,7 +48,9 @@ pub(crate) struct UnmapArgs {
 }
 
 /// Lines of the input (a file or standard input), with its display name.
-fn read_lines(input: Option<&Path>) -> Result<(String, Vec<String>), String> {
+/// Standard input is read on a thread of its own, so that a signal stops
+/// the command even while it waits for input (`stop` is polled).
+fn read_lines(input: Option<&Path>, stop: &AtomicBool) -> Result<(String, Vec<String>), String> {
     match input {
         Some(p) => {
             let text = std::fs::read_to_string(p)
@@ -54,17 +61,33 @@ fn read_lines(input: Option<&Path>) -> Result<(String, Vec<String>), String> {
             ))
         }
         None => {
-            let mut lines = Vec::new();
-            for l in std::io::stdin().lock().lines() {
-                lines.push(l.map_err(|e| format!("<stdin>: cannot read: {e}"))?);
+            let (tx, rx) = mpsc::channel();
+            std::thread::spawn(move || {
+                let read: Result<Vec<String>, String> = std::io::stdin()
+                    .lock()
+                    .lines()
+                    .map(|l| l.map_err(|e| format!("<stdin>: cannot read: {e}")))
+                    .collect();
+                let _ = tx.send(read);
+            });
+            loop {
+                if cancel::is_set(Some(stop)) {
+                    return Err(Error::Cancelled.to_string());
+                }
+                match rx.recv_timeout(Duration::from_millis(20)) {
+                    Ok(lines) => return Ok(("<stdin>".to_owned(), lines?)),
+                    Err(mpsc::RecvTimeoutError::Timeout) => {}
+                    Err(mpsc::RecvTimeoutError::Disconnected) => {
+                        return Err("<stdin>: cannot read: the reader stopped".to_owned())
+                    }
+                }
             }
-            Ok(("<stdin>".to_owned(), lines))
         }
     }
 }
 
-pub(crate) fn run_map(a: &MapArgs) -> CliResult {
-    let (name, lines) = read_lines(a.input.as_deref())?;
+pub(crate) fn run_map(a: &MapArgs, stop: &AtomicBool) -> CliResult {
+    let (name, lines) = read_lines(a.input.as_deref(), stop)?;
     let atlas = match a.layout {
         Some(l) if !Layout::for_mapping(a.mapping).contains(&l) || l.is_six_files() => {
             return Err(format!(
@@ -84,33 +107,45 @@ pub(crate) fn run_map(a: &MapArgs) -> CliResult {
         None => None,
     };
     let parser = MapLines::new(a.mapping, a.frame, atlas, size);
-    write_rows(&name, &lines, parser.header(), |l| parser.line(l))
+    write_rows(&name, &lines, parser.header(), |l| parser.line(l), stop)
 }
 
-pub(crate) fn run_unmap(a: &UnmapArgs) -> CliResult {
-    let (name, lines) = read_lines(a.input.as_deref())?;
+pub(crate) fn run_unmap(a: &UnmapArgs, stop: &AtomicBool) -> CliResult {
+    let (name, lines) = read_lines(a.input.as_deref(), stop)?;
     let parser = UnmapLines::new(a.mapping, a.frame);
-    write_rows(&name, &lines, parser.header(), |l| parser.line(l))
+    write_rows(&name, &lines, parser.header(), |l| parser.line(l), stop)
 }
 
 /// Prints `header`, then the row of each line that gives one; stops at the
-/// first bad line with an error naming it (`<name>:<line>: ...`).
+/// first bad line with an error naming it (`<name>:<line>: ...`). The rows
+/// are printed once all are made, so that an error or a signal (`stop`,
+/// polled every 4096 lines) leaves standard output empty.
 fn write_rows(
     name: &str,
     lines: &[String],
     header: &str,
     row: impl Fn(&str) -> crate::Result<Option<String>>,
+    stop: &AtomicBool,
 ) -> CliResult {
-    let stdout = std::io::stdout();
-    let mut out = BufWriter::new(stdout.lock());
-    let io = |e: std::io::Error| format!("<stdout>: {e}");
-    writeln!(out, "{header}").map_err(io)?;
+    let mut text = String::with_capacity(32 * lines.len() + header.len() + 1);
+    text.push_str(header);
+    text.push('\n');
     for (k, line) in lines.iter().enumerate() {
+        if k % 4096 == 0 && cancel::is_set(Some(stop)) {
+            return Err(Error::Cancelled.to_string());
+        }
         match row(line) {
-            Ok(Some(r)) => writeln!(out, "{r}").map_err(io)?,
+            Ok(Some(r)) => {
+                text.push_str(&r);
+                text.push('\n');
+            }
             Ok(None) => {}
             Err(e) => return Err(format!("{name}:{}: {e}", k + 1)),
         }
     }
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    let io = |e: std::io::Error| format!("<stdout>: {e}");
+    out.write_all(text.as_bytes()).map_err(io)?;
     out.flush().map_err(io)
 }

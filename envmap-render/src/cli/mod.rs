@@ -9,11 +9,14 @@
 //! Exit codes: 0 success; 1 a runtime error (a file that cannot be read,
 //! decoded or written, an image above the size limit or fitting no layout,
 //! a bad input line); 2 a usage error (unknown command, flag or value,
-//! reported by the argument parser). `--help` prints them.
+//! reported by the argument parser); 130 and 143 interrupted by SIGINT and
+//! SIGTERM (see `signals.rs`). `--help` prints them.
 //!
 //! This folder may use every other folder of the crate; nothing else uses it.
 
 use std::process::ExitCode;
+
+use signals::Signals;
 
 use clap::{Parser, Subcommand};
 
@@ -23,13 +26,15 @@ mod demo;
 mod info;
 mod map;
 mod render;
+mod signals;
 pub mod text;
 
 /// The exit codes, as `--help` prints them.
 const EXIT_STATUS: &str = "Exit status: 0 success; 1 an error while running (a file that \
 cannot be read, decoded or written, an image above the size limit or fitting no layout, a bad \
-input line); 2 a usage error (an unknown command, flag or value). Errors are one line on \
-standard error, naming the file and the problem.";
+input line); 2 a usage error (an unknown command, flag or value); 130 interrupted by SIGINT \
+(Ctrl-C), 143 by SIGTERM, with every temporary file removed and nothing written. Errors are one \
+line on standard error, naming the file and the problem.";
 
 #[derive(Parser)]
 #[command(
@@ -68,18 +73,31 @@ enum Command {
 
 /// Runs the `envmap` command on the process's arguments: parses them
 /// (printing usage and exiting 2 on a usage error), runs the subcommand, and
-/// prints an error as one line on standard error (exit status 1).
+/// prints an error as one line on standard error (exit status 1). SIGINT
+/// and SIGTERM stop the work at its next safe point with nothing left
+/// behind (exit status 130 and 143; see `docs/cli.md`).
 #[must_use]
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    let signals = Signals::install();
+    let stop = signals.flag();
     let result = match cli.command {
-        Command::Convert(a) => convert::run(&a),
-        Command::Info(a) => info::run(&a),
-        Command::Map(a) => map::run_map(&a),
-        Command::Unmap(a) => map::run_unmap(&a),
-        Command::Render(a) => render::run(&a),
-        Command::Demo(a) => demo::run(&a),
+        Command::Convert(a) => convert::run(&a, stop),
+        Command::Info(a) => info::run(&a, stop),
+        Command::Map(a) => map::run_map(&a, stop),
+        Command::Unmap(a) => map::run_unmap(&a, stop),
+        Command::Render(a) => render::run(&a, stop),
+        Command::Demo(a) => demo::run(&a, stop),
     };
+    if let Some(status) = signals.exit_status() {
+        match result {
+            Ok(()) => eprintln!(
+                "envmap: interrupted after the work had finished: every output was written"
+            ),
+            Err(_) => eprintln!("envmap: interrupted: nothing written"),
+        }
+        return ExitCode::from(status);
+    }
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -1,6 +1,7 @@
 //! `envmap render`: a mirror object in an environment.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use clap::Args;
@@ -74,7 +75,7 @@ pub(crate) struct RenderArgs {
     pub(crate) max_megatexels: u64,
 }
 
-pub(crate) fn run(a: &RenderArgs) -> CliResult {
+pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     if a.width == 0 || a.height == 0 || u64::from(a.width) * u64::from(a.height) > 1 << 26 {
         return Err(format!(
             "--width {} --height {}: between 1 and 64 Mpixels",
@@ -106,6 +107,7 @@ pub(crate) fn run(a: &RenderArgs) -> CliResult {
                 mapping: a.from,
                 non_finite: NonFinite::Zero,
                 max_texels: a.max_megatexels.saturating_mul(1_000_000),
+                cancel: Some(stop),
                 ..LoadOptions::default()
             };
             let loaded = load_detailed(&a.env, &opts).map_err(|e| {
@@ -154,16 +156,19 @@ pub(crate) fn run(a: &RenderArgs) -> CliResult {
         fresnel_f0: a.fresnel,
         tint: [1.0; 3],
         background: true,
+        cancel: Some(stop),
     };
     let t = Instant::now();
     let analytic_fn = |d: Vec3| builtin.map_or([0.0; 3], |b| b.radiance(d));
     let img = match &env {
         Some(e) => render(&mesh, EnvSource::Map(e), &cam, &opts),
         None => render(&mesh, EnvSource::Analytic(&analytic_fn), &cam, &opts),
-    };
+    }
+    .map_err(|e| e.to_string())?;
     let elapsed = t.elapsed();
     let sopts = SaveOptions {
         exposure: a.exposure,
+        cancel: Some(stop),
         ..SaveOptions::default()
     };
     crate::image::io::write_rgb(&img, &a.output, &sopts).map_err(|e| e.to_string())?;

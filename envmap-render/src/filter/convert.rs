@@ -16,6 +16,8 @@
 //! sample on a disk chart, go into a scratch tile and are averaged (on a disk,
 //! over the sub-samples inside it).
 
+use std::sync::atomic::AtomicBool;
+
 use envmap_core::atlas::Turn;
 use envmap_core::glam::Mat3;
 use envmap_core::AnyMapping;
@@ -24,6 +26,9 @@ use envmap_simd::{Dir8, Fine, Mapping8, Uv8, LANES};
 use rayon::prelude::*;
 use wide::{f32x8, u32x8};
 
+use crate::cancel;
+#[cfg(doc)]
+use crate::error::Error;
 use crate::error::Result;
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::image::{EnvImage, Representation};
@@ -107,7 +112,7 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
 
 /// How to convert.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct ConvertOptions {
+pub struct ConvertOptions<'a> {
     /// Reconstruction filter in the input.
     pub filter: Filter,
     /// Sub-samples per output texel side (N×N per texel); `None` chooses
@@ -116,6 +121,10 @@ pub struct ConvertOptions {
     /// A rotation of the world applied on the way: the output's direction
     /// `w` (in world axes, z up) reads the input at `rotation.to_canonical(w)`.
     pub rotation: Option<Frame>,
+    /// Stops the conversion once set, at the next band of rows (at most 128
+    /// rows per thread are finished after it), with [`Error::Cancelled`];
+    /// see [`crate::cancel`].
+    pub cancel: Option<&'a AtomicBool>,
 }
 
 /// Automatic supersampling: `round(√(input texels / output texels))`,
@@ -133,6 +142,11 @@ pub fn auto_samples(input_texels: u64, output_texels: u64) -> u32 {
 /// Converts `src` into `repr` at `width × height` (which must fit the
 /// representation's atlas). `progress` is called with the number of rows
 /// finished, from worker threads.
+///
+/// # Errors
+///
+/// The size does not fit `repr` or is above the default size limit;
+/// [`Error::Cancelled`] once `opts.cancel` is set.
 pub fn convert(
     src: &EnvImage,
     repr: Representation,
@@ -142,7 +156,7 @@ pub fn convert(
     progress: Option<&(dyn Fn(u32) + Sync)>,
 ) -> Result<EnvImage> {
     let mut out = EnvImage::new(width, height, repr)?;
-    convert_into(src, &mut out, opts, progress);
+    convert_into(src, &mut out, opts, progress)?;
     Ok(out)
 }
 
@@ -150,12 +164,17 @@ pub fn convert(
 /// and size, overwriting every texel (texels outside every chart become
 /// black). Reusing `out` across calls saves allocating and first touching
 /// its memory.
+///
+/// # Errors
+///
+/// [`Error::Cancelled`] once `opts.cancel` is set (checked at every band of
+/// rows); `out` then holds the bands finished so far.
 pub fn convert_into(
     src: &EnvImage,
     out: &mut EnvImage,
     opts: &ConvertOptions,
     progress: Option<&(dyn Fn(u32) + Sync)>,
-) {
+) -> Result<()> {
     let repr = *out.representation();
     let (width, height) = (out.width(), out.height());
     let n = opts.samples.unwrap_or_else(|| {
@@ -179,6 +198,7 @@ pub fn convert_into(
         sampler: &sampler,
         filter: opts.filter,
         progress,
+        cancel: opts.cancel,
     };
     macro_rules! concrete {
         ($any:expr, |$name:ident| $body:expr) => {
@@ -222,6 +242,7 @@ pub fn convert_into(
     concrete!(repr.mapping, |d| concrete!(src.mapping(), |s| rows(
         &job, d, s, out
     )));
+    cancel::check(opts.cancel)
 }
 
 /// The parts of a conversion that do not depend on the mapping types.
@@ -231,6 +252,7 @@ struct Job<'a> {
     sampler: &'a Sampler<'a>,
     filter: Filter,
     progress: Option<&'a (dyn Fn(u32) + Sync)>,
+    cancel: Option<&'a AtomicBool>,
 }
 
 fn rows<D, S>(job: &Job<'_>, dst: D, src: S, out: &mut EnvImage)
@@ -287,6 +309,9 @@ where
         .par_chunks_mut(w * band as usize)
         .enumerate()
         .for_each_init(Vec::new, |scratch: &mut Vec<[f32; 3]>, (index, px)| {
+            if cancel::is_set(job.cancel) {
+                return;
+            }
             let y0 = index as u32 * band;
             let rows = (px.len() / w) as u32;
             // Every texel of a chart's cell is written once; only cells

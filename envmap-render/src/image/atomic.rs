@@ -2,16 +2,22 @@
 //! is renamed over it only once complete.
 //!
 //! An error (a full disk, a missing directory, a target that is a
-//! directory) removes the temporary file and leaves any existing file at the
-//! target untouched. Writing over an input file (compared by canonical path,
-//! and on Unix by device and inode) is refused unless asked for.
+//! directory), or the operation's cancel flag (see [`crate::cancel`]),
+//! removes the temporary file and leaves any existing file at the target
+//! untouched. Writing over an input file (compared by canonical path, and on
+//! Unix by device and inode) is refused unless asked for.
+//!
+//! [`Outputs`] stages the files of one run and renames them together; see
+//! [`crate::image::io`] ("Safe writes") for what that promises.
 
 use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
-use tempfile::NamedTempFile;
+use tempfile::{NamedTempFile, TempPath};
 
+use crate::cancel::{self, Cancellable};
 use crate::error::{Error, Result};
 
 /// Checks a target before any encoding: not a directory (so that a six-file
@@ -64,12 +70,17 @@ fn same_inode(_: &fs::Metadata, _: &fs::Metadata) -> bool {
     false
 }
 
-/// A new temporary file beside `path`, filled by `write` (through a 1 MiB
-/// buffer) and synced to disk; on error it is removed.
-pub(crate) fn write_temp(
+/// What an output's bytes are written to: a 1 MiB buffer over its
+/// temporary file, which fails once the cancel flag is set.
+pub(crate) type TempWriter<'a> = BufWriter<Cancellable<'a, &'a mut fs::File>>;
+
+/// The hidden temporary name beside `path`: `.<name>.<random><suffix>`,
+/// through `make` (which creates the file at the name it is given).
+fn beside<F>(
     path: &Path,
-    write: impl FnOnce(&mut BufWriter<&mut fs::File>) -> Result<()>,
-) -> Result<NamedTempFile> {
+    suffix: &str,
+    make: impl FnMut(&Path) -> std::io::Result<F>,
+) -> Result<NamedTempFile<F>> {
     let name = path.file_name().ok_or_else(|| {
         Error::write(
             path,
@@ -80,30 +91,48 @@ pub(crate) fn write_temp(
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let mut prefix = std::ffi::OsString::from(".");
-    prefix.push(name);
-    prefix.push(".");
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    #[cfg(unix)]
-    {
-        // As an ordinary new file: 0666 less the umask (not tempfile's 0600).
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(fs::Permissions::from_mode(0o666));
-    }
     if !dir.is_dir() {
         let msg = format!("directory {} does not exist", dir.display());
         let e = std::io::Error::new(std::io::ErrorKind::NotFound, msg);
         return Err(Error::write(path, e));
     }
-    let mut temp = builder
-        .tempfile_in(dir)
-        .map_err(|e| Error::write(path, plain_io_error(e)))?;
-    {
-        let mut out = BufWriter::with_capacity(1 << 20, temp.as_file_mut());
+    let mut prefix = std::ffi::OsString::from(".");
+    prefix.push(name);
+    prefix.push(".");
+    tempfile::Builder::new()
+        .prefix(&prefix)
+        .suffix(suffix)
+        .make_in(dir, make)
+        .map_err(|e| Error::write(path, plain_io_error(e)))
+}
+
+/// A new temporary file beside `path`, filled by `write` (through a 1 MiB
+/// buffer) and synced to disk; on error, or once `cancel` is set, it is
+/// removed and the error returned ([`Error::Cancelled`] for the latter).
+pub(crate) fn write_temp(
+    path: &Path,
+    cancel: Option<&AtomicBool>,
+    write: impl FnOnce(&mut TempWriter<'_>) -> Result<()>,
+) -> Result<NamedTempFile> {
+    cancel::check(cancel)?;
+    let mut temp = beside(path, ".tmp", |p| {
+        let mut options = fs::OpenOptions::new();
+        options.read(true).write(true).create_new(true);
+        #[cfg(unix)]
+        {
+            // As an ordinary new file: 0666 less the umask (not tempfile's 0600).
+            use std::os::unix::fs::OpenOptionsExt;
+            options.mode(0o666);
+        }
+        options.open(p)
+    })?;
+    let written = (|| {
+        let mut out =
+            BufWriter::with_capacity(1 << 20, Cancellable::new(temp.as_file_mut(), cancel));
         write(&mut out)?;
-        out.flush().map_err(|e| Error::write(path, e))?;
-    }
+        out.flush().map_err(|e| Error::write(path, e))
+    })();
+    cancel::or_cancelled(written, cancel)?;
     temp.as_file()
         .sync_all()
         .map_err(|e| Error::write(path, e))?;
@@ -143,4 +172,173 @@ pub(crate) fn persist(temp: NamedTempFile, path: &Path) -> Result<()> {
     temp.persist(path)
         .map(drop)
         .map_err(|e| Error::write(path, plain_io_error(e.error)))
+}
+
+/// The files of one run, written to temporary files as they are staged and
+/// renamed into place together by [`Outputs::commit`]: all of them, or
+/// (after an error, or when dropped without committing) none. See the
+/// [`crate::image::io`] ("Safe writes") for what a rename failing midway
+/// does.
+///
+/// ```
+/// use envmap_render::io::{Outputs, SaveOptions};
+/// let dir = tempfile::tempdir().unwrap();
+/// let mut run = Outputs::new(&SaveOptions::default());
+/// run.stage_bytes(dir.path().join("a.txt"), b"one").unwrap();
+/// run.stage_bytes(dir.path().join("b.txt"), b"two").unwrap();
+/// assert!(!dir.path().join("a.txt").exists()); // nothing in place yet
+/// let written = run.commit().unwrap();
+/// assert_eq!(written.len(), 2);
+/// assert_eq!(std::fs::read(dir.path().join("b.txt")).unwrap(), b"two");
+/// ```
+#[derive(Debug)]
+pub struct Outputs<'a> {
+    staged: Vec<(NamedTempFile, PathBuf)>,
+    inputs: Vec<PathBuf>,
+    overwrite_input: bool,
+    cancel: Option<&'a AtomicBool>,
+}
+
+impl<'a> Outputs<'a> {
+    /// An empty run: targets may not be one of `inputs` unless
+    /// `overwrite_input`; staging stops with [`Error::Cancelled`] once
+    /// `cancel` is set.
+    #[must_use]
+    pub fn with(inputs: &[PathBuf], overwrite_input: bool, cancel: Option<&'a AtomicBool>) -> Self {
+        Self {
+            staged: Vec::new(),
+            inputs: inputs.to_vec(),
+            overwrite_input,
+            cancel,
+        }
+    }
+
+    /// The targets staged so far, in order.
+    pub fn targets(&self) -> impl Iterator<Item = &Path> {
+        self.staged.iter().map(|(_, t)| t.as_path())
+    }
+
+    /// Writes the bytes `write` gives into a temporary file for `target`.
+    /// Errors (nothing is staged) if the target is a directory, an input,
+    /// already staged in this run, or the write fails or is cancelled.
+    pub(crate) fn stage_with(
+        &mut self,
+        target: &Path,
+        write: impl FnOnce(&mut TempWriter<'_>) -> Result<()>,
+    ) -> Result<()> {
+        check_target(target, &self.inputs, self.overwrite_input)?;
+        if self.staged.iter().any(|(_, t)| t == target) {
+            return Err(Error::write(
+                target,
+                std::io::Error::new(
+                    std::io::ErrorKind::AlreadyExists,
+                    "named twice among the outputs of one run",
+                ),
+            ));
+        }
+        let temp = write_temp(target, self.cancel, write)?;
+        self.staged.push((temp, target.to_path_buf()));
+        Ok(())
+    }
+
+    /// Bytes as they are (a report, a manifest) for `target`.
+    pub fn stage_bytes(&mut self, target: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
+        let target = target.as_ref();
+        self.stage_with(target, |out| {
+            out.write_all(bytes).map_err(|e| Error::write(target, e))
+        })
+    }
+
+    /// Renames every staged file over its target; returns the targets. With
+    /// the cancel flag set before the renames begin, renames nothing and
+    /// returns [`Error::Cancelled`]; once they have begun, they are finished.
+    pub fn commit(self) -> Result<Vec<PathBuf>> {
+        cancel::check(self.cancel)?;
+        let targets: Vec<PathBuf> = self.staged.iter().map(|(_, t)| t.clone()).collect();
+        if self.staged.len() == 1 {
+            // One rename is atomic by itself.
+            for (temp, target) in self.staged {
+                persist(temp, &target)?;
+            }
+            return Ok(targets);
+        }
+        // A second name for every existing target, made before any rename,
+        // from which it can be put back.
+        let mut backups: Vec<Option<TempPath>> = Vec::with_capacity(self.staged.len());
+        for (_, target) in &self.staged {
+            backups.push(if target.is_file() {
+                Some(backup(target)?)
+            } else {
+                None
+            });
+        }
+        let n = self.staged.len();
+        for (k, (temp, target)) in self.staged.into_iter().enumerate() {
+            if let Err(e) = temp.persist(&target) {
+                let failed = plain_io_error(e.error);
+                return Err(roll_back(&targets[..k], &mut backups, &target, failed, n));
+            }
+        }
+        // Done: dropping the backups removes the old files' second names.
+        Ok(targets)
+    }
+}
+
+/// A second name beside `target` for the same file (a hard link, or a copy).
+fn backup(target: &Path) -> Result<TempPath> {
+    let made = beside(target, ".old", |p| {
+        fs::hard_link(target, p).or_else(|_| fs::copy(target, p).map(drop))
+    })
+    .map_err(|e| {
+        Error::write(
+            target,
+            std::io::Error::other(format!(
+                "cannot keep the old file to restore it if a later output failed: {e}"
+            )),
+        )
+    })?;
+    Ok(made.into_temp_path())
+}
+
+/// Puts back the targets already replaced (`done`, in order) after the
+/// rename over `failed_target` failed; returns the error to report.
+fn roll_back(
+    done: &[PathBuf],
+    backups: &mut [Option<TempPath>],
+    failed_target: &Path,
+    failed: std::io::Error,
+    n: usize,
+) -> Error {
+    let mut not_restored = Vec::new();
+    for (target, b) in done.iter().zip(backups.iter_mut()) {
+        match b.take() {
+            Some(old) => match fs::rename(&old, target) {
+                // Its name now belongs to the target again: nothing to remove.
+                Ok(()) => drop(old.keep()),
+                Err(e) => {
+                    let kept = old.keep().unwrap_or_default();
+                    not_restored.push(format!(
+                        "{} could not be restored ({e}; its old contents are in {})",
+                        target.display(),
+                        kept.display()
+                    ));
+                }
+            },
+            // There was no file before: remove the new one.
+            None => {
+                if let Err(e) = fs::remove_file(target) {
+                    not_restored.push(format!("{} could not be removed ({e})", target.display()));
+                }
+            }
+        }
+    }
+    let what = if not_restored.is_empty() {
+        format!("{failed}; none of the {n} outputs of this run were written, the old files are as they were")
+    } else {
+        format!(
+            "{failed}; the outputs of this run were undone except: {}",
+            not_restored.join("; ")
+        )
+    };
+    Error::write(failed_target, std::io::Error::new(failed.kind(), what))
 }

@@ -2,13 +2,12 @@
 //! first layer that has them, alpha and other channels ignored; write f32 RGB
 //! (bit for bit) or f16, with the `exr` crate.
 
-use std::fs::File;
 use std::io::{BufReader, Seek, SeekFrom, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::image::envimage::{check_size, RgbImage};
-use crate::image::io::{decode_error, FileFormat, SourceFormat, View};
+use crate::image::io::{decode_error, FileFormat, Source, SourceFormat, View};
 
 /// Sample type of OpenEXR output.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -70,7 +69,11 @@ fn sample_name(t: ::exr::meta::attribute::SampleType) -> &'static str {
     }
 }
 
-pub(super) fn read(path: &Path, file: File, max_texels: u64) -> Result<(RgbImage, SourceFormat)> {
+pub(super) fn read(
+    path: &Path,
+    file: Source<'_>,
+    max_texels: u64,
+) -> Result<(RgbImage, SourceFormat)> {
     use ::exr::prelude::{ReadChannels, ReadLayers, ReadSpecificChannel};
 
     let format = FileFormat::Exr;

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use envmap_core::{AnyMapping, CubeFace};
 
 use crate::error::{Error, Result};
-use crate::image::atomic::{check_target, persist, write_temp};
+use crate::image::atomic::Outputs;
 use crate::image::envimage::{check_size, EnvImage};
 use crate::image::io::{
     apply_non_finite, encode, read_dimensions, read_rgb, FileFormat, LoadOptions, Loaded,
@@ -125,7 +125,7 @@ pub(super) fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     let mut source = None;
     let mut replaced = 0;
     for (chart, p) in (0u32..).zip(&paths) {
-        let (mut face, src) = read_rgb(p, opts.max_texels)?;
+        let (mut face, src) = read_rgb(p, opts.max_texels, opts.cancel)?;
         replaced += apply_non_finite(&mut face.pixels, opts.non_finite);
         if (face.width, face.height) != (s, s) {
             // The header said otherwise a moment ago: the file changed.
@@ -166,15 +166,15 @@ fn name_list(paths: &[PathBuf]) -> String {
     names.join(", ")
 }
 
-/// Writes a cube as six files named after `path` (see [`face_paths`]), in
-/// `format`: all six temporary files first, then the renames. Returns the
-/// six paths in GL order.
-pub(super) fn save(
+/// Stages a cube as six files named after `path` (see [`face_paths`]), in
+/// `format`, into `run`.
+pub(super) fn stage(
+    run: &mut Outputs<'_>,
     image: &EnvImage,
     path: &Path,
     format: FileFormat,
     opts: &SaveOptions,
-) -> Result<Vec<PathBuf>> {
+) -> Result<()> {
     if image.mapping() != AnyMapping::Cube {
         return Err(Error::layout(format!(
             "only a cube can be saved as six files; this image is a {} map",
@@ -183,10 +183,6 @@ pub(super) fn save(
         .in_file(path));
     }
     let paths = face_paths(path)?;
-    for p in &paths {
-        check_target(p, &opts.inputs, opts.overwrite_input)?;
-    }
-    let mut temps = Vec::with_capacity(6);
     for (chart, p) in (0u32..).zip(&paths) {
         let face = image
             .chart_image(chart)
@@ -196,12 +192,9 @@ pub(super) fn save(
             height: face.height,
             pixels: &face.pixels,
         };
-        temps.push(write_temp(p, |out| encode(p, format, view, opts, out))?);
+        run.stage_with(p, |out| encode(p, format, view, opts, out))?;
     }
-    for (temp, p) in temps.into_iter().zip(&paths) {
-        persist(temp, p)?;
-    }
-    Ok(paths.to_vec())
+    Ok(())
 }
 
 #[cfg(test)]

@@ -2,7 +2,6 @@
 //! exponent, read and written with the `image` crate (within RGBE
 //! precision, about 1 %).
 
-use std::fs::File;
 use std::io::Write;
 use std::path::Path;
 
@@ -10,11 +9,17 @@ use ::image::DynamicImage;
 
 use crate::error::Result;
 use crate::image::envimage::RgbImage;
-use crate::image::io::{decode_with_image, encode_error, expand, FileFormat, SourceFormat, View};
+use crate::image::io::{
+    decode_with_image, encode_error, expand, FileFormat, Source, SourceFormat, View,
+};
 
 /// Reads a Radiance file as linear RGB; refuses images above `max_texels`
 /// before allocating their pixels.
-pub(super) fn read(path: &Path, file: File, max_texels: u64) -> Result<(RgbImage, SourceFormat)> {
+pub(super) fn read(
+    path: &Path,
+    file: Source<'_>,
+    max_texels: u64,
+) -> Result<(RgbImage, SourceFormat)> {
     let format = FileFormat::Hdr;
     let decoded = decode_with_image(path, file, format, max_texels)?;
     let (width, height) = (decoded.width(), decoded.height());

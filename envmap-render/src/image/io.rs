@@ -27,13 +27,28 @@
 //!
 //! # Safe writes
 //!
-//! Every output goes to a temporary file in the target's directory, which is
-//! renamed over the target only once it is complete; an error (a full disk,
-//! a missing directory, a target that is a directory) removes the temporary
-//! file and leaves any existing file at the target untouched. Six-file
-//! outputs write all six temporary files before renaming any. Writing over
-//! an input file (compared by canonical path, and on Unix by device and
-//! inode) is refused unless [`SaveOptions::overwrite_input`] is set.
+//! Every output goes to a temporary file in the target's directory
+//! (`.<name>.<random>.tmp`), which is renamed over the target only once it
+//! is complete; an error (a full disk, a missing directory, a target that is
+//! a directory) or the cancel flag ([`SaveOptions::cancel`], see
+//! [`crate::cancel`]) removes the temporary file and leaves any existing
+//! file at the target untouched. Writing over an input file (compared by
+//! canonical path, and on Unix by device and inode) is refused unless
+//! [`SaveOptions::overwrite_input`] is set.
+//!
+//! The files of one run ([`Outputs`]: six cube faces, the demo's images, a
+//! bake's directory) are all written to temporary files first and renamed
+//! into place together at the end: either every one of them replaces its
+//! target, or none does. A rename can still fail midway (a disk error, a
+//! target turned into a directory meanwhile): then the targets already
+//! replaced are put back as they were, from a second name each existing
+//! target was given before the renames began (a hard link, or a copy where
+//! the file system has no links), and the error says that none of the run's
+//! outputs were written. Only if putting one back fails too does a target
+//! stay changed; the error then names the file that holds its old contents.
+//! A process killed outright (SIGKILL, a power cut) during the renames can
+//! leave some targets new and some old, and one killed while writing leaves
+//! its temporary file behind.
 //!
 //! # Untrusted files
 //!
@@ -44,19 +59,22 @@
 //! [`NonFinite`]).
 
 use std::fs::File;
-use std::io::{BufReader, Seek, Write};
+use std::io::BufReader;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 use ::image::{DynamicImage, ImageDecoder, ImageReader};
 use envmap_core::{AnyMapping, Frame};
 
+use crate::cancel::{self, Cancellable};
 use crate::error::{Error, Result};
-use crate::image::atomic::{check_target, persist, write_temp};
+use crate::image::atomic::TempWriter;
 use crate::image::envimage::{check_size, EnvImage, RgbImage, DEFAULT_MAX_TEXELS};
 use crate::image::layout::{resolve, Layout, Representation};
 use crate::image::{exr, faces, hdr, png_jpeg};
 
+pub use crate::image::atomic::Outputs;
 pub use crate::image::exr::ExrPrecision;
 pub use crate::image::faces::{face_of_name, face_paths, is_face_pattern, FACE_PLACEHOLDER};
 pub use crate::image::srgb::{linear_to_srgb, linear_to_srgb8, srgb_to_linear};
@@ -128,8 +146,8 @@ pub struct SourceFormat {
 }
 
 /// How to load an environment map.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LoadOptions {
+#[derive(Clone, Copy, Debug)]
+pub struct LoadOptions<'a> {
     /// The mapping, if known; detected from the aspect ratio otherwise
     /// (see [`crate::image::layout::resolve`]).
     pub mapping: Option<AnyMapping>,
@@ -142,6 +160,8 @@ pub struct LoadOptions {
     pub max_texels: u64,
     /// What to do with texels that hold a NaN or infinite value.
     pub non_finite: NonFinite,
+    /// Stops loading once set ([`Error::Cancelled`]); see [`crate::cancel`].
+    pub cancel: Option<&'a AtomicBool>,
 }
 
 /// What loading does with texels that hold a NaN or an infinite component
@@ -165,7 +185,7 @@ pub enum NonFinite {
     Zero,
 }
 
-impl Default for LoadOptions {
+impl Default for LoadOptions<'_> {
     fn default() -> Self {
         Self {
             mapping: None,
@@ -173,13 +193,14 @@ impl Default for LoadOptions {
             frame: Frame::IDENTITY,
             max_texels: DEFAULT_MAX_TEXELS,
             non_finite: NonFinite::Keep,
+            cancel: None,
         }
     }
 }
 
 /// How to save an environment map.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SaveOptions {
+#[derive(Clone, Debug)]
+pub struct SaveOptions<'a> {
     /// Exposure in stops for 8-bit outputs (PNG, JPEG): values are scaled by
     /// 2^`exposure` before encoding. Float outputs keep their values.
     pub exposure: f32,
@@ -192,9 +213,13 @@ pub struct SaveOptions {
     pub inputs: Vec<PathBuf>,
     /// Allow writing over a file listed in [`inputs`](SaveOptions::inputs).
     pub overwrite_input: bool,
+    /// Stops writing once set: the output being written is removed and
+    /// nothing is renamed into place ([`Error::Cancelled`]); see
+    /// [`crate::cancel`].
+    pub cancel: Option<&'a AtomicBool>,
 }
 
-impl Default for SaveOptions {
+impl Default for SaveOptions<'_> {
     fn default() -> Self {
         Self {
             exposure: 0.0,
@@ -202,6 +227,7 @@ impl Default for SaveOptions {
             six_files: false,
             inputs: Vec::new(),
             overwrite_input: false,
+            cancel: None,
         }
     }
 }
@@ -256,21 +282,25 @@ fn guarded<T>(path: &Path, format: FileFormat, f: impl FnOnce() -> Result<T>) ->
     })
 }
 
-fn open(path: &Path) -> Result<File> {
+/// What the readers read: the file, failing once the cancel flag is set.
+pub(super) type Source<'a> = Cancellable<'a, File>;
+
+fn open<'a>(path: &Path, cancel: Option<&'a AtomicBool>) -> Result<Source<'a>> {
     let file = File::open(path).map_err(|e| Error::read(path, e))?;
-    match file.metadata() {
+    let file = match file.metadata() {
         Ok(m) if m.is_dir() => Err(Error::read(
             path,
             std::io::Error::new(std::io::ErrorKind::InvalidInput, "is a directory"),
         )),
         _ => Ok(file),
-    }
+    }?;
+    Ok(Cancellable::new(file, cancel))
 }
 
 /// The size of an image file, from its header alone.
 pub fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
     let format = FileFormat::from_path(path)?;
-    let file = open(path)?;
+    let file = open(path, None)?;
     guarded(path, format, || match format {
         FileFormat::Exr => {
             let meta = ::exr::meta::MetaData::read_from_buffered(BufReader::new(file), false)
@@ -289,15 +319,22 @@ pub fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
 
 /// Reads an image file as linear RGB, with no representation attached.
 ///
-/// Refuses images above `max_texels` before allocating their pixels.
-pub fn read_rgb(path: &Path, max_texels: u64) -> Result<(RgbImage, SourceFormat)> {
+/// Refuses images above `max_texels` before allocating their pixels; stops
+/// with [`Error::Cancelled`] once `cancel` is set.
+pub fn read_rgb(
+    path: &Path,
+    max_texels: u64,
+    cancel: Option<&AtomicBool>,
+) -> Result<(RgbImage, SourceFormat)> {
+    cancel::check(cancel)?;
     let format = FileFormat::from_path(path)?;
-    let file = open(path)?;
-    guarded(path, format, || match format {
+    let file = open(path, cancel)?;
+    let read = guarded(path, format, || match format {
         FileFormat::Exr => exr::read(path, file, max_texels),
         FileFormat::Hdr => hdr::read(path, file, max_texels),
         FileFormat::Png | FileFormat::Jpeg => png_jpeg::read(path, file, format, max_texels),
-    })
+    });
+    cancel::or_cancelled(read, cancel)
 }
 
 fn image_format(format: FileFormat) -> ::image::ImageFormat {
@@ -313,7 +350,7 @@ fn image_format(format: FileFormat) -> ::image::ImageFormat {
 /// checking its size from the header against `max_texels`.
 pub(super) fn decode_with_image(
     path: &Path,
-    file: File,
+    file: Source<'_>,
     format: FileFormat,
     max_texels: u64,
 ) -> Result<DynamicImage> {
@@ -377,7 +414,7 @@ pub fn load_detailed(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<Loade
     if loads_six_files(path, opts) {
         return faces::load(path, opts);
     }
-    let (mut rgb, source) = read_rgb(path, opts.max_texels)?;
+    let (mut rgb, source) = read_rgb(path, opts.max_texels, opts.cancel)?;
     let replaced = apply_non_finite(&mut rgb.pixels, opts.non_finite);
     let (mapping, atlas) =
         resolve(rgb.width, rgb.height, opts.mapping, opts.layout).map_err(|e| e.in_file(path))?;
@@ -414,55 +451,83 @@ pub(super) struct View<'a> {
 /// otherwise the image is written in its atlas as is. Writes are atomic
 /// and refuse to replace an input; see the [module docs](self).
 pub fn save(image: &EnvImage, path: impl AsRef<Path>, opts: &SaveOptions) -> Result<Vec<PathBuf>> {
-    let path = path.as_ref();
-    let format = FileFormat::from_path(path)?;
-    if opts.six_files || is_face_pattern(path) {
-        return faces::save(image, path, format, opts);
-    }
-    check_target(path, &opts.inputs, opts.overwrite_input)?;
-    let view = View {
-        width: image.width(),
-        height: image.height(),
-        pixels: image.pixels(),
-    };
-    let temp = write_temp(path, |out| encode(path, format, view, opts, out))?;
-    persist(temp, path)?;
-    Ok(vec![path.to_path_buf()])
+    let mut run = Outputs::new(opts);
+    run.stage_image(image, path, opts)?;
+    run.commit()
 }
 
 /// Writes a plain RGB image (atomically, refusing to replace an input, as
 /// [`save`] does).
 pub fn write_rgb(image: &RgbImage, path: impl AsRef<Path>, opts: &SaveOptions) -> Result<()> {
-    let path = path.as_ref();
-    let format = FileFormat::from_path(path)?;
-    if u64::try_from(image.pixels.len()).ok()
-        != Some(u64::from(image.width) * u64::from(image.height))
-        || image.pixels.is_empty()
-    {
-        return Err(Error::PixelCount {
+    let mut run = Outputs::new(opts);
+    run.stage_rgb(image, path, opts)?;
+    run.commit().map(drop)
+}
+
+impl<'a> Outputs<'a> {
+    /// An empty run for outputs saved with `opts` (its inputs, whether they
+    /// may be overwritten, its cancel flag).
+    #[must_use]
+    pub fn new(opts: &SaveOptions<'a>) -> Self {
+        Self::with(&opts.inputs, opts.overwrite_input, opts.cancel)
+    }
+
+    /// Stages `image` as [`save`] writes it (one file, or six faces).
+    pub fn stage_image(
+        &mut self,
+        image: &EnvImage,
+        path: impl AsRef<Path>,
+        opts: &SaveOptions,
+    ) -> Result<()> {
+        let path = path.as_ref();
+        let format = FileFormat::from_path(path)?;
+        if opts.six_files || is_face_pattern(path) {
+            return faces::stage(self, image, path, format, opts);
+        }
+        let view = View {
+            width: image.width(),
+            height: image.height(),
+            pixels: image.pixels(),
+        };
+        self.stage_with(path, |out| encode(path, format, view, opts, out))
+    }
+
+    /// Stages a plain RGB image as [`write_rgb`] writes it.
+    pub fn stage_rgb(
+        &mut self,
+        image: &RgbImage,
+        path: impl AsRef<Path>,
+        opts: &SaveOptions,
+    ) -> Result<()> {
+        let path = path.as_ref();
+        let format = FileFormat::from_path(path)?;
+        if u64::try_from(image.pixels.len()).ok()
+            != Some(u64::from(image.width) * u64::from(image.height))
+            || image.pixels.is_empty()
+        {
+            return Err(Error::PixelCount {
+                width: image.width,
+                height: image.height,
+                len: image.pixels.len(),
+            }
+            .in_file(path));
+        }
+        let view = View {
             width: image.width,
             height: image.height,
-            len: image.pixels.len(),
-        }
-        .in_file(path));
+            pixels: &image.pixels,
+        };
+        self.stage_with(path, |out| encode(path, format, view, opts, out))
     }
-    check_target(path, &opts.inputs, opts.overwrite_input)?;
-    let view = View {
-        width: image.width,
-        height: image.height,
-        pixels: &image.pixels,
-    };
-    let temp = write_temp(path, |out| encode(path, format, view, opts, out))?;
-    persist(temp, path)
 }
 
 /// Encodes `view` in `format` into `out`.
-pub(super) fn encode<W: Write + Seek>(
+pub(super) fn encode(
     path: &Path,
     format: FileFormat,
     view: View<'_>,
     opts: &SaveOptions,
-    out: &mut W,
+    out: &mut TempWriter<'_>,
 ) -> Result<()> {
     match format {
         FileFormat::Png | FileFormat::Jpeg => {

@@ -6,7 +6,6 @@
 //! dropped. Colour profiles and PNG gamma chunks are ignored. Write: 8-bit
 //! sRGB RGB after exposure, clamped (JPEG at quality 95).
 
-use std::fs::File;
 use std::io::Write;
 use std::path::Path;
 
@@ -14,14 +13,16 @@ use ::image::{DynamicImage, ImageEncoder};
 
 use crate::error::Result;
 use crate::image::envimage::RgbImage;
-use crate::image::io::{decode_with_image, encode_error, expand, FileFormat, SourceFormat, View};
+use crate::image::io::{
+    decode_with_image, encode_error, expand, FileFormat, Source, SourceFormat, View,
+};
 use crate::image::srgb::{linear_to_srgb8, srgb16_lut, srgb8_lut};
 
 /// Reads a PNG or JPEG file as linear RGB; refuses images above
 /// `max_texels` before allocating their pixels.
 pub(super) fn read(
     path: &Path,
-    file: File,
+    file: Source<'_>,
     format: FileFormat,
     max_texels: u64,
 ) -> Result<(RgbImage, SourceFormat)> {

@@ -4,6 +4,7 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use envmap_core::glam::Vec3;
@@ -11,15 +12,15 @@ use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Mapping};
 
 use crate::error::{Error, Result};
-use crate::image::io::{linear_to_srgb, write_rgb, SaveOptions};
+use crate::image::io::{linear_to_srgb, Outputs, SaveOptions};
 use crate::image::{Representation, RgbImage};
 use crate::scene::environments::Builtin;
 use crate::scene::mesh::Mesh;
 use crate::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
 
 /// What the demo makes.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DemoOptions {
+#[derive(Clone, Debug)]
+pub struct DemoOptions<'a> {
     /// Output directory (created if missing).
     pub out: PathBuf,
     /// Texel budget per representation (all charts together).
@@ -30,9 +31,12 @@ pub struct DemoOptions {
     pub samples: u32,
     /// Exposure in stops of the PNGs.
     pub exposure: f32,
+    /// Stops the demo once set ([`Error::Cancelled`]): nothing of this run
+    /// is written; see [`crate::cancel`].
+    pub cancel: Option<&'a AtomicBool>,
 }
 
-impl Default for DemoOptions {
+impl Default for DemoOptions<'_> {
     fn default() -> Self {
         Self {
             out: PathBuf::from("envmap-demo"),
@@ -40,6 +44,7 @@ impl Default for DemoOptions {
             width: 480,
             samples: 2,
             exposure: -1.0,
+            cancel: None,
         }
     }
 }
@@ -159,21 +164,35 @@ fn heat_map(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool], w: u32, h: u32) -> Rg
     }
 }
 
-fn save_png(img: &RgbImage, path: &Path, exposure: f32) -> Result<()> {
+fn save_png(run: &mut Outputs<'_>, img: &RgbImage, path: &Path, exposure: f32) -> Result<()> {
     let opts = SaveOptions {
         exposure,
         ..SaveOptions::default()
     };
-    write_rgb(img, path, &opts)
+    run.stage_rgb(img, path, &opts)
 }
 
 /// Runs the demo; `progress(done, total, what)` is called as it goes.
-/// Returns the report rows; writes the images and `report.md` into `opts.out`.
+/// Returns the report rows; writes the images and `report.md` into
+/// `opts.out` (created if missing), all of them renamed into place together
+/// at the end ([`Outputs`]): after an error or a cancellation none of them
+/// is, and a directory the run created is removed again.
 pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<DemoRow>> {
+    let created = !opts.out.exists();
     std::fs::create_dir_all(&opts.out).map_err(|source| Error::Write {
         path: opts.out.clone(),
         source,
     })?;
+    let result = run_in(opts, progress);
+    if result.is_err() && created {
+        // Empty again, as nothing was renamed into it: leave no trace.
+        let _ = std::fs::remove_dir(&opts.out);
+    }
+    result
+}
+
+fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<DemoRow>> {
+    let mut run = Outputs::with(&[], false, opts.cancel);
     let total = AnyMapping::ALL.len() as u32 + 1;
     let mesh = Mesh::teapot(10);
     let cam = Camera::default();
@@ -182,12 +201,14 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
         width: w,
         height: h,
         samples: opts.samples.clamp(1, 8),
+        cancel: opts.cancel,
         ..RenderOptions::default()
     };
     progress(0, total, "reference");
     let sky = |d: Vec3| Builtin::Sky.radiance(d);
-    let reference = render(&mesh, EnvSource::Analytic(&sky), &cam, &ropts);
+    let reference = render(&mesh, EnvSource::Analytic(&sky), &cam, &ropts)?;
     save_png(
+        &mut run,
         &reference,
         &opts.out.join("teapot_reference.png"),
         opts.exposure,
@@ -204,7 +225,7 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
             background: false,
             ..ropts
         },
-    );
+    )?;
     let mask: Vec<bool> = silhouette
         .pixels
         .iter()
@@ -216,7 +237,7 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
         let t = Instant::now();
         let (aw, ah) = size_for_budget(m, opts.texels);
         let env = Builtin::Sky.image(Representation::default_for(m), aw, ah)?;
-        let pp = render(&mesh, EnvSource::Map(&env), &cam, &ropts);
+        let pp = render(&mesh, EnvSource::Map(&env), &cam, &ropts)?;
         let pv = render(
             &mesh,
             EnvSource::Map(&env),
@@ -225,10 +246,11 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
                 mode: Mode::PerVertex,
                 ..ropts
             },
-        );
+        )?;
         let seconds = t.elapsed().as_secs_f64();
         let name = m.name();
         save_png(
+            &mut run,
             &RgbImage {
                 width: aw,
                 height: ah,
@@ -238,22 +260,26 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
             opts.exposure - 1.0,
         )?;
         save_png(
+            &mut run,
             &pp,
             &opts.out.join(format!("teapot_{name}_per_pixel.png")),
             opts.exposure,
         )?;
         save_png(
+            &mut run,
             &pv,
             &opts.out.join(format!("teapot_{name}_per_vertex.png")),
             opts.exposure,
         )?;
         let (ppd, pvd) = (displayed(&pp, opts.exposure), displayed(&pv, opts.exposure));
         save_png(
+            &mut run,
             &heat_map(&ppd, &ref_disp, &mask, w, h),
             &opts.out.join(format!("error_{name}_per_pixel.png")),
             0.0,
         )?;
         save_png(
+            &mut run,
             &heat_map(&pvd, &ref_disp, &mask, w, h),
             &opts.out.join(format!("error_{name}_per_vertex.png")),
             0.0,
@@ -271,10 +297,8 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
     }
     progress(total, total, "report");
     let report = report_markdown(opts, &rows, w, h);
-    std::fs::write(opts.out.join("report.md"), report).map_err(|source| Error::Write {
-        path: opts.out.join("report.md"),
-        source,
-    })?;
+    run.stage_bytes(opts.out.join("report.md"), report.as_bytes())?;
+    run.commit()?;
     Ok(rows)
 }
 

@@ -16,12 +16,18 @@
 //! ray's direction looked up in the map). Bands of rows render in parallel.
 //! World axes are envmap's canonical ones: z up, right-handed.
 
+use std::sync::atomic::AtomicBool;
+
 use envmap_core::glam::{Mat3, Vec3};
 use envmap_core::AnyMapping;
 use envmap_core::{reflect_view, ChartUv};
 use envmap_simd::{forward_slice, Dir8, Fine, Mapping8, Uv8, LANES};
 use rayon::prelude::*;
 
+use crate::cancel;
+#[cfg(doc)]
+use crate::error::Error;
+use crate::error::Result;
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::image::{EnvImage, RgbImage};
 use crate::scene::mesh::Mesh;
@@ -63,8 +69,8 @@ pub enum Mode {
 }
 
 /// Rendering options.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderOptions {
+#[derive(Clone, Copy, Debug)]
+pub struct RenderOptions<'a> {
     /// Image width in pixels.
     pub width: u32,
     /// Image height in pixels.
@@ -82,9 +88,12 @@ pub struct RenderOptions {
     pub tint: [f32; 3],
     /// Show the environment behind the object (otherwise black).
     pub background: bool,
+    /// Stops the render once set, at the next band of rows, with
+    /// [`Error::Cancelled`]; see [`crate::cancel`].
+    pub cancel: Option<&'a AtomicBool>,
 }
 
-impl Default for RenderOptions {
+impl Default for RenderOptions<'_> {
     fn default() -> Self {
         Self {
             width: 640,
@@ -95,6 +104,7 @@ impl Default for RenderOptions {
             fresnel_f0: None,
             tint: [1.0; 3],
             background: true,
+            cancel: None,
         }
     }
 }
@@ -186,8 +196,17 @@ impl core::fmt::Debug for EnvSource<'_> {
 }
 
 /// Renders `mesh` (in world coordinates) as a mirror in `env`.
-#[must_use]
-pub fn render(mesh: &Mesh, env: EnvSource<'_>, cam: &Camera, opts: &RenderOptions) -> RgbImage {
+///
+/// # Errors
+///
+/// Only [`Error::Cancelled`], once `opts.cancel` is set (checked at every
+/// band of rows).
+pub fn render(
+    mesh: &Mesh,
+    env: EnvSource<'_>,
+    cam: &Camera,
+    opts: &RenderOptions,
+) -> Result<RgbImage> {
     match env {
         EnvSource::Map(img) => render_map(mesh, Some(img), None, cam, opts),
         EnvSource::Analytic(f) => render_map(mesh, None, Some(f), cam, opts),
@@ -200,7 +219,7 @@ fn render_map(
     analytic: Option<&(dyn Fn(Vec3) -> [f32; 3] + Sync)>,
     cam: &Camera,
     opts: &RenderOptions,
-) -> RgbImage {
+) -> Result<RgbImage> {
     let s = opts.samples.clamp(1, 8);
     let (w, h) = (opts.width.max(1) * s, opts.height.max(1) * s);
     let view = View::new(cam, w, h);
@@ -257,6 +276,9 @@ fn render_map(
         .zip(bins.par_iter())
         .enumerate()
         .for_each(|(band, (px, tris))| {
+            if cancel::is_set(opts.cancel) {
+                return;
+            }
             let y0 = band as u32 * BAND;
             let rows = (px.len() / w as usize) as u32;
             let mut hits: Vec<Option<Hit>> = vec![None; px.len()];
@@ -361,7 +383,8 @@ fn render_map(
                 }
             }
         });
-    downsample(hi, w, h, s)
+    cancel::check(opts.cancel)?;
+    Ok(downsample(hi, w, h, s))
 }
 
 /// Rasterizes one projected triangle into the band starting at row `y0`,
