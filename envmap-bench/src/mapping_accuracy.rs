@@ -129,6 +129,17 @@ pub fn forward_f64(m: AnyMapping, chart: u32, d: D3) -> (f64, f64) {
             }
             (0.5 * copysign(u, x) + 0.5, 0.5 * copysign(v, y) + 0.5)
         }
+        AnyMapping::Angular => {
+            let s = x.hypot(y);
+            let rho = s.atan2(z) / PI;
+            // x = y = 0: the azimuth of +x, as the core's rule.
+            let (a, b) = if s == 0.0 {
+                (rho, 0.0)
+            } else {
+                (rho * x / s, rho * y / s)
+            };
+            (0.5 * a + 0.5, 0.5 * b + 0.5)
+        }
     }
 }
 
@@ -206,6 +217,12 @@ fn inverse_f64_at(m: AnyMapping, chart: u32, u: f64, v: f64) -> D3 {
             let zz = copysign(1.0 - r * r, sd);
             let k = r * (2.0 - r * r).max(0.0).sqrt();
             [copysign(phi.cos(), a) * k, copysign(phi.sin(), b) * k, zz]
+        }
+        AnyMapping::Angular => {
+            let rho = a.hypot(b).min(1.0);
+            let theta = PI * rho;
+            let k = if rho > 0.0 { theta.sin() / rho } else { PI };
+            [k * a, k * b, theta.cos()]
         }
     };
     normalize(d)

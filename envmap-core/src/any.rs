@@ -8,7 +8,7 @@ use glam::Vec3;
 use crate::atlas::Atlas;
 use crate::mapping::{ChartUv, Mapping};
 use crate::{
-    Cube, DualParaboloid, EqualAreaOctahedral, LatLong, Octahedral, SphereMap, Tennisball,
+    Angular, Cube, DualParaboloid, EqualAreaOctahedral, LatLong, Octahedral, SphereMap, Tennisball,
 };
 
 /// Every mapping of the crate, chosen at run time (a command-line flag, a file
@@ -31,11 +31,13 @@ pub enum AnyMapping {
     Octahedral,
     /// [`EqualAreaOctahedral`].
     EqualAreaOctahedral,
+    /// [`Angular`] (Debevec's light probe).
+    Angular,
 }
 
 impl AnyMapping {
     /// Every mapping, in a fixed order.
-    pub const ALL: [AnyMapping; 8] = [
+    pub const ALL: [AnyMapping; 9] = [
         AnyMapping::LatLong,
         AnyMapping::Cube,
         AnyMapping::SphereMap,
@@ -44,10 +46,11 @@ impl AnyMapping {
         AnyMapping::Tennisball,
         AnyMapping::Octahedral,
         AnyMapping::EqualAreaOctahedral,
+        AnyMapping::Angular,
     ];
 
     /// The names [`FromStr`] accepts, in the order of [`AnyMapping::ALL`].
-    pub const NAMES: [&'static str; 8] = [
+    pub const NAMES: [&'static str; 9] = [
         "latlong",
         "cube",
         "sphere",
@@ -56,17 +59,21 @@ impl AnyMapping {
         "tennisball",
         "octahedral",
         "octahedral-equal-area",
+        "angular",
     ];
 
     /// Whether the charts are disks inscribed in their squares (sphere maps,
-    /// dual paraboloid): texels outside the disk hold no direction, and a
-    /// filter must stay inside the rim.
+    /// dual paraboloid, angular map): texels outside the disk hold no
+    /// direction, and a filter must stay inside the rim.
     #[inline]
     #[must_use]
     pub const fn has_disk_charts(self) -> bool {
         matches!(
             self,
-            AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid
+            AnyMapping::SphereMap
+                | AnyMapping::SphereMapGl
+                | AnyMapping::DualParaboloid
+                | AnyMapping::Angular
         )
     }
 
@@ -83,6 +90,7 @@ impl AnyMapping {
             AnyMapping::Tennisball => Tennisball::forward(d),
             AnyMapping::Octahedral => Octahedral::forward(d),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral::forward(d),
+            AnyMapping::Angular => Angular::forward(d),
         }
     }
 
@@ -99,6 +107,7 @@ impl AnyMapping {
             AnyMapping::Tennisball => Tennisball::inverse(c),
             AnyMapping::Octahedral => Octahedral::inverse(c),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral::inverse(c),
+            AnyMapping::Angular => Angular::inverse(c),
         }
     }
 
@@ -112,6 +121,7 @@ impl AnyMapping {
             AnyMapping::Tennisball => &Tennisball,
             AnyMapping::Octahedral => &Octahedral,
             AnyMapping::EqualAreaOctahedral => &EqualAreaOctahedral,
+            AnyMapping::Angular => &Angular,
         }
     }
 }
@@ -168,7 +178,9 @@ impl FromStr for AnyMapping {
 
     /// Parses the names in [`AnyMapping::NAMES`] (case-insensitive), plus the
     /// aliases `equirect`, `equirectangular`, `cubemap`, `dual-paraboloid`,
-    /// `octahedral-ea`, `sphere-class`.
+    /// `octahedral-ea`, `sphere-class`, `light-probe` and `lightprobe` (the
+    /// angular map), and `mirror-ball` and `mirrorball` (`sphere-gl`: a
+    /// photograph of a chrome ball is a GL sphere map seen from the camera).
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         let eq = |a: &str| s.eq_ignore_ascii_case(a);
         for (m, n) in AnyMapping::ALL.iter().zip(AnyMapping::NAMES) {
@@ -182,6 +194,8 @@ impl FromStr for AnyMapping {
             () if eq("dual-paraboloid") => AnyMapping::DualParaboloid,
             () if eq("octahedral-ea") => AnyMapping::EqualAreaOctahedral,
             () if eq("sphere-class") => AnyMapping::SphereMap,
+            () if eq("light-probe") || eq("lightprobe") => AnyMapping::Angular,
+            () if eq("mirror-ball") || eq("mirrorball") => AnyMapping::SphereMapGl,
             () => return Err(UnknownMapping),
         })
     }

@@ -13,6 +13,7 @@
 //! | [`Cube`] | [`cube`] | 6 faces | seed `000`; OpenGL / Vulkan face table |
 //! | [`SphereMap`] | [`sphere_map`] | 1 disk | seed `000`, class and `GL_SPHERE_MAP` conventions |
 //! | [`DualParaboloid`] | [`dual_paraboloid`] | 2 disks | seed `000`; Heidrich & Seidel 1998 |
+//! | [`Angular`] | [`angular`] | 1 disk | Debevec 1998 (the light probe; `acos` replaced by `atan2`) |
 //! | [`Tennisball`] | [`tennisball`] | 2 strips (3:1) | seed `000` (coverage erratum fixed) |
 //! | [`Octahedral`] | [`octahedral`] | 1 square | Engelhardt & Dachsbacher 2008 |
 //! | [`EqualAreaOctahedral`] | [`octahedral`] | 1 square | Clarberg 2008; pbrt-v4 |
@@ -45,6 +46,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod angular;
 pub mod any;
 pub mod atlas;
 pub mod cube;
@@ -61,6 +63,7 @@ pub mod sphere_map;
 pub mod tennisball;
 pub mod texel;
 
+pub use angular::Angular;
 pub use any::AnyMapping;
 pub use atlas::Atlas;
 pub use cube::{Cube, CubeFace};

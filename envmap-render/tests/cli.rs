@@ -131,11 +131,24 @@ fn convert_and_info_happy_paths() {
         );
         assert!(o.status.success(), "{m}: {}", text(&o.stderr));
     }
-    // A square image needs --from; with it, info works.
+    // A square image envmap wrote says what it holds; info reads it.
     let o = envmap(&["info", "sphere.exr"], d);
-    assert_fails(&o, 1, "sphere.exr");
-    let o = envmap(&["info", "sphere.exr", "--from", "sphere"], d);
     assert!(o.status.success(), "{}", text(&o.stderr));
+    let info = text(&o.stdout);
+    assert!(info.contains("mapping          sphere\n"), "{info}");
+    assert!(info.contains("as the file says"), "{info}");
+    // One that does not say needs --from; with it, info works.
+    let plain = envmap_render::RgbImage {
+        width: 8,
+        height: 8,
+        pixels: vec![[0.5; 3]; 64],
+    };
+    envmap_render::io::write_rgb(&plain, d.join("square.exr"), &SaveOptions::default()).unwrap();
+    let o = envmap(&["info", "square.exr"], d);
+    assert_fails(&o, 1, "square.exr");
+    let o = envmap(&["info", "square.exr", "--from", "sphere"], d);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("the default: the file does not say"));
 }
 
 #[test]

@@ -357,6 +357,9 @@ fn detection_for_every_aspect() {
     for name in [
         "sphere",
         "sphere-gl",
+        "mirror-ball",
+        "angular",
+        "light-probe",
         "octahedral",
         "octahedral-equal-area",
         "--from",
@@ -393,6 +396,15 @@ fn explicit_layouts_are_checked() {
         resolve(32, 32, Some(AnyMapping::Octahedral), None).unwrap(),
         (AnyMapping::Octahedral, Atlas::SINGLE_SQUARE)
     );
+    // The angular map (a light probe) is a square image too.
+    assert_eq!(
+        resolve(64, 64, Some(AnyMapping::Angular), None).unwrap(),
+        (AnyMapping::Angular, Atlas::SINGLE_SQUARE)
+    );
+    assert_eq!(
+        resolve(64, 64, Some(AnyMapping::Angular), Some(Layout::Square)).unwrap(),
+        (AnyMapping::Angular, Atlas::SINGLE_SQUARE)
+    );
     assert_eq!(
         resolve(16, 96, Some(AnyMapping::Cube), Some(Layout::VStrip)).unwrap(),
         (AnyMapping::Cube, Atlas::CUBE_VERTICAL_STRIP)
@@ -427,7 +439,7 @@ fn load_applies_explicit_mapping_and_names_the_file_on_mismatch() {
     save(&latlong(16, 0.0, 1.0), &path, &SaveOptions::default()).unwrap();
     let opts = LoadOptions {
         mapping: Some(AnyMapping::DualParaboloid),
-        frame: Frame::Y_UP_RH,
+        axes: Some(envmap_render::image::FileAxes::Frame(Frame::Y_UP_RH)),
         ..LoadOptions::default()
     };
     let img = load(&path, &opts).unwrap();

@@ -236,6 +236,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Tennisball => Tennisball.forward_slice::<T>(dirs, out),
             AnyMapping::Octahedral => Octahedral.forward_slice::<T>(dirs, out),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward_slice::<T>(dirs, out),
+            AnyMapping::Angular => Angular.forward_slice::<T>(dirs, out),
         }
     }
     fn inverse_slice<T: Tier>(&self, coords: &[ChartUv], out: &mut [Vec3]) -> usize {
@@ -249,6 +250,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Tennisball => Tennisball.inverse_slice::<T>(coords, out),
             AnyMapping::Octahedral => Octahedral.inverse_slice::<T>(coords, out),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse_slice::<T>(coords, out),
+            AnyMapping::Angular => Angular.inverse_slice::<T>(coords, out),
         }
     }
 
@@ -263,6 +265,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Tennisball => Tennisball.forward8::<T>(d),
             AnyMapping::Octahedral => Octahedral.forward8::<T>(d),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8::<T>(d),
+            AnyMapping::Angular => Angular.forward8::<T>(d),
         }
     }
     fn forward8_ray<T: Tier>(&self, d: Dir8) -> Uv8 {
@@ -276,6 +279,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Tennisball => Tennisball.forward8_ray::<T>(d),
             AnyMapping::Octahedral => Octahedral.forward8_ray::<T>(d),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8_ray::<T>(d),
+            AnyMapping::Angular => Angular.forward8_ray::<T>(d),
         }
     }
     fn inverse8_ray<T: Tier>(&self, c: Uv8) -> Dir8 {
@@ -289,6 +293,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Tennisball => Tennisball.inverse8_ray::<T>(c),
             AnyMapping::Octahedral => Octahedral.inverse8_ray::<T>(c),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse8_ray::<T>(c),
+            AnyMapping::Angular => Angular.inverse8_ray::<T>(c),
         }
     }
     fn inverse8<T: Tier>(&self, c: Uv8) -> Dir8 {
@@ -302,6 +307,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Tennisball => Tennisball.inverse8::<T>(c),
             AnyMapping::Octahedral => Octahedral.inverse8::<T>(c),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse8::<T>(c),
+            AnyMapping::Angular => Angular.inverse8::<T>(c),
         }
     }
 }

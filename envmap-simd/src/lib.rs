@@ -16,8 +16,9 @@
 //!   mapping chained into a forward one (as conversions do) without
 //!   normalising in between.
 //! * One module per mapping ([`latlong`], [`cube`], [`sphere_map`],
-//!   [`dual_paraboloid`], [`tennisball`], [`octahedral`]): its `Mapping8`
-//!   kernel; [`batch`] holds the batches, [`kernel`] the trait and the slices.
+//!   [`dual_paraboloid`], [`tennisball`], [`octahedral`], [`angular`]): its
+//!   `Mapping8` kernel; [`batch`] holds the batches, [`kernel`] the trait and
+//!   the slices.
 //!
 //! `wide` picks SSE or AVX at compile time: build with
 //! `RUSTFLAGS="-C target-cpu=native"` for the full 8-wide speed.
@@ -37,6 +38,7 @@
     deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)
 )]
 
+pub mod angular;
 pub mod approx;
 pub mod batch;
 pub mod cube;

@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use envmap_core::{AnyMapping, Frame};
+use envmap_core::AnyMapping;
 use envmap_render::convert::{convert, ConvertOptions};
 use envmap_render::image::Representation;
 use envmap_render::io::{load_detailed, LoadOptions, NonFinite};
@@ -28,15 +28,15 @@ fuzz_target!(|data: &[u8]| {
     let ext = EXTENSIONS[usize::from(selector & 3)];
     let path = dir().join(format!("input.{ext}"));
     std::fs::write(&path, bytes).expect("write the input file");
-    // Bits 2..5: an explicit mapping (for square and ambiguous images).
-    let mapping = match (selector >> 2) & 15 {
-        k @ 0..=7 => Some(AnyMapping::ALL[usize::from(k)]),
-        _ => None,
-    };
+    // Bits 2..5: an explicit mapping (for square and ambiguous images), any
+    // of `AnyMapping::ALL`; the values past its end: none.
+    let mapping = AnyMapping::ALL
+        .get(usize::from((selector >> 2) & 15))
+        .copied();
     let opts = LoadOptions {
         mapping,
         layout: None,
-        frame: Frame::IDENTITY,
+        axes: None,
         // Small enough that the fuzzer cannot ask for gigabytes.
         max_texels: 1 << 18,
         // Bit 6: replace NaN and infinite texels.
@@ -45,6 +45,7 @@ fuzz_target!(|data: &[u8]| {
         } else {
             NonFinite::Zero
         },
+        face_transforms: Default::default(),
         cancel: None,
     };
     let Ok(loaded) = load_detailed(&path, &opts) else {

@@ -13,15 +13,17 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let text = String::from_utf8_lossy(bytes);
-    let m = AnyMapping::ALL[usize::from(selector & 7)];
-    let frame = if selector & 8 == 0 {
+    // Bits 0..3: the mapping (modulo the number of mappings); bit 4: the
+    // frame; bit 5: an image size, whose cell width is bits 6..7 plus one.
+    let m = AnyMapping::ALL[usize::from(selector & 15) % AnyMapping::ALL.len()];
+    let frame = if selector & 16 == 0 {
         Frame::IDENTITY
     } else {
         Frame::Y_UP_LH
     };
     let atlas = m.atlas();
-    let size = (selector & 16 != 0)
-        .then(|| atlas.image_size_for_cell_width(u32::from(selector >> 5) + 1))
+    let size = (selector & 32 != 0)
+        .then(|| atlas.image_size_for_cell_width(u32::from(selector >> 6) + 1))
         .flatten();
     let map = MapLines::new(m, frame, atlas, size);
     let unmap = UnmapLines::new(m, frame);

@@ -513,7 +513,7 @@ pub fn tier_bound(tier: &str) -> f32 {
 
 /// Bound on |Δu| and |Δv| between a SIMD forward lane at `tier` and the
 /// scalar core: the mappings scale an angle error by at most 1/π (latlong v,
-/// equal-area φ·2/π·½) or 2/π (tennisball v) into (u, v), so
+/// equal-area φ·2/π·½, angular θ/π·½) or 2/π (tennisball v) into (u, v), so
 /// `tier + 1e-6` bounds every coordinate.
 #[must_use]
 pub fn simd_uv_bound(tier: &str) -> f32 {

@@ -111,12 +111,12 @@ fn coordinate() -> impl Strategy<Value = f32> {
 // Per-mapping facts the properties are stated with
 // ---------------------------------------------------------------------------------------------
 
-/// The sphere map's singular direction (−V: the one every rim point inverts
-/// to), for the two sphere-map variants.
+/// The singular direction of a disk map whose whole rim inverts to one
+/// direction: the sphere maps' −V, the angular map's −z.
 fn singular_direction(m: AnyMapping) -> Option<DVec3> {
     match m {
         AnyMapping::SphereMap => Some(DVec3::Z),
-        AnyMapping::SphereMapGl => Some(DVec3::NEG_Z),
+        AnyMapping::SphereMapGl | AnyMapping::Angular => Some(DVec3::NEG_Z),
         _ => None,
     }
 }
@@ -155,11 +155,20 @@ const OCTAHEDRAL_RT: f64 = 7e-7;
 /// Equal-area octahedral. Worst 5.52e-7 at
 /// d = (5.0040562e23, 3.334291e24, 7.534412e-39), on the equator.
 const EQUAL_AREA_OCTAHEDRAL_RT: f64 = 1e-6;
+/// Angular map: no 1/β growth at its singular direction (an angle β from
+/// −z sits β/π inside the rim, so one f32 step of (u, v) costs the same
+/// angle there as elsewhere in the outer half). Worst 9.11e-7 at
+/// d = (4.8614523e-1, 7.629366e-1, -4.261344e-1) (u = 0.672, v = 0.770):
+/// as for the latlong, u and v are f32 above ½ (one step is 6e-8, i.e.
+/// 1.9e-7 rad along the radius, which is π rad per unit of u' = 2u − 1),
+/// and θ, θ/π and the inverse's ρ and πρ are rounded on the way.
+const ANGULAR_RT: f64 = 1.5e-6;
 
 /// The bound on the direction round-trip error of `m` at the unit direction
 /// `d` (see the constants above). For the sphere maps it grows like 1/β near
 /// the singular direction (β → 0), where an angular distance β sits only
-/// β²/8 inside the rim, so that one f32 step of (u, v) is ~8/β·1e-7 rad.
+/// β²/8 inside the rim, so that one f32 step of (u, v) is ~8/β·1e-7 rad
+/// (the angular map's β/π does not: its bound is constant).
 fn direction_round_trip_bound(m: AnyMapping, d: DVec3) -> f64 {
     match m {
         AnyMapping::LatLong => LATLONG_RT,
@@ -169,6 +178,7 @@ fn direction_round_trip_bound(m: AnyMapping, d: DVec3) -> f64 {
         AnyMapping::Tennisball => TENNISBALL_RT,
         AnyMapping::Octahedral => OCTAHEDRAL_RT,
         AnyMapping::EqualAreaOctahedral => EQUAL_AREA_OCTAHEDRAL_RT,
+        AnyMapping::Angular => ANGULAR_RT,
     }
 }
 
@@ -192,6 +202,9 @@ fn direction_round_trip_bound(m: AnyMapping, d: DVec3) -> f64 {
 ///   axes, where the Jacobian in (u', v') is [[−2/π, −1/2], [2/π, 0]]
 ///   (singular value 0.9771): 0.4886. (Both octahedral values were also
 ///   confirmed by a finite-difference search over 2·10⁶ directions.)
+/// * angular: ρ = θ/π with θ the angle from +z, so radially 1/π and along
+///   the circle ρ/sin θ = θ/(π sin θ) ≥ 1/π; in (u, v) half:
+///   θ/(2π sin θ) = (π − β)/(2π sin β), unbounded at the singular direction.
 fn stretch(m: AnyMapping, d: DVec3) -> f64 {
     match m {
         AnyMapping::LatLong => {
@@ -206,6 +219,16 @@ fn stretch(m: AnyMapping, d: DVec3) -> f64 {
         AnyMapping::Tennisball => 2.0 / PI,
         AnyMapping::Octahedral => (1.0 + 5f64.sqrt()) / 4.0,
         AnyMapping::EqualAreaOctahedral => 0.4886,
+        AnyMapping::Angular => angular_stretch(beta(m, d)),
+    }
+}
+
+/// The angular map's stretch at the angle β from −z (see [`stretch`]).
+fn angular_stretch(beta: f64) -> f64 {
+    if beta >= PI {
+        1.0 / (2.0 * PI)
+    } else {
+        ((PI - beta) / (2.0 * PI * beta.sin())).max(1.0 / (2.0 * PI))
     }
 }
 
@@ -270,7 +293,7 @@ fn direction_round_trip() {
             let bound = direction_round_trip_bound(m, unit);
             worst.record(k, err, || format!("{} -> {c:?}", describe(d)));
             ratio.record(k, err / bound, || format!("{} (err {err:.3e})", describe(d)));
-            if singular_direction(m).is_some() {
+            if matches!(m, AnyMapping::SphereMap | AnyMapping::SphereMapGl) {
                 let b = beta(m, unit);
                 let s = usize::from(m == AnyMapping::SphereMapGl);
                 if b < 0.5 {
@@ -361,6 +384,8 @@ const TENNISBALL_CRT: f64 = 2.4e-7;
 const OCTAHEDRAL_CRT: f64 = 1.4e-7;
 /// Equal-area octahedral. Worst 1.49e-7 at (0, 0.66329646, 0.14368573).
 const EQUAL_AREA_OCTAHEDRAL_CRT: f64 = 2.8e-7;
+/// Angular map. Worst 1.33e-7 at (0, 0.8706286, 0.647839).
+const ANGULAR_CRT: f64 = 2.4e-7;
 
 /// Sphere-map points this close to the rim (in r = |(u', v')|) are left out
 /// of the coordinate round trip: the whole rim is one direction, and within
@@ -368,6 +393,15 @@ const EQUAL_AREA_OCTAHEDRAL_CRT: f64 = 2.8e-7;
 /// which forward sends to (1, ½)). Between 1 − 1e-3 and 1 − 1e-6 the round
 /// trip holds with the same bound as inside.
 const SPHERE_RIM: f64 = 1e-6;
+
+/// Angular-map points this close to the rim (in r = |(u', v')|) are left
+/// out of the coordinate round trip: the whole rim is −z, and where r
+/// rounds to 1 in f32 (from r ≥ 1 − 3e-8) the point inverts to −z, which
+/// forward sends to (1, ½). Everywhere further in, however close to the
+/// rim, the round trip holds with the same bound as inside: the inverse
+/// keeps the azimuth (sin θ from the exact 1 − ρ) and forward reads it back
+/// from x and y as they are.
+const ANGULAR_RIM: f64 = 1e-7;
 
 /// How far (in the f64 quantities below) a tennisball point must be from its
 /// chart's ownership boundary for the ownership check to apply.
@@ -404,8 +438,9 @@ fn near_tennisball_ownership_boundary(theta: f32, phi: f32) -> bool {
 ///   (a tie that the z-over-y-over-x rule may give to the neighbouring face):
 ///   there a change of face is allowed, and nowhere else.
 /// * sphere maps: points with r > 1 − [`SPHERE_RIM`] are left out (the rim
-///   is the singular direction); the paraboloid is tested up to its rim
-///   (z = ±0 keeps the chart).
+///   is the singular direction), and angular-map points with
+///   r > 1 − [`ANGULAR_RIM`] (its rim is −z); the paraboloid is tested up
+///   to its rim (z = ±0 keeps the chart).
 /// * tennisball: `forward` must answer in the same chart exactly when
 ///   `tennisball::owns` says the chart owns the point (away from the
 ///   ownership boundary); owned points must round-trip. The owned fraction
@@ -447,6 +482,13 @@ fn coordinate_round_trip() {
                     }
                     uv_distance(c, c2)
                 }
+                AnyMapping::Angular => {
+                    let r = (2.0 * u64_ - 1.0).hypot(2.0 * v64 - 1.0);
+                    if r > 1.0 - ANGULAR_RIM {
+                        continue;
+                    }
+                    uv_distance(c, c2)
+                }
                 AnyMapping::Tennisball => {
                     let (theta, phi) = tennisball_angles(u, v);
                     let owned = c2.chart == c.chart;
@@ -475,6 +517,7 @@ fn coordinate_round_trip() {
                 AnyMapping::Tennisball => TENNISBALL_CRT,
                 AnyMapping::Octahedral => OCTAHEDRAL_CRT,
                 AnyMapping::EqualAreaOctahedral => EQUAL_AREA_OCTAHEDRAL_CRT,
+                AnyMapping::Angular => ANGULAR_CRT,
             };
             prop_assert!(
                 err <= bound,
@@ -543,8 +586,9 @@ const CONTINUITY_NOISE: f64 = 3e-7;
 /// * latlong: Δu is measured modulo 1 (u = 0 ≡ 1 is continuous), and steps
 ///   with an end within 2α of a pole are left out (K grows like 1/sin θ and
 ///   is taken at sin θ − α);
-/// * sphere maps: steps with an end within 2α of the singular direction are
-///   left out (K grows like 1/β and is taken at β − α);
+/// * sphere maps and the angular map: steps with an end within 2α of the
+///   singular direction are left out (K grows like 1/β and is taken at
+///   β − α);
 /// * octahedral maps: steps with an end within 2Kα + 1e-6 of the square's
 ///   outer edge (the fold seams) are left out;
 /// * cube, paraboloid, tennisball: the seams are the chart boundaries, so
@@ -570,7 +614,9 @@ fn forward_is_continuous() {
             }
             let singular_distance = |d: DVec3| match m {
                 AnyMapping::LatLong => d.x.hypot(d.y),
-                AnyMapping::SphereMap | AnyMapping::SphereMapGl => beta(m, d),
+                AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::Angular => {
+                    beta(m, d)
+                }
                 _ => PI,
             };
             let nearest = singular_distance(ua).min(singular_distance(ub)) - alpha;
@@ -584,6 +630,7 @@ fn forward_is_continuous() {
                 AnyMapping::SphereMap | AnyMapping::SphereMapGl => {
                     0.25f64.max(1.0 / (4.0 * (0.5 * nearest).sin()))
                 }
+                AnyMapping::Angular => angular_stretch(nearest),
                 _ => stretch(m, near),
             };
             if matches!(m, AnyMapping::Octahedral | AnyMapping::EqualAreaOctahedral) {
@@ -862,7 +909,7 @@ fn inverse_rejects_bad_points() {
             );
         }
         // The disks: in_chart is the closed disk r ≤ 1.
-        for m in [AnyMapping::SphereMap, AnyMapping::SphereMapGl, AnyMapping::DualParaboloid] {
+        for m in AnyMapping::ALL.into_iter().filter(|m| m.has_disk_charts()) {
             let c = chart % m.chart_count();
             let r = (2.0 * f64::from(u) - 1.0).hypot(2.0 * f64::from(v) - 1.0);
             if r > 1.0 + 1e-6 {

@@ -1,6 +1,8 @@
 //! Named cases of envmap-core: the cube's face table row by row, its edges,
 //! corners, exact ties and signed zeros; the latlong poles; the sphere map's
-//! singular direction; the tennisball seed erratum; the frame presets.
+//! singular direction; the angular map's centre, 90° ring and singular
+//! direction (with the SIMD tiers beside the core); the tennisball seed
+//! erratum; the frame presets.
 //!
 //! The generic properties are in `core_contract.rs`; these are the inputs
 //! the design calls out by name, with their exact expected outputs where the
@@ -10,10 +12,11 @@ use envmap_core::cube::select_face;
 use envmap_core::sphere_map::uv_from_normal;
 use envmap_core::tennisball;
 use envmap_core::{
-    AnyMapping, ChartUv, Cube, CubeFace, DualParaboloid, EqualAreaOctahedral, Frame, Framed,
-    LatLong, Mapping, Octahedral, SphereMap, Tennisball,
+    Angular, AnyMapping, ChartUv, Cube, CubeFace, DualParaboloid, EqualAreaOctahedral, Frame,
+    Framed, LatLong, Mapping, Octahedral, SphereMap, Tennisball,
 };
-use envmap_tests::{angle_f32, SplitMix64};
+use envmap_simd::{forward_slice, inverse_slice, Exact, Fast, Fine, Tier};
+use envmap_tests::{angle_f32, check_simd_forward, check_simd_inverse, SplitMix64};
 use glam::Vec3;
 
 fn v(x: f32, y: f32, z: f32) -> Vec3 {
@@ -460,7 +463,15 @@ fn disk_maps_stay_inside_the_disk_at_the_rim() {
             };
             [v(1e-20, 1e-20, z), v(1e-4, 1e-4, z), v(1.0, 1.0, 1e6 * z)].map(|d| (m, d))
         });
-    for (m, d) in paraboloid.into_iter().chain(sphere) {
+    let angular = [
+        v(1e-20, 1e-20, -1.0),
+        v(1e-4, 1e-4, -1.0),
+        v(1.0, 1.0, -1e6),
+        v(-3.0, 1e-30, -1e30),
+        v(0.6, -0.8, -1e7),
+    ]
+    .map(|d| (AnyMapping::Angular, d));
+    for (m, d) in paraboloid.into_iter().chain(sphere).chain(angular) {
         let c = m.forward(d).unwrap();
         if !m.in_chart(c.chart, c.u, c.v) || m.inverse(c).is_none() {
             outside.push(format!("{m}: forward({d:?}) = {c:?}"));
@@ -470,6 +481,213 @@ fn disk_maps_stay_inside_the_disk_at_the_rim() {
         outside.is_empty(),
         "outside the disk:\n{}",
         outside.join("\n")
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Angular map: centre, the 90° ring and the singular direction
+// ---------------------------------------------------------------------------------------------
+
+/// The angular map's closed form in f64, (u, v) for a direction d:
+/// ρ = angle(d, +z)/π along the azimuth of (x, y), (u, v) = ((ρ cos φ + 1)/2, (ρ sin φ + 1)/2).
+fn angular_closed_form(d: Vec3) -> (f64, f64) {
+    let (x, y, z) = (f64::from(d.x), f64::from(d.y), f64::from(d.z));
+    let s = x.hypot(y);
+    let rho = s.atan2(z) / std::f64::consts::PI;
+    let (c, sn) = if s == 0.0 { (1.0, 0.0) } else { (x / s, y / s) };
+    (0.5 * (rho * c) + 0.5, 0.5 * (rho * sn) + 0.5)
+}
+
+#[test]
+fn angular_centre_ring_and_singular_direction() {
+    let m = Angular;
+    // The view axis is the centre, and −z (with any signs of zero in x and
+    // y) the documented rim point (1, ½), at any scale.
+    for s in [1.0f32, 1e-45, 1e-30, 3e38] {
+        assert_eq!(
+            Angular::forward(Vec3::Z * s),
+            Some(ChartUv::new(0, 0.5, 0.5))
+        );
+        for (x, y) in [(0.0f32, 0.0f32), (-0.0, 0.0), (0.0, -0.0), (-0.0, -0.0)] {
+            assert_eq!(
+                Angular::forward(v(x, y, -s)),
+                Some(ChartUv::new(0, 1.0, 0.5)),
+                "({x}, {y}, -{s})"
+            );
+            assert_eq!(
+                Angular::forward(v(x, y, s)),
+                Some(ChartUv::new(0, 0.5, 0.5))
+            );
+        }
+    }
+    assert_eq!(Angular::inverse(ChartUv::new(0, 0.5, 0.5)), Some(Vec3::Z));
+    // The 90° ring (z = 0) is the circle of radius ½, exactly on the axes.
+    for (d, u, vv) in [
+        (Vec3::X, 0.75, 0.5),
+        (Vec3::NEG_X, 0.25, 0.5),
+        (Vec3::Y, 0.5, 0.75),
+        (Vec3::NEG_Y, 0.5, 0.25),
+    ] {
+        for s in [1.0f32, 1e-40, 2e38] {
+            assert_eq!(Angular::forward(d * s), Some(ChartUv::new(0, u, vv)), "{d}");
+        }
+        let back = Angular::inverse(ChartUv::new(0, u, vv)).unwrap();
+        assert!(angle_f32(back, d) < 1e-7, "({u}, {vv}) -> {back}");
+    }
+    for j in 0..16 {
+        let az = f64::from(j) * std::f64::consts::TAU / 16.0 + 0.01;
+        let d = v(az.cos() as f32, az.sin() as f32, 0.0);
+        let c = Angular::forward(d).unwrap();
+        let r = (2.0 * f64::from(c.u) - 1.0).hypot(2.0 * f64::from(c.v) - 1.0);
+        // Measured: 6.7e-8 (f32 steps of u and v are 6e-8 above ½).
+        assert!((r - 0.5).abs() < 1.2e-7, "{d}: r = {r}");
+    }
+    // Every rim point inverts to −z: exactly where the point is exact in
+    // binary, within π times its f32 distance from the rim elsewhere.
+    for (u, vv) in [(1.0, 0.5), (0.0, 0.5), (0.5, 0.0), (0.5, 1.0)] {
+        assert!(m.in_chart(0, u, vv));
+        assert_eq!(Angular::inverse(ChartUv::new(0, u, vv)), Some(Vec3::NEG_Z));
+    }
+    for j in 0..64 {
+        let t = f64::from(j) * std::f64::consts::TAU / 64.0;
+        let (u, vv) = ((0.5 + 0.5 * t.cos()) as f32, (0.5 + 0.5 * t.sin()) as f32);
+        if let Some(d) = Angular::inverse(ChartUv::new(0, u, vv)) {
+            // Measured: 1.9e-7.
+            assert!(angle_f32(d, Vec3::NEG_Z) < 4e-7, "({u}, {vv}): {d}");
+        }
+    }
+    // Next to the singular direction: at angle β the point is at
+    // ρ = 1 − β/π, at the direction's own azimuth, inside the disk (an
+    // equidistant map does not squeeze the rim as a sphere map does).
+    for k in 1..=12 {
+        let beta = 10f64.powi(-k);
+        for j in 0..8 {
+            let az = f64::from(j) * std::f64::consts::FRAC_PI_4 + 0.1;
+            let d = v(
+                (beta.sin() * az.cos()) as f32,
+                (beta.sin() * az.sin()) as f32,
+                -beta.cos() as f32,
+            );
+            let c = Angular::forward(d).unwrap();
+            assert!(m.in_chart(0, c.u, c.v), "β = {beta:e}: {c:?}");
+            let (x, y) = (2.0 * f64::from(c.u) - 1.0, 2.0 * f64::from(c.v) - 1.0);
+            let r = x.hypot(y);
+            // Measured: |Δr| up to 1.5e-7, the azimuth within 8.5e-8, the
+            // round trip within 5.0e-7 rad (at β = 1e-6).
+            let want = 1.0 - beta / std::f64::consts::PI;
+            assert!(
+                (r - want).abs() < 2.5e-7,
+                "β = {beta:e}: r = {r}, want {want}"
+            );
+            let az_err = ((y.atan2(x) - az + std::f64::consts::PI)
+                .rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI)
+                .abs();
+            assert!(az_err < 1e-6, "β = {beta:e}, azimuth {az}: {c:?}");
+            let back = Angular::inverse(c).unwrap();
+            assert!(angle_f32(back, d) < 1e-6, "β = {beta:e}: {d} -> {back}");
+        }
+    }
+    // Against the closed form at named directions (exact: the axes, the
+    // ring, 60° and 120° from +z, the diagonals).
+    let h = 0.5f32;
+    let r3 = 0.75f32.sqrt();
+    let named = [
+        v(r3, 0.0, h),
+        v(0.0, -r3, -h),
+        v(1.0, 1.0, 0.0),
+        v(-1.0, 1.0, 1.0),
+        v(1.0, -1.0, -1.0),
+        v(1e-30, 0.0, -1.0),
+        v(0.0, -1e-38, -1.0),
+        v(-1e-45, 1e-45, -1.0),
+        v(3e-39, 1e-39, 1.0),
+    ];
+    for d in named {
+        let c = Angular::forward(d).unwrap();
+        let (u, vv) = angular_closed_form(d);
+        let e = (f64::from(c.u) - u).abs().max((f64::from(c.v) - vv).abs());
+        // Measured: 3.2e-8 (at (−1, 1, 1)); the bound is two f32 steps.
+        assert!(e < 1.2e-7, "{d}: {c:?} vs ({u}, {vv})");
+    }
+    // The SIMD tiers agree with the core on every named input, forward and
+    // inverse (the tier's bound, and the documented points exactly).
+    let mut dirs = vec![
+        Vec3::Z,
+        Vec3::NEG_Z,
+        v(-0.0, -0.0, -1.0),
+        v(0.0, -0.0, 1e-30),
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+    ];
+    dirs.extend(named);
+    let points = [
+        ChartUv::new(0, 0.5, 0.5),
+        ChartUv::new(0, 0.75, 0.5),
+        ChartUv::new(0, 0.5, 0.75),
+        ChartUv::new(0, 1.0, 0.5),
+        ChartUv::new(0, 0.0, 0.5),
+        ChartUv::new(0, 0.5, 0.0),
+        ChartUv::new(0, 0.5, 1.0),
+        ChartUv::new(0, 0.0, 0.0),
+        ChartUv::new(1, 0.5, 0.5),
+    ];
+    fn tier<T: Tier>(dirs: &[Vec3], points: &[ChartUv]) {
+        let m = AnyMapping::Angular;
+        let mut out = vec![ChartUv::default(); dirs.len()];
+        forward_slice::<_, T>(&m, dirs, &mut out);
+        for (d, got) in dirs.iter().zip(&out) {
+            check_simd_forward(m, T::NAME, *d, *got).unwrap();
+        }
+        // The documented points themselves, bit for bit at every tier.
+        for k in 0..4 {
+            assert_eq!(Some(out[k]), m.forward(dirs[k]), "{} {}", T::NAME, dirs[k]);
+        }
+        let mut back = vec![Vec3::ZERO; points.len()];
+        inverse_slice::<_, T>(&m, points, &mut back);
+        for (c, got) in points.iter().zip(&back) {
+            check_simd_inverse(m, T::NAME, *c, *got).unwrap();
+        }
+        assert_eq!(back[0], Vec3::Z, "{}", T::NAME);
+        for d in &back[3..7] {
+            assert_eq!(*d, Vec3::NEG_Z, "{}", T::NAME);
+        }
+    }
+    tier::<Exact>(&dirs, &points);
+    tier::<Fine>(&dirs, &points);
+    tier::<Fast>(&dirs, &points);
+}
+
+/// Names the command line accepts for the angular map and the mirror ball.
+#[test]
+fn angular_and_mirror_ball_names() {
+    for name in [
+        "angular",
+        "light-probe",
+        "lightprobe",
+        "Light-Probe",
+        "ANGULAR",
+    ] {
+        assert_eq!(
+            name.parse::<AnyMapping>(),
+            Ok(AnyMapping::Angular),
+            "{name}"
+        );
+    }
+    for name in ["mirror-ball", "mirrorball", "Mirror-Ball"] {
+        assert_eq!(
+            name.parse::<AnyMapping>(),
+            Ok(AnyMapping::SphereMapGl),
+            "{name}"
+        );
+    }
+    assert_eq!(AnyMapping::Angular.to_string(), "angular");
+    assert!(AnyMapping::Angular.has_disk_charts());
+    assert_eq!(
+        AnyMapping::Angular.atlas(),
+        envmap_core::Atlas::SINGLE_SQUARE
     );
 }
 

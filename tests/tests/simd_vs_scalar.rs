@@ -43,8 +43,9 @@ fn count() -> usize {
 }
 
 /// Named hard cases: axes, cube edges and corners (exact ties), signed zeros,
-/// poles, the sphere maps' singular directions, tennisball boundaries, tiny,
-/// huge and denormal components, and bad input.
+/// poles, the sphere maps' and the angular map's singular directions and
+/// their neighbourhoods, tennisball boundaries, tiny, huge and denormal
+/// components, and bad input.
 fn hard_cases() -> Vec<Vec3> {
     let s = std::f32::consts::FRAC_1_SQRT_2;
     let mut v = vec![
@@ -66,6 +67,11 @@ fn hard_cases() -> Vec<Vec3> {
         Vec3::new(1e-45, 1e-45, 1e-45),
         Vec3::new(1e-45, -1e-45, 0.0),
         Vec3::new(3e-39, 1.0e-39, -2e-39),
+        Vec3::new(-1e-45, 0.0, -1.0),
+        Vec3::new(1e-20, -3e-20, -1.0),
+        Vec3::new(-2e-4, 1e-4, -1.0),
+        Vec3::new(1.0, -1.0, -1e7),
+        Vec3::new(-3e-39, 1e-39, -1e30),
         Vec3::new(s, s, 0.0),
         Vec3::new(s, 0.0, -s),
         Vec3::new(0.0, s, s),
@@ -259,6 +265,10 @@ fn octahedral() {
 #[test]
 fn equal_area_octahedral() {
     all_tiers(AnyMapping::EqualAreaOctahedral);
+}
+#[test]
+fn angular() {
+    all_tiers(AnyMapping::Angular);
 }
 
 /// Slices of awkward lengths give the same result as the scalar core in each

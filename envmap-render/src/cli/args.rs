@@ -5,6 +5,9 @@ use std::path::Path;
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, Frame};
 
+use crate::image::convention::{Convention, World};
+use crate::image::face_ops::FaceTransforms;
+use crate::image::io::FaceNames;
 use crate::image::layout::Layout;
 use crate::image::Representation;
 use crate::scene::render::Mode;
@@ -38,15 +41,24 @@ pub(crate) fn parse_layout(s: &str) -> Result<Layout, String> {
     s.parse::<Layout>().map_err(|e| e.to_string())
 }
 
-pub(crate) fn parse_frame(s: &str) -> Result<Frame, String> {
-    match s.to_ascii_lowercase().as_str() {
-        "z-up" | "zup" | "z-up-rh" => Ok(Frame::Z_UP_RH),
-        "y-up" | "yup" | "y-up-rh" | "gl" | "gltf" => Ok(Frame::Y_UP_RH),
-        "y-up-lh" | "d3d" | "unity" => Ok(Frame::Y_UP_LH),
-        _ => Err(format!(
-            "unknown frame '{s}'; expected z-up, y-up (OpenGL, glTF) or y-up-lh (Direct3D, Unity)"
-        )),
-    }
+/// `--frame`, `--from-frame`, `--to-frame`: the world (y-up, y-up-lh, z-up).
+pub(crate) fn parse_world(s: &str) -> Result<World, String> {
+    s.parse::<World>().map_err(|e| e.to_string())
+}
+
+/// `--convention`: a preset of file conventions.
+pub(crate) fn parse_convention(s: &str) -> Result<Convention, String> {
+    s.parse::<Convention>().map_err(|e| e.to_string())
+}
+
+/// `--face-names`: a naming scheme of a cube's six files.
+pub(crate) fn parse_face_names(s: &str) -> Result<FaceNames, String> {
+    s.parse::<FaceNames>().map_err(|e| e.to_string())
+}
+
+/// `--face-transform`: `face:op[,face:op...]`.
+pub(crate) fn parse_face_transforms(s: &str) -> Result<FaceTransforms, String> {
+    s.parse::<FaceTransforms>().map_err(|e| e.to_string())
 }
 
 /// `yaw,pitch,roll` in degrees.

@@ -9,15 +9,19 @@ use envmap_core::{AnyMapping, Frame};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli::args::{
-    load_error, output_size, parse_frame, parse_layout, parse_mapping, parse_rotation,
-    warn_replaced, CliResult,
+    load_error, output_size, parse_convention, parse_face_names, parse_face_transforms,
+    parse_layout, parse_mapping, parse_rotation, parse_world, warn_replaced, CliResult,
 };
 use crate::filter::convert::{auto_samples, convert, ConvertOptions};
 use crate::filter::sample::Filter;
+use crate::image::convention::{Convention, FileAxes, World};
+use crate::image::face_ops::FaceTransforms;
+use crate::image::io::FaceNames;
 use crate::image::io::{
     load_detailed, save, ExrPrecision, LoadOptions, Loaded, NonFinite, SaveOptions,
 };
 use crate::image::layout::Layout;
+use crate::image::metadata;
 use crate::image::{EnvImage, Representation};
 
 #[derive(Args)]
@@ -26,7 +30,7 @@ pub(crate) struct ConvertArgs {
     pub(crate) input: PathBuf,
     /// Output file (.png, .hdr, .exr); `{face}` in the name, or --layout faces, writes six files.
     pub(crate) output: PathBuf,
-    /// Output mapping: latlong, cube, sphere, sphere-gl, paraboloid, tennisball, octahedral, octahedral-equal-area.
+    /// Output mapping: latlong, cube, sphere, sphere-gl, paraboloid, tennisball, octahedral, octahedral-equal-area, angular (light-probe).
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) to: AnyMapping,
     /// Output layout (cube: cross, vcross, strip, vstrip, faces); default: the mapping's own.
@@ -41,12 +45,31 @@ pub(crate) struct ConvertArgs {
     /// Input layout, when the aspect ratio does not say.
     #[arg(long, value_parser = parse_layout)]
     pub(crate) from_layout: Option<Layout>,
-    /// Axis convention of the input's directions.
-    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
-    pub(crate) from_frame: Frame,
-    /// Axis convention of the output's directions.
-    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
-    pub(crate) to_frame: Frame,
+    /// The world the input file's conventions are in: y-up (the GL world), y-up-lh, or z-up (envmap's canonical frame: the mapping's formula on the directions as given, the behaviour before file conventions).
+    /// Default: what the input file says of itself (files envmap wrote), else y-up.
+    #[arg(long, value_parser = parse_world)]
+    pub(crate) from_frame: Option<World>,
+    /// The world the output file's conventions are in (as --from-frame; default y-up).
+    #[arg(long, value_parser = parse_world)]
+    pub(crate) to_frame: Option<World>,
+    /// File conventions of both files: envmap (the default: cube files in the GL world, a latlong as cmgen --no-mirror and py360convert read it), cmgen, py360convert, blender, three, gltf-ibl-sampler, bevy, unity, pbrt.
+    #[arg(long, value_parser = parse_convention)]
+    pub(crate) convention: Option<Convention>,
+    /// File conventions of the input only (overrides --convention).
+    #[arg(long, value_parser = parse_convention)]
+    pub(crate) from_convention: Option<Convention>,
+    /// File conventions of the output only (overrides --convention).
+    #[arg(long, value_parser = parse_convention)]
+    pub(crate) to_convention: Option<Convention>,
+    /// Names of an output cube's six files: +x (sky_+x.exr ...), px (px nx py ny pz nz), posx (posx negx ...), words (right left top bottom front back), index (0 ... 5), frblud (R L U D F B); default: the scheme of a face name in OUT, else +x.
+    #[arg(long, value_parser = parse_face_names)]
+    pub(crate) face_names: Option<FaceNames>,
+    /// How the input cube's faces are turned against GL's, e.g. +x:rot90,-z:flipx (ops rot90, rot180, rot270, flipx, flipy, transpose).
+    #[arg(long, value_parser = parse_face_transforms, allow_hyphen_values = true)]
+    pub(crate) from_face_transform: Option<FaceTransforms>,
+    /// How to turn the output cube's faces against GL's (as --from-face-transform).
+    #[arg(long, value_parser = parse_face_transforms, allow_hyphen_values = true)]
+    pub(crate) face_transform: Option<FaceTransforms>,
     /// Reconstruction filter: nearest or bilinear.
     #[arg(long, default_value = "bilinear")]
     pub(crate) filter: Filter,
@@ -98,6 +121,27 @@ fn default_size(repr: &Representation, input_texels: u64) -> u32 {
     }
 }
 
+/// The input file's axes, as the flags give them; `None` when no flag
+/// says (the file's own word, else the default).
+fn input_axes(a: &ConvertArgs) -> Option<FileAxes> {
+    let convention = a.from_convention.or(a.convention);
+    if convention.is_none() && a.from_frame.is_none() {
+        return None;
+    }
+    Some(FileAxes::Convention(
+        convention.unwrap_or_default(),
+        a.from_frame.unwrap_or_default(),
+    ))
+}
+
+/// The output file's axes, as the flags give them.
+fn output_axes(a: &ConvertArgs) -> FileAxes {
+    FileAxes::Convention(
+        a.to_convention.or(a.convention).unwrap_or_default(),
+        a.to_frame.unwrap_or_default(),
+    )
+}
+
 fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), String> {
     let layout = a.layout.unwrap_or_else(|| {
         if a.output.to_string_lossy().contains("{face}") && a.to == AnyMapping::Cube {
@@ -117,7 +161,8 @@ fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), Stri
     }
     let six = layout.is_six_files();
     Ok((
-        Representation::new(a.to, layout.atlas(), a.to_frame).map_err(|e| e.to_string())?,
+        Representation::new(a.to, layout.atlas(), output_axes(a).frame(a.to))
+            .map_err(|e| e.to_string())?,
         six,
     ))
 }
@@ -145,7 +190,8 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
     let opts = LoadOptions {
         mapping: a.from,
         layout: a.from_layout,
-        frame: a.from_frame,
+        axes: input_axes(a),
+        face_transforms: a.from_face_transform.unwrap_or_default(),
         max_texels: a.max_megatexels.saturating_mul(1_000_000),
         non_finite: NonFinite::Zero,
         cancel: Some(stop),
@@ -209,6 +255,7 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
     // The input is no longer needed: free it before encoding, which may
     // need buffers of its own.
     let (src_w, src_h, src_mapping) = (src.width(), src.height(), src.mapping());
+    let src_axes = metadata::identify(src_mapping, src.representation().frame);
     drop(src);
     bar.finish_and_clear();
     let sopts = SaveOptions {
@@ -221,6 +268,8 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         six_files: six,
         inputs,
         overwrite_input: a.overwrite_input,
+        face_names: a.face_names,
+        face_transforms: a.face_transform.unwrap_or_default(),
         cancel: Some(stop),
     };
     stage(format!("saving {}", a.output.display()));
@@ -250,6 +299,8 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
             t_convert.as_secs_f64() * 1e3,
             t_save.as_secs_f64() * 1e3,
         );
+        eprintln!("  input axes:  {}", src_axes.describe(src_mapping));
+        eprintln!("  output axes: {}", output_axes(a).describe(repr.mapping));
     }
     Ok(())
 }

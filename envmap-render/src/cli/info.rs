@@ -7,9 +7,15 @@ use std::sync::atomic::AtomicBool;
 use clap::Args;
 use envmap_core::{AnyMapping, Mapping};
 
-use crate::cli::args::{load_error, parse_layout, parse_mapping, CliResult};
+use crate::cli::args::{
+    load_error, parse_convention, parse_face_transforms, parse_layout, parse_mapping, parse_world,
+    CliResult,
+};
+use crate::image::convention::{Convention, FileAxes, World};
+use crate::image::face_ops::FaceTransforms;
 use crate::image::io::{load_detailed, LoadOptions};
 use crate::image::layout::Layout;
+use crate::image::metadata;
 use crate::image::EnvImage;
 
 #[derive(Args)]
@@ -22,15 +28,32 @@ pub(crate) struct InfoArgs {
     /// Layout, when the aspect ratio does not say.
     #[arg(long, value_parser = parse_layout)]
     pub(crate) layout: Option<Layout>,
+    /// The world the file's conventions are in: y-up (the GL world), y-up-lh or z-up; default: what the file says of itself, else y-up.
+    #[arg(long, value_parser = parse_world)]
+    pub(crate) frame: Option<World>,
+    /// The file's conventions (see `envmap convert --help`); default: what the file says, else envmap.
+    #[arg(long, value_parser = parse_convention)]
+    pub(crate) convention: Option<Convention>,
+    /// How the cube's faces are turned against GL's (see `envmap convert --help`).
+    #[arg(long, value_parser = parse_face_transforms, allow_hyphen_values = true)]
+    pub(crate) face_transform: Option<FaceTransforms>,
     /// Largest image accepted, in millions of texels.
     #[arg(long, default_value_t = 268)]
     pub(crate) max_megatexels: u64,
 }
 
 pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
+    let given = (a.frame.is_some() || a.convention.is_some()).then(|| {
+        FileAxes::Convention(
+            a.convention.unwrap_or_default(),
+            a.frame.unwrap_or_default(),
+        )
+    });
     let opts = LoadOptions {
         mapping: a.from,
         layout: a.layout,
+        axes: given,
+        face_transforms: a.face_transform.unwrap_or_default(),
         max_texels: a.max_megatexels.saturating_mul(1_000_000),
         cancel: Some(stop),
         ..LoadOptions::default()
@@ -72,6 +95,19 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
                 } else {
                     "s"
                 }
+            ),
+        )?;
+        let whence = match (given, loaded.metadata.axes) {
+            (Some(_), _) => "as given",
+            (None, Some(_)) => "as the file says",
+            (None, None) => "the default: the file does not say",
+        };
+        p(
+            &mut out,
+            "axes",
+            format!(
+                "{} ({whence})",
+                metadata::identify(repr.mapping, repr.frame).describe(repr.mapping)
             ),
         )?;
         p(

@@ -11,9 +11,12 @@ use clap::Args;
 use envmap_core::{AnyMapping, Frame, Mapping};
 
 use crate::cancel;
-use crate::cli::args::{output_size, parse_frame, parse_layout, parse_mapping, CliResult};
+use crate::cli::args::{
+    output_size, parse_convention, parse_layout, parse_mapping, parse_world, CliResult,
+};
 use crate::cli::text::{MapLines, UnmapLines};
 use crate::error::Error;
+use crate::image::convention::{Convention, World};
 use crate::image::layout::Layout;
 use crate::image::Representation;
 
@@ -22,9 +25,12 @@ pub(crate) struct MapArgs {
     /// The mapping.
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) mapping: AnyMapping,
-    /// Axis convention of the input directions.
-    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
-    pub(crate) frame: Frame,
+    /// The world of the directions read: y-up (the GL world: the mapping as its files use it, so GL's vectors give GL's cube face), y-up-lh, or z-up (envmap's canonical frame: the mapping's formula on the directions as given).
+    #[arg(long, value_parser = parse_world, default_value = "y-up")]
+    pub(crate) frame: World,
+    /// File conventions of the mapping (see `envmap convert --help`).
+    #[arg(long, value_parser = parse_convention, default_value = "envmap")]
+    pub(crate) convention: Convention,
     /// Also print the texel x,y in an atlas of this size (cube: face edge; others: width).
     #[arg(long)]
     pub(crate) size: Option<u32>,
@@ -40,11 +46,21 @@ pub(crate) struct UnmapArgs {
     /// The mapping.
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) mapping: AnyMapping,
-    /// Axis convention of the output directions.
-    #[arg(long, value_parser = parse_frame, default_value = "z-up")]
-    pub(crate) frame: Frame,
+    /// The world of the directions printed (as `map --frame`).
+    #[arg(long, value_parser = parse_world, default_value = "y-up")]
+    pub(crate) frame: World,
+    /// File conventions of the mapping (see `envmap convert --help`).
+    #[arg(long, value_parser = parse_convention, default_value = "envmap")]
+    pub(crate) convention: Convention,
     /// Read from this file instead of standard input.
     pub(crate) input: Option<PathBuf>,
+}
+
+/// The directions' axes (`world`) → the axes `mapping`'s formula is
+/// applied in, as its files in `convention` use it.
+fn directions_frame(mapping: AnyMapping, convention: Convention, world: World) -> Frame {
+    let file = convention.frame(mapping, world);
+    world.frame().then(file.inverse())
 }
 
 /// Lines of the input (a file or standard input), with its display name.
@@ -101,18 +117,27 @@ pub(crate) fn run_map(a: &MapArgs, stop: &AtomicBool) -> CliResult {
     };
     let size = match a.size {
         Some(n) => {
-            let repr = Representation::new(a.mapping, atlas, a.frame).map_err(|e| e.to_string())?;
+            let repr = Representation::new(a.mapping, atlas, Frame::IDENTITY)
+                .map_err(|e| e.to_string())?;
             Some(output_size(&repr, n)?)
         }
         None => None,
     };
-    let parser = MapLines::new(a.mapping, a.frame, atlas, size);
+    let parser = MapLines::new(
+        a.mapping,
+        directions_frame(a.mapping, a.convention, a.frame),
+        atlas,
+        size,
+    );
     write_rows(&name, &lines, parser.header(), |l| parser.line(l), stop)
 }
 
 pub(crate) fn run_unmap(a: &UnmapArgs, stop: &AtomicBool) -> CliResult {
     let (name, lines) = read_lines(a.input.as_deref(), stop)?;
-    let parser = UnmapLines::new(a.mapping, a.frame);
+    let parser = UnmapLines::new(
+        a.mapping,
+        directions_frame(a.mapping, a.convention, a.frame),
+    );
     write_rows(&name, &lines, parser.header(), |l| parser.line(l), stop)
 }
 

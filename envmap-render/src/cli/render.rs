@@ -9,9 +9,11 @@ use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
 
 use crate::cli::args::{
-    load_error, output_size, parse_mapping, parse_mode, parse_vec3, warn_replaced, CliResult,
+    load_error, output_size, parse_convention, parse_mapping, parse_mode, parse_vec3, parse_world,
+    warn_replaced, CliResult,
 };
 use crate::filter::sample::Filter;
+use crate::image::convention::{Convention, FileAxes, World};
 use crate::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
 use crate::image::Representation;
 use crate::scene::environments::Builtin;
@@ -49,12 +51,18 @@ pub(crate) struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 480)]
     pub(crate) height: u32,
-    /// Camera position x,y,z (z up).
+    /// Camera position x,y,z in the world of --frame (default: 0,4,9.5 in the GL world, in front of the teapot and a little above).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub(crate) eye: Option<Vec3>,
-    /// The point looked at x,y,z.
+    /// The point looked at x,y,z (default: 0,1.4,0 in the GL world).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub(crate) target: Option<Vec3>,
+    /// The world of --eye and --target and of the environment file's conventions: y-up (the GL world), y-up-lh or z-up (envmap's canonical frame, where the teapot stands on z = 0).
+    #[arg(long, value_parser = parse_world)]
+    pub(crate) frame: Option<World>,
+    /// The environment file's conventions (see `envmap convert --help`; default: what the file says, else envmap); built-in environments are stored in them too.
+    #[arg(long, value_parser = parse_convention)]
+    pub(crate) convention: Option<Convention>,
     /// Vertical field of view in degrees.
     #[arg(long, default_value_t = 35.0)]
     pub(crate) fov: f32,
@@ -88,10 +96,18 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     if a.fresnel.is_some_and(|f| !(0.0..=1.0).contains(&f)) {
         return Err("--fresnel must be between 0 and 1".into());
     }
+    let given = (a.frame.is_some() || a.convention.is_some()).then(|| {
+        FileAxes::Convention(
+            a.convention.unwrap_or_default(),
+            a.frame.unwrap_or_default(),
+        )
+    });
+    let axes = given.unwrap_or_default();
     let builtin = a.env.parse::<Builtin>().ok();
     let env = match builtin {
         Some(b) if !a.analytic => {
-            let repr = Representation::default_for(a.mapping.unwrap_or(AnyMapping::Cube));
+            let mapping = a.mapping.unwrap_or(AnyMapping::Cube);
+            let repr = Representation::for_file(mapping, axes);
             let (w, h) = output_size(&repr, a.env_size)?;
             Some(b.image(repr, w, h).map_err(|e| e.to_string())?)
         }
@@ -105,6 +121,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
             }
             let opts = LoadOptions {
                 mapping: a.from,
+                axes: given,
                 non_finite: NonFinite::Zero,
                 max_texels: a.max_megatexels.saturating_mul(1_000_000),
                 cancel: Some(stop),
@@ -137,10 +154,13 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
             *p += lift;
         }
     }
+    // The renderer works in envmap's canonical axes (z up), where the
+    // meshes are made; --eye and --target are in the world of --frame.
     let def = Camera::default();
+    let world = a.frame.unwrap_or_default().frame();
     let cam = Camera {
-        eye: a.eye.unwrap_or(def.eye),
-        target: a.target.unwrap_or(def.target),
+        eye: a.eye.map_or(def.eye, |e| world.to_canonical(e)),
+        target: a.target.map_or(def.target, |t| world.to_canonical(t)),
         up: Vec3::Z,
         fov_y_deg: a.fov,
     };

@@ -235,6 +235,10 @@ pub fn convert_into(
                     let $name = envmap_core::EqualAreaOctahedral;
                     $body
                 }
+                AnyMapping::Angular => {
+                    let $name = envmap_core::Angular;
+                    $body
+                }
             }
         };
     }

@@ -5,7 +5,7 @@
 //! | --- | --- |
 //! | latlong | wraps in u; across a pole it continues half a turn round (row −1 is row 0 shifted by w/2) |
 //! | cube | steps onto the neighbouring face (the texel whose centre the extended face plane points at), as GL's seamless cube maps do; at a corner the missing texel is the average of the three texels that meet there |
-//! | sphere maps, paraboloid | stays inside the rim: texels whose centres lie outside the disk get no weight (the rest are renormalised), and points are pulled inside the last ring of texels |
+//! | sphere maps, paraboloid, angular map | stays inside the rim: texels whose centres lie outside the disk get no weight (the rest are renormalised), and points are pulled inside the last ring of texels |
 //! | tennisball | is clamped to its own strip (the strips overlap, so the texels needed exist inside it) |
 //! | octahedral maps | folds across the square's edges, which is where the unfolded octahedron continues: row −1 at column i is row 0 at column w − 1 − i |
 //!
@@ -575,7 +575,10 @@ impl<'a> Sampler<'a> {
                 }
                 Some(self.texel(0, i.clamp(0, w - 1) as u32, j.clamp(0, h - 1) as u32))
             }
-            AnyMapping::SphereMap | AnyMapping::SphereMapGl | AnyMapping::DualParaboloid => {
+            AnyMapping::SphereMap
+            | AnyMapping::SphereMapGl
+            | AnyMapping::DualParaboloid
+            | AnyMapping::Angular => {
                 // The disk charts (`has_disk_charts`).
                 if !inside {
                     return None;

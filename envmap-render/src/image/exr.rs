@@ -8,6 +8,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::image::envimage::{check_size, RgbImage};
 use crate::image::io::{decode_error, FileFormat, Source, SourceFormat, View};
+use crate::image::metadata;
 
 /// Sample type of OpenEXR output.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -85,6 +86,7 @@ pub(super) fn read(
         return Err(decode_error(path, format, "deep data is not supported"));
     }
     let (width, height) = exr_size(path, header)?;
+    let tags = tags(header);
     let n = check_size(width, height, 1, max_texels).map_err(|e| e.in_file(path))?;
 
     let channels: Vec<String> = header
@@ -160,46 +162,78 @@ pub(super) fn read(
         SourceFormat {
             format,
             pixel_format,
+            tags,
         },
     ))
 }
 
-/// Writes `view` as an OpenEXR file of RGB channels in `precision`.
+/// How envmap writes OpenEXR: run-length compressed scan lines in
+/// increasing order. Tiled files with chunks in any order (the `exr`
+/// crate's `FAST_LOSSLESS`) are read wrongly by some readers (Filament's
+/// cmgen shifts their rows); scan lines in order are what every reader
+/// handles, and RLE keeps the writing as fast.
+const ENCODING: ::exr::prelude::Encoding = ::exr::prelude::Encoding {
+    compression: ::exr::prelude::Compression::RLE,
+    blocks: ::exr::prelude::Blocks::ScanLines,
+    line_order: ::exr::prelude::LineOrder::Increasing,
+};
+
+/// Writes `view` as an OpenEXR file of RGB channels in `precision`, with
+/// its tags as text attributes of the layer, its description as the
+/// `comments` attribute and envmap as the `software` attribute (text made
+/// ASCII, as EXR text attributes hold Latin-1).
 pub(super) fn encode<W: Write + Seek>(
     path: &Path,
     view: View<'_>,
     precision: ExrPrecision,
     out: &mut W,
 ) -> Result<()> {
-    use ::exr::prelude::{f16, Encoding, Image, SpecificChannels, Vec2, WritableImage};
+    use ::exr::meta::attribute::{AttributeValue, Text};
+    use ::exr::prelude::{f16, Image, SpecificChannels, Vec2, WritableImage};
     let w = view.width as usize;
     let size = (w, view.height as usize);
     let px = view.pixels;
+    let text = |s: &str| Text::new_or_none(metadata::ascii(s));
+    let describe = |attributes: &mut ::exr::meta::header::LayerAttributes| {
+        attributes.software_name = text(&metadata::software());
+        if !view.description.is_empty() {
+            attributes.comments = text(view.description);
+        }
+        for (k, v) in view.tags {
+            if let (Some(k), Some(v)) = (text(k), text(v)) {
+                attributes.other.insert(k, AttributeValue::Text(v));
+            }
+        }
+    };
     let result = match precision {
-        ExrPrecision::F32 => Image::from_encoded_channels(
-            size,
-            Encoding::FAST_LOSSLESS,
-            SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
-                let p = px[y * w + x];
-                (p[0], p[1], p[2])
-            }),
-        )
-        .write()
-        .to_buffered(&mut *out),
-        ExrPrecision::F16 => Image::from_encoded_channels(
-            size,
-            Encoding::FAST_LOSSLESS,
-            SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
-                let p = px[y * w + x];
-                (
-                    f16::from_f32(p[0]),
-                    f16::from_f32(p[1]),
-                    f16::from_f32(p[2]),
-                )
-            }),
-        )
-        .write()
-        .to_buffered(&mut *out),
+        ExrPrecision::F32 => {
+            let mut image = Image::from_encoded_channels(
+                size,
+                ENCODING,
+                SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+                    let p = px[y * w + x];
+                    (p[0], p[1], p[2])
+                }),
+            );
+            describe(&mut image.layer_data.attributes);
+            image.write().to_buffered(&mut *out)
+        }
+        ExrPrecision::F16 => {
+            let mut image = Image::from_encoded_channels(
+                size,
+                ENCODING,
+                SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+                    let p = px[y * w + x];
+                    (
+                        f16::from_f32(p[0]),
+                        f16::from_f32(p[1]),
+                        f16::from_f32(p[2]),
+                    )
+                }),
+            );
+            describe(&mut image.layer_data.attributes);
+            image.write().to_buffered(&mut *out)
+        }
     };
     result.map_err(|e| match e {
         ::exr::error::Error::Io(io) => Error::write(path, io),
@@ -209,4 +243,22 @@ pub(super) fn encode<W: Write + Seek>(
             message: other.to_string(),
         },
     })
+}
+
+/// The `envmap.*` text attributes of a layer.
+pub(super) fn tags(header: &::exr::meta::header::Header) -> Vec<(String, String)> {
+    use ::exr::meta::attribute::AttributeValue;
+    let mut t: Vec<(String, String)> = header
+        .own_attributes
+        .other
+        .iter()
+        .filter_map(|(k, v)| match v {
+            AttributeValue::Text(v) if k.to_string().starts_with("envmap.") => {
+                Some((k.to_string(), v.to_string()))
+            }
+            _ => None,
+        })
+        .collect();
+    t.sort();
+    t
 }

@@ -44,6 +44,7 @@ pub(super) fn read(
     let source = SourceFormat {
         format,
         pixel_format: "RGBE (shared 8-bit exponent), linear".to_owned(),
+        tags: Vec::new(),
     };
     Ok((rgb, source))
 }

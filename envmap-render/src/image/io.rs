@@ -65,18 +65,24 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
 use ::image::{DynamicImage, ImageDecoder, ImageReader};
-use envmap_core::{AnyMapping, Frame};
+use envmap_core::AnyMapping;
 
 use crate::cancel::{self, Cancellable};
 use crate::error::{Error, Result};
 use crate::image::atomic::TempWriter;
+use crate::image::convention::FileAxes;
 use crate::image::envimage::{check_size, EnvImage, RgbImage, DEFAULT_MAX_TEXELS};
+use crate::image::face_ops::FaceTransforms;
 use crate::image::layout::{resolve, Layout, Representation};
-use crate::image::{exr, faces, hdr, png_jpeg};
+use crate::image::metadata::FileMetadata;
+use crate::image::{exr, faces, hdr, metadata, png_jpeg};
 
 pub use crate::image::atomic::Outputs;
 pub use crate::image::exr::ExrPrecision;
-pub use crate::image::faces::{face_of_name, face_paths, is_face_pattern, FACE_PLACEHOLDER};
+pub use crate::image::faces::{
+    face_name, face_of_name, face_paths, face_paths_named, is_face_pattern, FaceName, FaceNames,
+    FACE_PLACEHOLDER,
+};
 pub use crate::image::srgb::{linear_to_srgb, linear_to_srgb8, srgb_to_linear};
 
 /// An image file format, chosen by extension.
@@ -143,6 +149,9 @@ pub struct SourceFormat {
     /// The stored pixels, e.g. `"16-bit sRGB RGBA (alpha dropped)"` or
     /// `"f16 RGBA (channels R, G, B, A; A ignored)"`.
     pub pixel_format: String,
+    /// The `envmap.*` text the file holds (OpenEXR attributes, PNG text
+    /// chunks), key and value, sorted by key; see [`crate::image::metadata`].
+    pub tags: Vec<(String, String)>,
 }
 
 /// How to load an environment map.
@@ -153,13 +162,21 @@ pub struct LoadOptions<'a> {
     pub mapping: Option<AnyMapping>,
     /// The layout, if known; [`Layout::Faces`] loads six files.
     pub layout: Option<Layout>,
-    /// The axis convention to tag the image with.
-    pub frame: Frame,
+    /// The file's axes; `None` for the ones the file states
+    /// ([`crate::image::metadata`]) or, where it states none, the default,
+    /// [`FileAxes::default`] (envmap's convention in the GL world: see
+    /// [`crate::image::convention`]). A mapping or layout the file states is
+    /// likewise used where [`LoadOptions::mapping`] and
+    /// [`LoadOptions::layout`] are `None`.
+    pub axes: Option<FileAxes>,
     /// Largest image accepted, in texels (all six faces together for a
     /// six-file cube); checked before allocating.
     pub max_texels: u64,
     /// What to do with texels that hold a NaN or infinite value.
     pub non_finite: NonFinite,
+    /// For a cube: how the file's faces are turned or mirrored against
+    /// GL's (undone on loading); see [`crate::image::face_ops`].
+    pub face_transforms: FaceTransforms,
     /// Stops loading once set ([`Error::Cancelled`]); see [`crate::cancel`].
     pub cancel: Option<&'a AtomicBool>,
 }
@@ -190,9 +207,10 @@ impl Default for LoadOptions<'_> {
         Self {
             mapping: None,
             layout: None,
-            frame: Frame::IDENTITY,
+            axes: None,
             max_texels: DEFAULT_MAX_TEXELS,
             non_finite: NonFinite::Keep,
+            face_transforms: FaceTransforms::default(),
             cancel: None,
         }
     }
@@ -213,6 +231,12 @@ pub struct SaveOptions<'a> {
     pub inputs: Vec<PathBuf>,
     /// Allow writing over a file listed in [`inputs`](SaveOptions::inputs).
     pub overwrite_input: bool,
+    /// The names of a cube's six files; `None` for the scheme of a face
+    /// name in the path given (`sky_px.exr`), else [`FaceNames::Signs`].
+    pub face_names: Option<FaceNames>,
+    /// For a cube: how to turn or mirror each face against GL's in the
+    /// file; see [`crate::image::face_ops`].
+    pub face_transforms: FaceTransforms,
     /// Stops writing once set: the output being written is removed and
     /// nothing is renamed into place ([`Error::Cancelled`]); see
     /// [`crate::cancel`].
@@ -227,6 +251,8 @@ impl Default for SaveOptions<'_> {
             six_files: false,
             inputs: Vec::new(),
             overwrite_input: false,
+            face_names: None,
+            face_transforms: FaceTransforms::default(),
             cancel: None,
         }
     }
@@ -244,6 +270,9 @@ pub struct Loaded {
     /// Texels replaced by black under [`NonFinite::Zero`] (over all the
     /// image, inside the charts or not); 0 under [`NonFinite::Keep`].
     pub replaced: u64,
+    /// What the file said about itself ([`crate::image::metadata`]); its
+    /// axes were used unless [`LoadOptions::axes`] gave others.
+    pub metadata: FileMetadata,
 }
 
 /// Replaces texels with a NaN or infinite component by black, as `policy`
@@ -391,8 +420,7 @@ fn loads_six_files(path: &Path, opts: &LoadOptions) -> bool {
     match opts.layout {
         Some(l) => l.is_six_files(),
         None => {
-            opts.mapping.is_none_or(|m| m == AnyMapping::Cube)
-                && (is_face_pattern(path) || face_of_name(path).is_some())
+            opts.mapping.is_none_or(|m| m == AnyMapping::Cube) && faces::names_a_face_file(path)
         }
     }
 }
@@ -416,19 +444,47 @@ pub fn load_detailed(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<Loade
     }
     let (mut rgb, source) = read_rgb(path, opts.max_texels, opts.cancel)?;
     let replaced = apply_non_finite(&mut rgb.pixels, opts.non_finite);
-    let (mapping, atlas) =
-        resolve(rgb.width, rgb.height, opts.mapping, opts.layout).map_err(|e| e.in_file(path))?;
+    let metadata = FileMetadata::from_tags(&source.tags);
+    let (w, h) = (rgb.width, rgb.height);
+    // What the caller says first; if it says nothing, what the file says
+    // of itself (if that fits the size); then the aspect ratio.
+    let (stated, stated_layout) = if opts.mapping.is_none() && opts.layout.is_none() {
+        (
+            metadata.mapping,
+            metadata.layout.filter(|l| !l.is_six_files()),
+        )
+    } else {
+        (opts.mapping, opts.layout)
+    };
+    let (mapping, atlas) = resolve(w, h, stated, stated_layout)
+        .or_else(|e| {
+            if opts.mapping.is_none() && opts.layout.is_none() && !metadata.is_empty() {
+                resolve(w, h, None, None)
+            } else {
+                Err(e)
+            }
+        })
+        .map_err(|e| e.in_file(path))?;
     let repr = Representation {
         mapping,
         atlas,
-        frame: opts.frame,
+        frame: opts
+            .axes
+            .or(metadata.axes)
+            .unwrap_or_default()
+            .frame(mapping),
     };
     let image = EnvImage::from_rgb(rgb, repr).map_err(|e| e.in_file(path))?;
+    let image = opts
+        .face_transforms
+        .apply(image, false)
+        .map_err(|e| e.in_file(path))?;
     Ok(Loaded {
         image,
         source,
         files: vec![path.to_path_buf()],
         replaced,
+        metadata,
     })
 }
 
@@ -441,6 +497,10 @@ pub(super) struct View<'a> {
     pub(super) width: u32,
     pub(super) height: u32,
     pub(super) pixels: &'a [[f32; 3]],
+    /// What the file says about itself where its format has a place
+    /// ([`crate::image::metadata`]): the `envmap.*` tags and a description.
+    pub(super) tags: &'a [(String, String)],
+    pub(super) description: &'a str,
 }
 
 /// Saves an environment map; returns the files written (one, or six faces
@@ -481,13 +541,25 @@ impl<'a> Outputs<'a> {
     ) -> Result<()> {
         let path = path.as_ref();
         let format = FileFormat::from_path(path)?;
+        let turned;
+        let image = if opts.face_transforms.is_identity() || image.mapping() != AnyMapping::Cube {
+            image
+        } else {
+            turned = opts.face_transforms.apply(image.clone(), true)?;
+            &turned
+        };
         if opts.six_files || is_face_pattern(path) {
             return faces::stage(self, image, path, format, opts);
         }
+        let repr = image.representation();
+        let tags = metadata::tags(repr, None, None);
+        let description = metadata::description(repr, None, None);
         let view = View {
             width: image.width(),
             height: image.height(),
             pixels: image.pixels(),
+            tags: &tags,
+            description: &description,
         };
         self.stage_with(path, |out| encode(path, format, view, opts, out))
     }
@@ -516,6 +588,8 @@ impl<'a> Outputs<'a> {
             width: image.width,
             height: image.height,
             pixels: &image.pixels,
+            tags: &[],
+            description: "",
         };
         self.stage_with(path, |out| encode(path, format, view, opts, out))
     }

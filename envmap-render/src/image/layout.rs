@@ -8,14 +8,14 @@
 //! | `strip` | [`Layout::Strip`] | cube | 6:1 | [`Atlas::CUBE_HORIZONTAL_STRIP`] |
 //! | `vstrip` | [`Layout::VStrip`] | cube | 1:6 | [`Atlas::CUBE_VERTICAL_STRIP`] |
 //! | `faces` | [`Layout::Faces`] | cube | six square files | in memory: [`Atlas::CUBE_HORIZONTAL_STRIP`] |
-//! | `square` | [`Layout::Square`] | sphere, sphere-gl, octahedral, octahedral-equal-area | 1:1 | [`Atlas::SINGLE_SQUARE`] |
+//! | `square` | [`Layout::Square`] | sphere, sphere-gl, angular, octahedral, octahedral-equal-area | 1:1 | [`Atlas::SINGLE_SQUARE`] |
 //! | `side-by-side` | [`Layout::SideBySide`] | paraboloid | 2:1 | [`Atlas::PARABOLOID_SIDE_BY_SIDE`] |
 //! | `stacked` | [`Layout::Stacked`] | tennisball | 3:2 | [`Atlas::TENNISBALL_STACKED`] |
 //!
 //! [`detect`] picks a representation from the aspect ratio alone. Two
 //! cases need the caller's word: a 2:1 image is taken as latlong, so a dual
 //! paraboloid (two disks side by side, also 2:1) needs its mapping named
-//! explicitly (`--from paraboloid`); and a square image could be any of four
+//! explicitly (`--from paraboloid`); and a square image could be any of five
 //! mappings, so [`detect`] refuses it and says how to choose. [`resolve`]
 //! takes an explicit mapping and/or layout and checks it against the size.
 
@@ -25,6 +25,7 @@ use std::str::FromStr;
 use envmap_core::{AnyMapping, Atlas, Frame, Mapping};
 
 use crate::error::{Error, Result};
+use crate::image::convention::FileAxes;
 
 /// A named layout of a representation's charts, as the command line spells it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -42,7 +43,7 @@ pub enum Layout {
     /// `faces`: cube, six square files `<stem>_+x.<ext>` ... `<stem>_-z.<ext>`;
     /// held in memory as a [`Strip`](Layout::Strip).
     Faces,
-    /// `square`: one square image (sphere maps, octahedral maps).
+    /// `square`: one square image (sphere maps, angular map, octahedral maps).
     Square,
     /// `side-by-side`: dual paraboloid, front disk left, back disk right (2:1).
     SideBySide,
@@ -143,7 +144,8 @@ impl Layout {
             AnyMapping::SphereMap
             | AnyMapping::SphereMapGl
             | AnyMapping::Octahedral
-            | AnyMapping::EqualAreaOctahedral => &[Layout::Square],
+            | AnyMapping::EqualAreaOctahedral
+            | AnyMapping::Angular => &[Layout::Square],
             AnyMapping::DualParaboloid => &[Layout::SideBySide],
             AnyMapping::Tennisball => &[Layout::Stacked],
         }
@@ -188,7 +190,19 @@ impl Representation {
         })
     }
 
-    /// `mapping` in its default atlas ([`Mapping::atlas`]) and the identity frame.
+    /// `mapping` in its default atlas and the frame its files have with
+    /// `axes` (for example [`FileAxes::default`]: envmap's conventions in
+    /// the GL world; see [`crate::image::convention`]).
+    #[must_use]
+    pub fn for_file(mapping: AnyMapping, axes: FileAxes) -> Self {
+        Self {
+            frame: axes.frame(mapping),
+            ..Self::default_for(mapping)
+        }
+    }
+
+    /// `mapping` in its default atlas ([`Mapping::atlas`]) and the identity
+    /// frame (envmap's canonical axes; the seed's).
     #[must_use]
     pub fn default_for(mapping: AnyMapping) -> Self {
         Self {
@@ -218,9 +232,10 @@ impl Representation {
 }
 
 /// The square single-chart mappings, which a 1:1 image cannot tell apart.
-const SQUARE_MAPPINGS: [AnyMapping; 4] = [
+const SQUARE_MAPPINGS: [AnyMapping; 5] = [
     AnyMapping::SphereMap,
     AnyMapping::SphereMapGl,
+    AnyMapping::Angular,
     AnyMapping::Octahedral,
     AnyMapping::EqualAreaOctahedral,
 ];
@@ -324,7 +339,7 @@ fn size_text(width: u32, height: u32) -> String {
 /// 2:1 is latlong (a dual paraboloid, also 2:1, must be named explicitly,
 /// see [`resolve`]), 4:3 a cube cross, 3:4 a vertical cross, 6:1 a strip,
 /// 1:6 a vertical strip, 3:2 a tennisball. A square image is an error that
-/// lists the four square mappings and says how to choose; any other size is
+/// lists the five square mappings and says how to choose; any other size is
 /// an error naming its ratio and the accepted ones.
 ///
 /// ```
@@ -346,7 +361,8 @@ pub fn detect(width: u32, height: u32) -> Result<(AnyMapping, Atlas)> {
     if ratio == (1, 1) {
         return Err(Error::layout(format!(
             "image is {}: a square image can be a sphere map (sphere, or sphere-gl for \
-             GL_SPHERE_MAP) or an octahedral map (octahedral, octahedral-equal-area); \
+             GL_SPHERE_MAP and mirror-ball photographs), an angular map (angular, the \
+             light-probe format) or an octahedral map (octahedral, octahedral-equal-area); \
              name the mapping (e.g. --from octahedral)",
             size_text(width, height)
         )));
@@ -433,7 +449,7 @@ pub fn check_compatible(mapping: AnyMapping, atlas: &Atlas) -> Result<()> {
 /// * neither: [`detect`];
 /// * a mapping only: the mapping's layout that fits the size (a cube tries
 ///   cross, vcross, strip, vstrip), or an error saying what it needs;
-/// * a layout only: the layout's mapping; `square` fits four mappings and
+/// * a layout only: the layout's mapping; `square` fits five mappings and
 ///   is an error asking for the mapping;
 /// * both: the layout must be one of the mapping's and fit the size
 ///   ("cross needs 4:3, this image is 2048×1024 (2:1)").

@@ -6,6 +6,13 @@
 //! * [`layout`]: [`Representation`] (mapping, atlas, frame), the named
 //!   [`Layout`]s, and telling a representation from an image's size
 //!   ([`layout::detect`], [`layout::resolve`]).
+//! * [`convention`]: what a file's directions mean ([`Convention`],
+//!   [`World`], [`FileAxes`]): cube files in the GL world, the latlong
+//!   presets of every tool.
+//! * [`face_ops`]: cube faces stored turned or mirrored
+//!   (`--face-transform`).
+//! * [`metadata`]: what envmap writes into a file about its conventions
+//!   (OpenEXR attributes, PNG text) and reads back.
 //! * [`io`]: the format by extension, load and save options, [`io::load`] and
 //!   [`io::save`].
 //! * One file per format: `png_jpeg.rs`, `hdr.rs`, `exr.rs`, and
@@ -19,15 +26,19 @@
 //! crate's [`Error`](crate::Error); nothing from `filter`, `scene` or `cli`.
 
 mod atomic;
+pub mod convention;
 mod envimage;
 mod exr;
+pub mod face_ops;
 mod faces;
 mod hdr;
 pub mod io;
 pub mod layout;
+pub mod metadata;
 mod png_jpeg;
 mod srgb;
 
+pub use convention::{Convention, FileAxes, World};
 pub use envimage::{
     check_size, luminance, EnvImage, RgbImage, Stats, BYTES_PER_TEXEL, DEFAULT_MAX_TEXELS,
 };

@@ -11,11 +11,12 @@ use std::path::Path;
 
 use ::image::{DynamicImage, ImageEncoder};
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::image::envimage::RgbImage;
 use crate::image::io::{
     decode_with_image, encode_error, expand, FileFormat, Source, SourceFormat, View,
 };
+use crate::image::metadata;
 use crate::image::srgb::{linear_to_srgb8, srgb16_lut, srgb8_lut};
 
 /// Reads a PNG or JPEG file as linear RGB; refuses images above
@@ -61,11 +62,19 @@ pub(super) fn read(
         SourceFormat {
             format,
             pixel_format: desc.to_owned(),
+            tags: if format == FileFormat::Png {
+                png_tags(path)
+            } else {
+                Vec::new()
+            },
         },
     ))
 }
 
 /// Writes `view` as 8-bit sRGB PNG or JPEG after scaling by 2^`exposure`.
+/// A PNG also gets its tags, description and envmap's name as `tEXt`
+/// chunks (`Description`, `Software`), written with the `png` crate at the
+/// compression and filter the `image` crate's encoder uses by default.
 pub(super) fn encode<W: Write>(
     path: &Path,
     format: FileFormat,
@@ -79,21 +88,62 @@ pub(super) fn encode<W: Write>(
         .iter()
         .flat_map(|p| p.map(|c| linear_to_srgb8(c * scale)))
         .collect();
-    let color = ::image::ExtendedColorType::Rgb8;
-    let result = if format == FileFormat::Png {
-        ::image::codecs::png::PngEncoder::new(out).write_image(
-            &bytes,
-            view.width,
-            view.height,
-            color,
-        )
-    } else {
-        ::image::codecs::jpeg::JpegEncoder::new_with_quality(out, 95).write_image(
-            &bytes,
-            view.width,
-            view.height,
-            color,
-        )
+    if format == FileFormat::Jpeg {
+        let color = ::image::ExtendedColorType::Rgb8;
+        return ::image::codecs::jpeg::JpegEncoder::new_with_quality(out, 95)
+            .write_image(&bytes, view.width, view.height, color)
+            .map_err(|e| encode_error(path, format, e));
+    }
+    let png_err = |e: png::EncodingError| match e {
+        png::EncodingError::IoError(io) => Error::write(path, io),
+        other => Error::Encode {
+            path: path.to_path_buf(),
+            format: format.name(),
+            message: other.to_string(),
+        },
     };
-    result.map_err(|e| encode_error(path, format, e))
+    let mut enc = png::Encoder::new(out, view.width, view.height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Balanced);
+    enc.set_filter(png::Filter::Adaptive);
+    let mut text = vec![("Software".to_owned(), metadata::software())];
+    if !view.description.is_empty() {
+        text.push(("Description".to_owned(), view.description.to_owned()));
+    }
+    text.extend(view.tags.iter().cloned());
+    for (k, v) in text {
+        enc.add_text_chunk(k, metadata::ascii(&v))
+            .map_err(png_err)?;
+    }
+    let mut writer = enc.write_header().map_err(png_err)?;
+    writer.write_image_data(&bytes).map_err(png_err)?;
+    writer.finish().map_err(png_err)
+}
+
+/// The `envmap.*` text chunks before a PNG's image data (empty for any
+/// file that cannot be read as PNG: the decoder proper reports that).
+pub(super) fn png_tags(path: &Path) -> Vec<(String, String)> {
+    let Ok(file) = std::fs::File::open(path) else {
+        return Vec::new();
+    };
+    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+    decoder.set_ignore_text_chunk(false);
+    let Ok(reader) = decoder.read_info() else {
+        return Vec::new();
+    };
+    let info = reader.info();
+    let mut t: Vec<(String, String)> = info
+        .uncompressed_latin1_text
+        .iter()
+        .map(|c| (c.keyword.clone(), c.text.clone()))
+        .chain(
+            info.utf8_text
+                .iter()
+                .filter_map(|c| Some((c.keyword.clone(), c.get_text().ok()?))),
+        )
+        .filter(|(k, _)| k.starts_with("envmap."))
+        .collect();
+    t.sort();
+    t
 }

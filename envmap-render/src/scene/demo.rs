@@ -13,7 +13,7 @@ use envmap_core::{AnyMapping, Mapping};
 
 use crate::error::{Error, Result};
 use crate::image::io::{linear_to_srgb, Outputs, SaveOptions};
-use crate::image::{Representation, RgbImage};
+use crate::image::{FileAxes, Representation, RgbImage};
 use crate::scene::environments::Builtin;
 use crate::scene::mesh::Mesh;
 use crate::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
@@ -236,7 +236,7 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<D
         progress(k as u32 + 1, total, m.name());
         let t = Instant::now();
         let (aw, ah) = size_for_budget(m, opts.texels);
-        let env = Builtin::Sky.image(Representation::default_for(m), aw, ah)?;
+        let env = Builtin::Sky.image(Representation::for_file(m, FileAxes::default()), aw, ah)?;
         let pp = render(&mesh, EnvSource::Map(&env), &cam, &ropts)?;
         let pv = render(
             &mesh,
@@ -249,15 +249,14 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<D
         )?;
         let seconds = t.elapsed().as_secs_f64();
         let name = m.name();
-        save_png(
-            &mut run,
-            &RgbImage {
-                width: aw,
-                height: ah,
-                pixels: env.pixels().to_vec(),
+        // The atlas as an environment map file, saying what it holds.
+        run.stage_image(
+            &env,
+            opts.out.join(format!("atlas_{name}.png")),
+            &SaveOptions {
+                exposure: opts.exposure - 1.0,
+                ..SaveOptions::default()
             },
-            &opts.out.join(format!("atlas_{name}.png")),
-            opts.exposure - 1.0,
         )?;
         save_png(
             &mut run,
