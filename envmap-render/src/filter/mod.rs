@@ -6,10 +6,14 @@
 //! * [`convert`]: any representation to any other, one generic loop
 //!   ([`convert::convert`]).
 //!
+//! * [`dfg`]: the split-sum DFG table, single and multiscatter
+//!   ([`dfg::DfgTable`], [`dfg::dfg_integral`]).
+//!
 //! Mip pyramids and prefiltering for lighting belong here too.
 //!
 //! This folder uses `envmap-core`, `envmap-simd` and [`crate::image`];
 //! nothing from `scene` or `cli`.
 
 pub mod convert;
+pub mod dfg;
 pub mod sample;
