@@ -6,6 +6,10 @@
 //! * [`convert`]: any representation to any other, one generic loop
 //!   ([`convert::convert`]).
 //!
+//! * [`weights`]: the exact solid angle of every texel ([`weights::TexelWeights`]).
+//! * [`pyramid`]: mip pyramids weighted by solid angle, and trilinear
+//!   sampling at a fractional level ([`pyramid::Pyramid`],
+//!   [`pyramid::Trilinear`]).
 //! * [`dfg`]: the split-sum DFG table, single and multiscatter
 //!   ([`dfg::DfgTable`], [`dfg::dfg_integral`]).
 //!
@@ -16,4 +20,6 @@
 
 pub mod convert;
 pub mod dfg;
+pub mod pyramid;
 pub mod sample;
+pub mod weights;

@@ -542,6 +542,14 @@ impl<'a> Sampler<'a> {
         acc
     }
 
+    /// Texel `(i, j)` of `chart`, `i` and `j` up to one texel beyond the
+    /// chart, with the representation's edge rule (what a bilinear tap
+    /// there reads): for building bordered copies of a chart. Black on a
+    /// disk chart's texels outside the disk.
+    pub(crate) fn edge_texel(&self, chart: u32, i: i64, j: i64) -> [f32; 3] {
+        self.fetch(chart, i, j, self.disk).unwrap_or([0.0; 3])
+    }
+
     /// Texel `(i, j)` of `chart` with the edge rule applied to indices
     /// outside the chart; `None` for a disk texel whose centre is outside.
     fn fetch(&self, chart: u32, i: i64, j: i64, disk: bool) -> Option<[f32; 3]> {

@@ -74,6 +74,10 @@ pub struct Stats {
     pub nan: u64,
     /// Texels with an infinity in some channel and no NaN.
     pub inf: u64,
+    /// Finite texels with a negative channel (lossy EXR compression rings
+    /// around suns; no light is negative: `envmap bake` integrates them as
+    /// given and clamps its outputs at zero, `convert` keeps them).
+    pub negative: u64,
     /// Per-channel minimum over finite texels (0 if there are none).
     pub min: [f32; 3],
     /// Per-channel maximum over finite texels (0 if there are none).
@@ -334,6 +338,17 @@ impl EnvImage {
         })
     }
 
+    /// Row `j` of chart `chart` as stored in the image, and whether it is
+    /// stored reversed (a chart turned by half a turn: texel `i` of the
+    /// chart's row is then element `w − 1 − i`); `None` out of range. For
+    /// reading charts without copying them ([`EnvImage::chart_image`]
+    /// copies).
+    #[must_use]
+    pub fn chart_row(&self, chart: u32, j: u32) -> Option<(&[[f32; 3]], bool)> {
+        let r = self.chart_rect(chart)?;
+        (j < r.h).then(|| (self.stored_row(&r, j), r.turn == Turn::Half))
+    }
+
     /// One chart cut out as a plain image, in the chart's own orientation (a
     /// cube face exactly as GL expects it); `None` for a chart out of range.
     #[must_use]
@@ -430,6 +445,7 @@ impl EnvImage {
             finite: 0,
             nan: 0,
             inf: 0,
+            negative: 0,
             min: [f32::INFINITY; 3],
             max: [f32::NEG_INFINITY; 3],
             mean: [0.0; 3],
@@ -493,6 +509,9 @@ impl EnvImage {
                         continue;
                     }
                     s.finite += 1;
+                    if px.iter().any(|c| *c < 0.0) {
+                        s.negative += 1;
+                    }
                     let wt = block_weight[((j / b) * bw + i / b) as usize];
                     weight += wt;
                     for (c, &v) in px.iter().enumerate() {

@@ -1,0 +1,613 @@
+//! Mip pyramids of an environment map in any representation, and sampling
+//! them at a fractional level.
+//!
+//! # Levels
+//!
+//! Level 0 is the image. Each next level halves every chart: its height
+//! becomes ⌊h/2⌋ (at least 1), as GL's rule for odd sizes has it, and its
+//! width follows the chart's shape (a cube face stays square, a latlong
+//! 2:1). Each texel of a level is the average of the texels of the level
+//! above that it covers, weighted by their exact solid angles
+//! ([`TexelWeights`]): a cube face's 2 × 2 texels by their own solid angles, a
+//! latlong's by their rows'. Where a size is odd, a texel covers parts of
+//! texels; each part is weighted by the exact solid angle of the part
+//! ([`Mapping::solid_angle`] of the overlap). So every level keeps the
+//! solid-angle-weighted mean of the image, to f32 rounding, and a texel
+//! outside every chart (a cross's corners, a disk's) stays black. On a disk
+//! chart a texel whose centre is outside the disk holds no value and
+//! weighs nothing, so there the mean is kept up to the rim's slivers.
+//!
+//! # Trilinear sampling
+//!
+//! [`Trilinear`] samples at a chart point and a fractional level `lod`:
+//! bilinear at levels ⌊lod⌋ and ⌊lod⌋ + 1, each with its representation's
+//! edge rule ([`Sampler`]: the cube seamless across faces and corners, the
+//! latlong wrapping and crossing its poles, read from a copy of each chart
+//! with a one-texel border that holds them), blended as
+//! `a + f·(b − a)`, f = lod − ⌊lod⌋. `lod` is clamped to the levels (NaN is
+//! level 0). Eight points at a time ([`Trilinear::sample8`]) gives each lane
+//! exactly what [`Trilinear::sample`] gives it, bit for bit.
+
+use envmap_core::texel::texel_center;
+use envmap_core::{AnyMapping, ChartUv, Mapping};
+use envmap_simd::Uv8;
+use rayon::prelude::*;
+use wide::{f32x4, f32x8, i32x8, u32x8};
+
+use crate::error::Result;
+use crate::filter::sample::{Filter, Sampler};
+use crate::filter::weights::TexelWeights;
+use crate::image::{EnvImage, RgbImage};
+
+/// The chart size one level down: height ⌊h/2⌋ (at least 1), width by the
+/// chart's aspect `aw : ah`.
+#[must_use]
+pub fn next_chart_size(w: u32, h: u32, aw: u32, ah: u32) -> (u32, u32) {
+    let _ = w;
+    let h2 = (h / 2).max(1);
+    let w2 = (h2 * aw / ah.max(1)).max(1);
+    (w2, h2)
+}
+
+/// One level down from `img` (see the [module docs](self)); `weights` are
+/// `img`'s texel solid angles ([`TexelWeights::new`] of its chart size).
+///
+/// # Errors
+///
+/// Only if the smaller image cannot be made (it never exceeds the
+/// original's size, so in practice never).
+pub fn downsample(img: &EnvImage, weights: &TexelWeights) -> Result<EnvImage> {
+    let repr = *img.representation();
+    let atlas = repr.atlas;
+    let (cw, ch) = img.cell_size();
+    let (w2, h2) = next_chart_size(cw, ch, atlas.cell_aspect_w, atlas.cell_aspect_h);
+    let (iw, ih) = (atlas.cols * w2, atlas.rows * h2);
+    let mut out = EnvImage::new(iw, ih, repr)?;
+    let mapping = repr.mapping;
+    for chart in 0..mapping.chart_count() {
+        let dst = if cw == 2 * w2 && ch == 2 * h2 {
+            if img.chart_row(chart, 0).is_none() {
+                continue;
+            }
+            halve(img, weights, chart, w2, h2)
+        } else {
+            let Some(src) = img.chart_image(chart) else {
+                continue;
+            };
+            resample(&src, mapping, chart, w2, h2)
+        };
+        out.set_chart_image(chart, &dst)?;
+    }
+    Ok(out)
+}
+
+/// The even case: each texel the solid-angle-weighted mean of 2 × 2, read
+/// from the chart's rows in place.
+fn halve(img: &EnvImage, weights: &TexelWeights, chart: u32, w2: u32, h2: u32) -> RgbImage {
+    let w = img.cell_size().0 as usize;
+    let mut pixels = vec![[0.0f32; 3]; (w2 * h2) as usize];
+    pixels
+        .par_chunks_mut(w2 as usize)
+        .enumerate()
+        .for_each(|(cj, row)| {
+            let cj = cj as u32;
+            let (j0, j1) = (2 * cj, 2 * cj + 1);
+            // The two source rows, in the chart's own order.
+            let (Some(r0), Some(r1)) = (img.chart_row(chart, j0), img.chart_row(chart, j1)) else {
+                return;
+            };
+            let at = |r: (&[[f32; 3]], bool), i: u32| -> [f32; 3] {
+                let i = i as usize;
+                if r.1 {
+                    r.0[w - 1 - i]
+                } else {
+                    r.0[i]
+                }
+            };
+            for (ci, out) in (0u32..).zip(row.iter_mut()) {
+                let (i0, i1) = (2 * ci, 2 * ci + 1);
+                let taps = [
+                    (weights.get(chart, i0, j0), at(r0, i0)),
+                    (weights.get(chart, i1, j0), at(r0, i1)),
+                    (weights.get(chart, i0, j1), at(r1, i0)),
+                    (weights.get(chart, i1, j1), at(r1, i1)),
+                ];
+                let mut acc = [0.0f64; 3];
+                let mut wsum = 0.0f64;
+                for (wt, p) in taps {
+                    for c in 0..3 {
+                        acc[c] += wt * f64::from(p[c]);
+                    }
+                    wsum += wt;
+                }
+                if wsum > 0.0 {
+                    let inv = 1.0 / wsum;
+                    *out = acc.map(|a| (a * inv) as f32);
+                }
+            }
+        });
+    RgbImage {
+        width: w2,
+        height: h2,
+        pixels,
+    }
+}
+
+/// The general case (an odd size): each texel the mean of the parts of the
+/// texels it covers, each part weighted by its exact solid angle.
+fn resample(src: &RgbImage, mapping: AnyMapping, chart: u32, w2: u32, h2: u32) -> RgbImage {
+    let (w, h) = (src.width, src.height);
+    // The fine texels texel `c` of `n2` covers, with the overlap in fine
+    // coordinates, along one axis of `n` texels.
+    let spans = |n: u32, n2: u32| -> Vec<Vec<(u32, f64, f64)>> {
+        (0..n2)
+            .map(|c| {
+                let (a, b) = (
+                    f64::from(c) * f64::from(n) / f64::from(n2),
+                    f64::from(c + 1) * f64::from(n) / f64::from(n2),
+                );
+                let (k0, k1) = (a.floor() as u32, (b.ceil() as u32).min(n));
+                (k0..k1)
+                    .map(|k| (k, a.max(f64::from(k)), b.min(f64::from(k + 1))))
+                    .filter(|(_, lo, hi)| hi > lo)
+                    .collect()
+            })
+            .collect()
+    };
+    let (sx, sy) = (spans(w, w2), spans(h, h2));
+    let mut pixels = vec![[0.0f32; 3]; (w2 * h2) as usize];
+    pixels
+        .par_chunks_mut(w2 as usize)
+        .enumerate()
+        .for_each(|(cj, row)| {
+            for (ci, out) in row.iter_mut().enumerate() {
+                let mut acc = [0.0f64; 3];
+                let mut wsum = 0.0f64;
+                for &(j, v0, v1) in &sy[cj] {
+                    for &(i, u0, u1) in &sx[ci] {
+                        let inside =
+                            mapping.in_chart(chart, texel_center(i, w), texel_center(j, h));
+                        if mapping.has_disk_charts() && !inside {
+                            continue;
+                        }
+                        let wt = mapping.solid_angle(
+                            chart,
+                            u0 / f64::from(w),
+                            u1 / f64::from(w),
+                            v0 / f64::from(h),
+                            v1 / f64::from(h),
+                        );
+                        let p = src.pixels[(j * w + i) as usize];
+                        for c in 0..3 {
+                            acc[c] += wt * f64::from(p[c]);
+                        }
+                        wsum += wt;
+                    }
+                }
+                if wsum > 0.0 {
+                    *out = acc.map(|a| (a / wsum) as f32);
+                }
+            }
+        });
+    RgbImage {
+        width: w2,
+        height: h2,
+        pixels,
+    }
+}
+
+/// An environment map and its mip levels; see the [module docs](self).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pyramid {
+    levels: Vec<EnvImage>,
+}
+
+impl Pyramid {
+    /// `base` and its levels down to charts of height 1, or down to the
+    /// last level whose charts are at least `min_height` texels high
+    /// (`min_height` 1 for the whole chain).
+    ///
+    /// # Errors
+    ///
+    /// Only if a level cannot be made (see [`downsample`]).
+    pub fn new(base: EnvImage, min_height: u32) -> Result<Self> {
+        let mut levels = vec![base];
+        loop {
+            let last = &levels[levels.len() - 1];
+            let (cw, ch) = last.cell_size();
+            let a = last.atlas();
+            let (_, h2) = next_chart_size(cw, ch, a.cell_aspect_w, a.cell_aspect_h);
+            if ch <= 1 || h2 < min_height.max(1) {
+                break;
+            }
+            let weights = TexelWeights::new(last.mapping(), cw, ch);
+            let next = downsample(last, &weights)?;
+            levels.push(next);
+        }
+        Ok(Self { levels })
+    }
+
+    /// The levels, largest first.
+    #[must_use]
+    pub fn levels(&self) -> &[EnvImage] {
+        &self.levels
+    }
+
+    /// Level `k` (clamped to the last).
+    #[must_use]
+    pub fn level(&self, k: usize) -> &EnvImage {
+        &self.levels[k.min(self.levels.len() - 1)]
+    }
+
+    /// The number of levels.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// Always false: a pyramid has its base at least.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.levels.is_empty()
+    }
+
+    /// The base, giving up the pyramid.
+    #[must_use]
+    pub fn into_base(mut self) -> EnvImage {
+        self.levels.swap_remove(0)
+    }
+}
+
+/// One level's charts, each stored with a border of one texel on every
+/// side that holds what the representation's edge rule reads there (the
+/// neighbouring face's texel across a cube edge, the average of three at a
+/// corner, the wrapped column of a latlong, ...; [`Sampler`]), so that a
+/// bilinear footprint never leaves its chart's block. Disk charts keep the
+/// plain sampler: their rule renormalises over the taps inside the disk.
+#[derive(Debug)]
+struct Bordered {
+    /// RGB floats, chart after chart, each `(w + 2) × (h + 2)` texels row
+    /// by row, then eight spare floats.
+    floats: Vec<f32>,
+    w: u32,
+    h: u32,
+    charts: u32,
+}
+
+impl Bordered {
+    fn new(img: &EnvImage) -> Self {
+        let (w, h) = img.cell_size();
+        let charts = img.mapping().chart_count();
+        let sampler = Sampler::new(img);
+        let (bw, bh) = (w as usize + 2, h as usize + 2);
+        let mut floats = vec![0.0f32; charts as usize * bw * bh * 3 + 8];
+        for chart in 0..charts {
+            let Some(face) = img.chart_image(chart) else {
+                continue;
+            };
+            let block = chart as usize * bw * bh * 3;
+            floats[block..block + bw * bh * 3]
+                .par_chunks_mut(bw * 3)
+                .enumerate()
+                .for_each(|(by, row)| {
+                    let j = by as i64 - 1;
+                    for bx in 0..bw {
+                        let i = bx as i64 - 1;
+                        let inside =
+                            (0..i64::from(w)).contains(&i) && (0..i64::from(h)).contains(&j);
+                        let p = if inside {
+                            face.pixels[j as usize * w as usize + i as usize]
+                        } else {
+                            sampler.edge_texel(chart, i, j)
+                        };
+                        row[3 * bx..3 * bx + 3].copy_from_slice(&p);
+                    }
+                });
+        }
+        Self {
+            floats,
+            w,
+            h,
+            charts,
+        }
+    }
+
+    /// Where chart point (u, v)'s footprint starts (in floats) and its
+    /// fractions, from the bordered coordinates x = clamp(u)·w + ½.
+    #[inline(always)]
+    fn footprint(&self, chart: u32, x: f32, y: f32) -> (usize, f32, f32) {
+        // x, y ≥ ½: truncation is floor.
+        let (i, j) = (x as u32, y as u32);
+        let (bw, bh) = (self.w as usize + 2, self.h as usize + 2);
+        let at = (chart as usize * bw * bh + j as usize * bw + i as usize) * 3;
+        (at, x - i as f32, y - j as f32)
+    }
+
+    /// The bilinear blend of the footprint at `at` (red, green, blue and a
+    /// spare float): two vertical interpolations and a horizontal one, as
+    /// `p + f·(q − p)` with multiply-adds (fused where the target has FMA),
+    /// in four-wide registers; the scalar and eight-lane paths both call it.
+    #[inline(always)]
+    fn blend(&self, at: usize, fx: f32, fy: f32) -> f32x4 {
+        let row = (self.w as usize + 2) * 3;
+        // Both rows of the footprint: texels (i, j), (i + 1, j) and the
+        // same below, each row with a float to spare (the buffer ends with
+        // eight spare floats).
+        let rows = self
+            .floats
+            .get(at..)
+            .and_then(|t| Some((t.first_chunk::<7>()?, t.get(row..)?.first_chunk::<7>()?)));
+        let Some((top, bot)) = rows else {
+            return f32x4::ZERO;
+        };
+        let four = |t: &[f32; 7], k: usize| f32x4::new([t[k], t[k + 1], t[k + 2], t[k + 3]]);
+        let (a, b, c, d) = (four(top, 0), four(top, 3), four(bot, 0), four(bot, 3));
+        let (fx, fy) = (f32x4::splat(fx), f32x4::splat(fy));
+        let left = (c - a).mul_add(fy, a);
+        let right = (d - b).mul_add(fy, b);
+        (right - left).mul_add(fx, left)
+    }
+
+    /// Bilinear at a chart point: black for a chart out of range or NaN.
+    #[inline]
+    fn sample(&self, c: ChartUv) -> f32x4 {
+        if c.chart >= self.charts || c.u.is_nan() || c.v.is_nan() {
+            return f32x4::ZERO;
+        }
+        let x = c.u.clamp(0.0, 1.0) * self.w as f32 + 0.5;
+        let y = c.v.clamp(0.0, 1.0) * self.h as f32 + 0.5;
+        let (at, fx, fy) = self.footprint(c.chart, x, y);
+        self.blend(at, fx, fy)
+    }
+
+    /// Eight chart points; lane `k` is `sample(q.lane_raw(k))` bit for bit.
+    /// The footprints are addressed eight at a time.
+    #[inline]
+    fn sample8(&self, q: &Uv8) -> [f32x4; 8] {
+        let (w, h) = (f32x8::splat(self.w as f32), f32x8::splat(self.h as f32));
+        let half = f32x8::splat(0.5);
+        let x = q.u.max(f32x8::ZERO).min(f32x8::ONE) * w + half;
+        let y = q.v.max(f32x8::ZERO).min(f32x8::ONE) * h + half;
+        // x, y ≥ ½ (or NaN, on lanes made black below): truncation is floor.
+        let (i, j) = (x.fast_trunc_int(), y.fast_trunc_int());
+        let (fx, fy) = (
+            (x - i.round_float()).to_array(),
+            (y - j.round_float()).to_array(),
+        );
+        let (bw, bh) = (self.w as i32 + 2, self.h as i32 + 2);
+        let chart = bytemuck::cast::<u32x8, i32x8>(q.chart.min(u32x8::splat(self.charts - 1)));
+        let at = ((chart * i32x8::splat(bw * bh) + j * i32x8::splat(bw) + i) * i32x8::splat(3))
+            .to_array();
+        let bad = q.chart.simd_ge(u32x8::splat(self.charts)).to_bitmask()
+            | q.u.simd_ne(q.u).to_bitmask()
+            | q.v.simd_ne(q.v).to_bitmask();
+        core::array::from_fn(|k| {
+            if bad >> k & 1 != 0 {
+                return f32x4::ZERO;
+            }
+            self.blend(at[k] as usize, fx[k], fy[k])
+        })
+    }
+}
+
+/// A level as [`Trilinear`] reads it.
+#[derive(Debug)]
+enum Level<'a> {
+    Bordered(Bordered),
+    Plain(Sampler<'a>),
+    /// Not prepared ([`Trilinear::starting_at`]): never read.
+    Absent,
+}
+
+impl Level<'_> {
+    #[inline]
+    fn sample(&self, c: ChartUv) -> f32x4 {
+        match self {
+            Level::Bordered(b) => b.sample(c),
+            Level::Plain(s) => {
+                let [r, g, b] = s.sample(c, Filter::Bilinear);
+                f32x4::new([r, g, b, 0.0])
+            }
+            Level::Absent => f32x4::ZERO,
+        }
+    }
+
+    #[inline]
+    fn sample8(&self, q: &Uv8) -> [f32x4; 8] {
+        match self {
+            Level::Bordered(b) => b.sample8(q),
+            Level::Plain(s) => s
+                .sample8(q, Filter::Bilinear)
+                .map(|[r, g, b]| f32x4::new([r, g, b, 0.0])),
+            Level::Absent => [f32x4::ZERO; 8],
+        }
+    }
+}
+
+/// Trilinear sampling of a [`Pyramid`]; see the [module docs](self).
+///
+/// Each level but a disk map's is copied once with a one-texel border that
+/// holds what the edge rule reads beyond the chart, so every footprint is
+/// read with four loads and no edge case.
+#[derive(Debug)]
+pub struct Trilinear<'a> {
+    levels: Vec<Level<'a>>,
+    /// The finest level prepared.
+    first: usize,
+}
+
+impl<'a> Trilinear<'a> {
+    /// A sampler over every level of `p`.
+    #[must_use]
+    pub fn new(p: &'a Pyramid) -> Self {
+        Self::starting_at(p, 0)
+    }
+
+    /// A sampler over the levels of `p` from `first` down (clamped to the
+    /// last): the finer ones are not prepared, and a `lod` below `first`
+    /// reads as `first`. At every `lod ≥ first` the result is
+    /// [`Trilinear::new`]'s, bit for bit; for importance sampling whose
+    /// samples never ask for the finest levels, it saves their copies.
+    #[must_use]
+    pub fn starting_at(p: &'a Pyramid, first: usize) -> Self {
+        let disk = p.levels[0].mapping().has_disk_charts();
+        let first = first.min(p.levels.len() - 1);
+        Self {
+            levels: p
+                .levels
+                .iter()
+                .enumerate()
+                .map(|(k, l)| {
+                    if k < first {
+                        Level::Absent
+                    } else if disk {
+                        Level::Plain(Sampler::new(l))
+                    } else {
+                        Level::Bordered(Bordered::new(l))
+                    }
+                })
+                .collect(),
+            first,
+        }
+    }
+
+    /// The number of levels.
+    #[must_use]
+    pub fn levels(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// The level below `lod` and the blend towards the next, `lod` clamped
+    /// to `[first, levels − 1]` (NaN is `first`).
+    #[inline]
+    fn split(&self, lod: f32) -> (usize, f32) {
+        let top = (self.levels.len() - 1) as f32;
+        let bottom = self.first as f32;
+        let lod = if lod.is_nan() {
+            bottom
+        } else {
+            lod.clamp(bottom, top)
+        };
+        // lod ≥ 0: truncation is floor.
+        let i = lod as u32 as f32;
+        (i as usize, lod - i)
+    }
+
+    /// Samples chart point `c` at level `lod`; a chart out of range or NaN
+    /// coordinates give black.
+    #[must_use]
+    pub fn sample(&self, c: ChartUv, lod: f32) -> [f32; 3] {
+        let (i, f) = self.split(lod);
+        let a = self.levels[i].sample(c);
+        let v = if f == 0.0 {
+            a
+        } else {
+            blend(a, self.levels[i + 1].sample(c), f)
+        };
+        let [r, g, b, _] = v.to_array();
+        [r, g, b]
+    }
+
+    /// Eight chart points at eight levels; lane `k` equals
+    /// `sample(q.lane_raw(k), lod[k])` bit for bit. The lanes that share a
+    /// level are read together.
+    #[must_use]
+    pub fn sample8(&self, q: &Uv8, lod: f32x8) -> [[f32; 3]; 8] {
+        let lods = lod.to_array();
+        let split: [(usize, f32); 8] = core::array::from_fn(|k| self.split(lods[k]));
+        let mut out = [f32x4::ZERO; 8];
+        let mut todo = 0xffu32;
+        while todo != 0 {
+            let first = todo.trailing_zeros() as usize;
+            let level = split[first].0;
+            let a = self.levels[level].sample8(q);
+            let needs_b =
+                (0..8).any(|k| todo >> k & 1 != 0 && split[k].0 == level && split[k].1 != 0.0);
+            let b = if needs_b {
+                Some(self.levels[level + 1].sample8(q))
+            } else {
+                None
+            };
+            for k in 0..8 {
+                if todo >> k & 1 == 0 || split[k].0 != level {
+                    continue;
+                }
+                let f = split[k].1;
+                out[k] = match (&b, f == 0.0) {
+                    (Some(b), false) => blend(a[k], b[k], f),
+                    _ => a[k],
+                };
+                todo &= !(1 << k);
+            }
+        }
+        out.map(|v| {
+            let [r, g, b, _] = v.to_array();
+            [r, g, b]
+        })
+    }
+
+    /// Eight chart points at one level `lod`, as red, green, blue and a
+    /// spare float per lane: lane `k` equals `sample(q.lane_raw(k), lod)`
+    /// bit for bit (the fast path of importance sampling, whose lanes share
+    /// a level).
+    #[inline]
+    #[must_use]
+    pub fn sample8_at(&self, q: &Uv8, lod: f32) -> [f32x4; 8] {
+        let (i, f) = self.split(lod);
+        let a = self.levels[i].sample8(q);
+        if f == 0.0 {
+            return a;
+        }
+        let b = self.levels[i + 1].sample8(q);
+        core::array::from_fn(|k| blend(a[k], b[k], f))
+    }
+}
+
+/// `a + f·(b − a)` per channel, in plain f32 operations (no fused
+/// multiply-add), as every path computes it.
+#[inline(always)]
+fn blend(a: f32x4, b: f32x4, f: f32) -> f32x4 {
+    a + f32x4::splat(f) * (b - a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::Representation;
+    use crate::scene::procedural::{fill, smooth};
+
+    #[test]
+    fn chart_sizes_halve_by_the_gl_rule_keeping_their_shape() {
+        assert_eq!(next_chart_size(512, 512, 1, 1), (256, 256));
+        assert_eq!(next_chart_size(5, 5, 1, 1), (2, 2));
+        assert_eq!(next_chart_size(1, 1, 1, 1), (1, 1));
+        assert_eq!(next_chart_size(14, 7, 2, 1), (6, 3));
+        assert_eq!(next_chart_size(6, 2, 3, 1), (3, 1));
+    }
+
+    #[test]
+    fn a_constant_stays_constant_at_every_level_of_every_mapping() {
+        for m in AnyMapping::ALL {
+            let repr = Representation::default_for(m);
+            let (w, h) = repr
+                .atlas
+                .image_size_for_cell_width(16 * repr.atlas.cell_aspect_w)
+                .unwrap();
+            let img = fill(repr, w, h, |_| [2.0, 3.0, 4.0]).unwrap();
+            let p = Pyramid::new(img, 1).unwrap();
+            assert_eq!(p.levels().last().unwrap().cell_size().1, 1, "{m}");
+            for (k, l) in p.levels().iter().enumerate() {
+                let s = l.stats();
+                for c in 0..3 {
+                    let want = [2.0, 3.0, 4.0][c];
+                    assert!(
+                        (s.sphere_mean[c] - want).abs() < 1e-5 * want,
+                        "{m} level {k}: {:?}",
+                        s.sphere_mean
+                    );
+                }
+            }
+            let _ = smooth;
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! The exact solid angle of every texel of a representation's charts, as
+//! weights for averaging (mip pyramids), projecting (SH9) and integrating
+//! (irradiance, prefiltering) over the sphere.
+//!
+//! Each value is [`Mapping::texel_solid_angle`] from `envmap-core`, computed
+//! once per grid: a latlong's texels differ only by row and a cube's six
+//! faces share one table, so those are stored once; every other mapping
+//! keeps a table per chart. The texels of all charts add up to 4π (to f64
+//! rounding: the core's accuracy is stated in `envmap_core::solid_angle`),
+//! except on a disk chart (sphere maps, paraboloid, angular), where a texel
+//! whose centre lies outside the disk holds no direction and has weight 0:
+//! there the sum falls short of 4π by the slivers of disk those rim texels
+//! cover.
+
+use envmap_core::texel::texel_center;
+use envmap_core::{AnyMapping, Mapping};
+use rayon::prelude::*;
+
+/// Texel solid angles of a representation's charts, `w × h` texels each;
+/// see the [module docs](self).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TexelWeights {
+    w: u32,
+    h: u32,
+    charts: u32,
+    kind: Kind,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum Kind {
+    /// One value per row (latlong).
+    Rows(Vec<f64>),
+    /// One quadrant of a table shared by every chart (the cube's faces,
+    /// each symmetric about its centre lines: [`cube_quadrant`]).
+    Quadrant(Vec<f64>),
+    /// A table per chart.
+    PerChart(Vec<Vec<f64>>),
+}
+
+/// Solid angles of one chart's texels, row by row; 0 for a texel whose
+/// centre lies outside the chart's domain (a disk's corners: it holds no
+/// direction, and no value).
+fn table(mapping: AnyMapping, chart: u32, w: u32, h: u32) -> Vec<f64> {
+    (0..h)
+        .into_par_iter()
+        .flat_map_iter(|j| (0..w).map(move |i| weight(mapping, chart, i, j, w, h)))
+        .collect()
+}
+
+/// The weight of one texel: its solid angle, or 0 where its centre is
+/// outside the chart.
+/// A cube face's quadrant: a face is symmetric under u → 1 − u and
+/// v → 1 − v, so texel (i, j) has the solid angle of (w − 1 − i, j) and of
+/// (i, h − 1 − j); only ⌈w/2⌉ × ⌈h/2⌉ texels are measured and stored.
+fn cube_quadrant(w: u32, h: u32) -> Vec<f64> {
+    let (qw, qh) = (w.div_ceil(2), h.div_ceil(2));
+    (0..qh)
+        .into_par_iter()
+        .flat_map_iter(|j| (0..qw).map(move |i| weight(AnyMapping::Cube, 0, i, j, w, h)))
+        .collect()
+}
+
+#[inline]
+pub(crate) fn weight(mapping: AnyMapping, chart: u32, i: u32, j: u32, w: u32, h: u32) -> f64 {
+    let (u, v) = (texel_center(i, w), texel_center(j, h));
+    if mapping.has_disk_charts() && !mapping.in_chart(chart, u, v) {
+        return 0.0;
+    }
+    mapping.texel_solid_angle(chart, i, j, w, h)
+}
+
+impl TexelWeights {
+    /// The weights of `mapping`'s charts at `w × h` texels each.
+    #[must_use]
+    pub fn new(mapping: AnyMapping, w: u32, h: u32) -> Self {
+        let charts = mapping.chart_count();
+        let kind = match mapping {
+            AnyMapping::LatLong => Kind::Rows(
+                (0..h)
+                    .map(|j| mapping.texel_solid_angle(0, 0, j, w, h))
+                    .collect(),
+            ),
+            AnyMapping::Cube => Kind::Quadrant(cube_quadrant(w, h)),
+            _ => Kind::PerChart((0..charts).map(|c| table(mapping, c, w, h)).collect()),
+        };
+        Self { w, h, charts, kind }
+    }
+
+    /// Chart size in texels.
+    #[must_use]
+    pub fn size(&self) -> (u32, u32) {
+        (self.w, self.h)
+    }
+
+    /// The solid angle of texel `(i, j)` of `chart` (0 out of range).
+    #[inline]
+    #[must_use]
+    pub fn get(&self, chart: u32, i: u32, j: u32) -> f64 {
+        if chart >= self.charts || i >= self.w || j >= self.h {
+            return 0.0;
+        }
+        let k = (j * self.w + i) as usize;
+        match &self.kind {
+            Kind::Rows(r) => r[j as usize],
+            Kind::Quadrant(t) => {
+                let (i, j) = (i.min(self.w - 1 - i), j.min(self.h - 1 - j));
+                t[(j * self.w.div_ceil(2) + i) as usize]
+            }
+            Kind::PerChart(t) => t[chart as usize][k],
+        }
+    }
+
+    /// Row `j` of `chart`, `w` values.
+    #[must_use]
+    pub fn row(&self, chart: u32, j: u32) -> Vec<f64> {
+        (0..self.w).map(|i| self.get(chart, i, j)).collect()
+    }
+
+    /// The sum over every texel of every chart (4π for a whole sphere).
+    #[must_use]
+    pub fn total(&self) -> f64 {
+        match &self.kind {
+            Kind::Rows(r) => r.iter().sum::<f64>() * f64::from(self.w),
+            Kind::Quadrant(_) => {
+                let per_face: f64 = (0..self.h)
+                    .flat_map(|j| (0..self.w).map(move |i| (i, j)))
+                    .map(|(i, j)| self.get(0, i, j))
+                    .sum();
+                per_face * f64::from(self.charts)
+            }
+            Kind::PerChart(t) => t.iter().flatten().sum(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cube_quadrant_mirrors_the_whole_face() {
+        for (w, h) in [(1, 1), (2, 2), (5, 5), (8, 8), (17, 17)] {
+            let t = TexelWeights::new(AnyMapping::Cube, w, h);
+            for j in 0..h {
+                for i in 0..w {
+                    let direct = weight(AnyMapping::Cube, 0, i, j, w, h);
+                    let got = t.get(3, i, j);
+                    // The same solid angle by the formula at the mirrored
+                    // texel, whose f64 rounding differs (measured: up to
+                    // 4·10⁻¹⁵ relative), a billion times below f32's.
+                    assert!(
+                        (got - direct).abs() <= 1e-13 * direct,
+                        "{w}×{h} ({i}, {j}): {got} {direct}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_representation_adds_up_to_the_sphere() {
+        for m in AnyMapping::ALL {
+            let a = m.atlas();
+            let (w, h) = (8 * a.cell_aspect_w, 8 * a.cell_aspect_h);
+            let t = TexelWeights::new(m, w, h);
+            let total = t.total();
+            let sphere = 4.0 * std::f64::consts::PI;
+            if m.has_disk_charts() {
+                // The slivers of the rim texels whose centres are outside.
+                assert!(total < sphere && total > 0.95 * sphere, "{m}: {total}");
+            } else {
+                assert!((total - sphere).abs() < 1e-12, "{m}: {total}");
+            }
+            assert_eq!(t.get(m.chart_count(), 0, 0), 0.0);
+            assert_eq!(t.get(0, w, 0), 0.0);
+        }
+    }
+}
