@@ -12,6 +12,9 @@
 //!   [`pyramid::Trilinear`]).
 //! * [`dfg`]: the split-sum DFG table, single and multiscatter
 //!   ([`dfg::DfgTable`], [`dfg::dfg_integral`]).
+//! * [`sh`]: irradiance: SH9 projection, irradiance coefficients (E, or E/π
+//!   in Filament's shader form), deringing, irradiance maps from the SH or
+//!   by exact cosine convolution.
 //!
 //! Mip pyramids and prefiltering for lighting belong here too.
 //!
@@ -22,4 +25,5 @@ pub mod convert;
 pub mod dfg;
 pub mod pyramid;
 pub mod sample;
+pub mod sh;
 pub mod weights;
