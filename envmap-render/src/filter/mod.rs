@@ -12,18 +12,21 @@
 //!   [`pyramid::Trilinear`]).
 //! * [`dfg`]: the split-sum DFG table, single and multiscatter
 //!   ([`dfg::DfgTable`], [`dfg::dfg_integral`]).
+//! * [`bake`]: the lighting bake's pipeline (chain, levels, reports).
+//! * [`specular`]: GGX-prefiltered levels, exact or importance-sampled, the
+//!   brightest texels added exactly, and the mip↔roughness rules.
 //! * [`sh`]: irradiance: SH9 projection, irradiance coefficients (E, or E/π
 //!   in Filament's shader form), deringing, irradiance maps from the SH or
 //!   by exact cosine convolution.
 //!
-//! Mip pyramids and prefiltering for lighting belong here too.
-//!
 //! This folder uses `envmap-core`, `envmap-simd` and [`crate::image`];
 //! nothing from `scene` or `cli`.
 
+pub mod bake;
 pub mod convert;
 pub mod dfg;
 pub mod pyramid;
 pub mod sample;
 pub mod sh;
+pub mod specular;
 pub mod weights;

@@ -1,0 +1,73 @@
+//! The lighting bake of a 4096×2048 latlong (the smooth test environment,
+//! already in memory): the default 512² GGX specular chain (linear rule,
+//! nine levels down to 2², default quality), the SH9, the 32² irradiance
+//! cube and the 128² DFG table, on two threads; and the chain alone; and
+//! the exact mode of a 64² chain from a 256² cube.
+//!
+//! ```text
+//! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench bake
+//! ```
+
+mod common;
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use envmap_core::AnyMapping;
+use envmap_render::filter::bake::{bake, specular_chain, BakeOptions};
+use envmap_render::image::{FileAxes, Representation};
+use envmap_render::procedural::{fill, smooth};
+
+fn bench(c: &mut Criterion) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let src = fill(
+        Representation::default_for(AnyMapping::LatLong),
+        4096,
+        2048,
+        smooth,
+    )
+    .unwrap();
+    let mut g = c.benchmark_group("bake/latlong4096");
+    g.sample_size(10);
+    let opts = BakeOptions::default();
+    g.bench_function("chain512+sh9+irradiance32+dfg128/2-threads", |b| {
+        b.iter(|| pool.install(|| bake(black_box(&src), &opts, &|_, _| {}).expect("bake")))
+    });
+    g.bench_function("chain512/2-threads", |b| {
+        b.iter(|| {
+            pool.install(|| specular_chain(black_box(&src), &opts, &|_, _| {}).expect("chain"))
+        })
+    });
+    g.finish();
+
+    let cube = fill(
+        Representation::for_file(AnyMapping::Cube, FileAxes::default()),
+        4 * 256,
+        3 * 256,
+        smooth,
+    )
+    .unwrap();
+    let mut g = c.benchmark_group("bake/exact-cube256");
+    g.sample_size(10);
+    let exact = BakeOptions {
+        size: 64,
+        exact: true,
+        ..BakeOptions::default()
+    };
+    g.bench_function("chain64/2-threads", |b| {
+        b.iter(|| {
+            pool.install(|| specular_chain(black_box(&cube), &exact, &|_, _| {}).expect("chain"))
+        })
+    });
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = common::config();
+    targets = bench
+}
+criterion_main!(benches);

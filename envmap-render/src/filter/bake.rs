@@ -1,0 +1,639 @@
+//! The lighting bake: from one environment map, the GGX-prefiltered
+//! specular chain, the irradiance (SH9 and a map) and the DFG table, with
+//! every convention and every approximation reported.
+//!
+//! ```text
+//! source → cube base (face s₀ ≥ the source's resolution) → the brightest texels split out
+//!        → mip pyramid of the rest (solid-angle box filter)
+//!        → level 0: the source resampled (roughness 0)
+//!        → level k: GGX at the rule's roughness, exact or importance-sampled, + the split texels exactly
+//! source → SH9 (exact texel solid angles) → irradiance map (E/π by default)
+//! DFG table (scale, bias; single and multiscatter)
+//! ```
+//!
+//! Outputs are clamped at zero (a lossy EXR's ringing around a sun gives
+//! negative texels: the bake integrates the data as given and counts what
+//! it clamps). NaN and infinite texels are refused (the command replaces
+//! them by black when it loads a file, as `convert` does).
+
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use envmap_core::{AnyMapping, Atlas, Mapping};
+
+use crate::cancel;
+use crate::error::{Error, Result};
+use crate::filter::convert::{convert, ConvertOptions};
+use crate::filter::dfg::{self, DfgTable};
+use crate::filter::pyramid::{Pyramid, Trilinear};
+use crate::filter::sh::{
+    irradiance_map, irradiance_map_exact, ExactLevel, IrradianceScale, Sh9, ShWindow,
+    DEFAULT_IRRADIANCE_SIZE,
+};
+use crate::filter::specular::{
+    exact_level, finest_sampled_level, prefilter_level, split_bright, BrightReport, LevelJob,
+    Method, RoughnessRule,
+};
+use crate::image::{luminance, EnvImage, FileAxes, Representation};
+
+/// How many samples the importance-sampled levels take.
+///
+/// The default's counts grow with roughness, as the sampling's error does
+/// at a fixed count (measured against the exact integral on a 512² chain
+/// from a smooth 4096 × 2048 HDR: at 64 samples 0.30 % relative RMS at
+/// roughness 0.125, 0.53–0.59 % from 0.25 to 0.5, 2.0 % at 1; at 256,
+/// 0.12–0.18 % up to 0.625 and 0.52 % at 1; the built-in room, all sharp
+/// edges, needs 256 at 0.4 to stay within 1 %): 64 up to roughness 0.15,
+/// 128 up to 0.3, 256 up to 0.5, 1024 above. Draft takes a quarter of
+/// those, high four times as many.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Quality {
+    /// A quarter of the default's samples (at least 16).
+    Draft,
+    /// 64, 128, 256 or 1024 samples by roughness.
+    #[default]
+    Default,
+    /// Four times the default's samples.
+    High,
+}
+
+impl Quality {
+    /// Samples per texel at `roughness`.
+    #[must_use]
+    pub fn samples(self, roughness: f32) -> u32 {
+        let base = match roughness {
+            r if r <= 0.15 => 64,
+            r if r <= 0.3 => 128,
+            r if r <= 0.5 => 256,
+            _ => 1024,
+        };
+        match self {
+            Quality::Draft => (base / 4).max(16),
+            Quality::Default => base,
+            Quality::High => 4 * base,
+        }
+    }
+
+    /// The name on the command line.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Quality::Draft => "draft",
+            Quality::Default => "default",
+            Quality::High => "high",
+        }
+    }
+}
+
+impl std::str::FromStr for Quality {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "draft" => Ok(Quality::Draft),
+            "default" => Ok(Quality::Default),
+            "high" => Ok(Quality::High),
+            _ => Err(Error::UnknownName {
+                what: "quality",
+                name: s.to_owned(),
+                expected: "draft, default, high".to_owned(),
+            }),
+        }
+    }
+}
+
+/// What to bake.
+#[derive(Clone, Debug)]
+pub struct BakeOptions<'a> {
+    /// The specular chain's level-0 face size. Default 512.
+    pub size: u32,
+    /// Number of levels; `None` down to `min_size`.
+    pub levels: Option<usize>,
+    /// The smallest level's face size when `levels` is `None`; `None` for
+    /// the rule's own ([`RoughnessRule::default_min_size`]).
+    pub min_size: Option<u32>,
+    /// Which roughness each level has.
+    pub rule: RoughnessRule,
+    /// Sample counts of the sampled levels.
+    pub quality: Quality,
+    /// Samples per texel for every sampled level, overriding `quality`.
+    pub samples: Option<u32>,
+    /// Every level by the exact sum (slow at large sizes; the oracle).
+    pub exact: bool,
+    /// Added to each sample's FIS level. Default 0 (measured best on smooth
+    /// and sharp environments: `docs/lighting.md`).
+    pub lod_bias: f32,
+    /// At most this many brightest texels are split out and added exactly.
+    pub bright_max: usize,
+    /// Firefly control: texels above this luminance are compressed
+    /// (Y → T·(1 + ln(Y/T))) before filtering; `None` (the default) leaves
+    /// them.
+    pub clamp: Option<f32>,
+    /// The outputs' axes (cube files in the GL world by default).
+    pub axes: FileAxes,
+    /// The irradiance map's face size ([`bake`]); 0 for none. Default 32.
+    pub irradiance_size: u32,
+    /// What the irradiance map stores: E/π (the default) or E.
+    pub irradiance_scale: IrradianceScale,
+    /// A deringing window for the SH (and the irradiance map made from
+    /// it); `None` (the default) for none.
+    pub sh_window: Option<ShWindow>,
+    /// Only the SH ([`bake`] skips the chain, the map and the table).
+    pub sh_only: bool,
+    /// The DFG table's size ([`bake`]); 0 for none. Default 128.
+    pub dfg_size: u32,
+    /// Stops the bake once set ([`Error::Cancelled`]).
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+impl Default for BakeOptions<'_> {
+    fn default() -> Self {
+        Self {
+            size: 512,
+            levels: None,
+            min_size: None,
+            rule: RoughnessRule::Linear,
+            quality: Quality::Default,
+            samples: None,
+            exact: false,
+            lod_bias: 0.0,
+            bright_max: 1024,
+            clamp: None,
+            axes: FileAxes::default(),
+            irradiance_size: DEFAULT_IRRADIANCE_SIZE,
+            irradiance_scale: IrradianceScale::EOverPi,
+            sh_window: None,
+            sh_only: false,
+            dfg_size: dfg::DEFAULT_SIZE,
+            cancel: None,
+        }
+    }
+}
+
+/// One level of the chain, for reports and manifests.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LevelReport {
+    /// Face size.
+    pub size: u32,
+    /// Perceptual roughness.
+    pub roughness: f32,
+    /// `"resampled"`, `"exact"` or `"sampled"`.
+    pub method: &'static str,
+    /// Samples per texel (sampled levels).
+    pub samples: u32,
+    /// The pyramid level summed over (exact levels).
+    pub source_level: Option<usize>,
+    /// Output texels clamped at zero (negative source data).
+    pub clamped: u64,
+    /// Seconds.
+    pub seconds: f64,
+}
+
+/// The relative RMS error a sampled level is expected to have against the
+/// exact integral on a smooth environment, from the measurements in
+/// `docs/lighting.md` (`examples/bake_accuracy.rs`: a 512² chain from a
+/// smooth 4096 × 2048 HDR, 64 samples per texel: 0.30 % at roughness
+/// 0.125, 0.53 % at 0.25, 0.57 % at 0.375, 0.59 % at 0.5, 0.74 % at 0.625,
+/// 1.02 % at 0.75, 1.19 % at 0.875, 2.04 % at 1), interpolated in
+/// roughness and scaled by √(64/N) for N samples (conservative: at 256
+/// samples the measured errors are 0.12–0.52 %, under the 0.15–1.02 % this
+/// gives). Sharp environments (edges, small lights) have larger errors:
+/// `envmap bake --check` measures them on the input itself.
+#[must_use]
+pub fn estimated_error(roughness: f32, samples: u32) -> f64 {
+    const AT_64: [(f64, f64); 9] = [
+        (0.0, 0.0),
+        (0.125, 0.0030),
+        (0.25, 0.0053),
+        (0.375, 0.0057),
+        (0.5, 0.0059),
+        (0.625, 0.0074),
+        (0.75, 0.0102),
+        (0.875, 0.0119),
+        (1.0, 0.0204),
+    ];
+    let r = f64::from(roughness).clamp(0.0, 1.0);
+    let e = AT_64
+        .windows(2)
+        .find(|w| r <= w[1].0)
+        .map_or(AT_64[8].1, |w| {
+            let t = (r - w[0].0) / (w[1].0 - w[0].0);
+            w[0].1 + t * (w[1].1 - w[0].1)
+        });
+    e * (64.0 / f64::from(samples.max(1))).sqrt()
+}
+
+/// What [`clamp_luminance`] changed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ClampReport {
+    /// The luminance threshold.
+    pub threshold: f32,
+    /// Texels compressed.
+    pub texels: u64,
+    /// Fraction of the energy (Σ Ω·Y) taken away.
+    pub energy_removed: f64,
+}
+
+/// Compresses every texel whose luminance Y exceeds `t` to the luminance
+/// t·(1 + ln(Y/t)) (continuous, with slope 1 at t), keeping its colour.
+pub fn clamp_luminance(img: &mut EnvImage, t: f32) -> Result<ClampReport> {
+    let mapping = img.mapping();
+    let (cw, ch) = img.cell_size();
+    let weights = crate::filter::weights::TexelWeights::new(mapping, cw, ch);
+    let mut rep = ClampReport {
+        threshold: t,
+        ..ClampReport::default()
+    };
+    let (mut total, mut removed) = (0.0f64, 0.0f64);
+    for chart in 0..mapping.chart_count() {
+        let Some(mut face) = img.chart_image(chart) else {
+            continue;
+        };
+        for j in 0..ch {
+            for i in 0..cw {
+                let k = (j * cw + i) as usize;
+                let o = weights.get(chart, i, j);
+                let y = luminance(face.pixels[k]);
+                total += o * f64::from(y.max(0.0));
+                if y > t && t > 0.0 {
+                    let y2 = t * (1.0 + (y / t).ln());
+                    let s = y2 / y;
+                    face.pixels[k] = face.pixels[k].map(|c| c * s);
+                    removed += o * f64::from(y - y2);
+                    rep.texels += 1;
+                }
+            }
+        }
+        img.set_chart_image(chart, &face)?;
+    }
+    rep.energy_removed = if total > 0.0 { removed / total } else { 0.0 };
+    Ok(rep)
+}
+
+/// Clamps negative components at zero; returns how many texels had one.
+fn clamp_negative(img: &mut EnvImage) -> u64 {
+    let mut n = 0;
+    for p in img.pixels_mut() {
+        if p.iter().any(|c| *c < 0.0) {
+            n += 1;
+            *p = p.map(|c| c.max(0.0));
+        }
+    }
+    n
+}
+
+/// The chain's face sizes for `opts`.
+///
+/// # Errors
+///
+/// `levels` beyond the chain (more than ⌊log2 size⌋ + 1), or 0; a size of
+/// 0.
+pub fn chain_sizes(opts: &BakeOptions) -> Result<Vec<u32>> {
+    if opts.size == 0 {
+        return Err(Error::Input("--size must be at least 1".to_owned()));
+    }
+    let full: Vec<u32> =
+        std::iter::successors(Some(opts.size), |&s| (s > 1).then_some(s / 2)).collect();
+    match opts.levels {
+        Some(0) => Err(Error::Input("--levels must be at least 1".to_owned())),
+        Some(n) if n > full.len() => Err(Error::Input(format!(
+            "--levels {n}: a chain from {}² has at most {} levels (down to 1×1)",
+            opts.size,
+            full.len()
+        ))),
+        Some(n) => Ok(full[..n].to_vec()),
+        None => {
+            let min = opts
+                .min_size
+                .unwrap_or_else(|| opts.rule.default_min_size())
+                .max(1);
+            let v: Vec<u32> = full.iter().copied().take_while(|&s| s >= min).collect();
+            Ok(if v.is_empty() { vec![opts.size] } else { v })
+        }
+    }
+}
+
+/// The specular chain and what was done to make it.
+#[derive(Clone, Debug)]
+pub struct SpecularChain {
+    /// The levels, largest first, each a cube (horizontal strip) in the
+    /// output axes.
+    pub levels: Vec<EnvImage>,
+    /// One report per level.
+    pub reports: Vec<LevelReport>,
+    /// The brightest texels split out.
+    pub bright: BrightReport,
+    /// What the firefly clamp changed, if it was asked for.
+    pub clamp: Option<ClampReport>,
+    /// The base cube's face size.
+    pub base_size: u32,
+    /// Seconds per preparation stage (the base cube, the split, the
+    /// pyramid, ...), in order; each level's time is in its report.
+    pub stages: Vec<(&'static str, f64)>,
+}
+
+/// The specular chain of `src` (any representation, finite texels).
+/// `progress(level, levels)` is called as each level starts.
+///
+/// # Errors
+///
+/// NaN or infinite texels in `src`; bad sizes or levels ([`chain_sizes`]);
+/// [`Error::Cancelled`].
+pub fn specular_chain(
+    src: &EnvImage,
+    opts: &BakeOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<SpecularChain> {
+    let bad = src
+        .pixels()
+        .iter()
+        .filter(|p| !p.iter().all(|c| c.is_finite()))
+        .count();
+    if bad > 0 {
+        return Err(Error::Input(format!(
+            "{bad} texels hold NaN or infinite values; replace them first (envmap bake does, as convert does)"
+        )));
+    }
+    let sizes = chain_sizes(opts)?;
+    let cube = Representation::new(
+        AnyMapping::Cube,
+        Atlas::CUBE_HORIZONTAL_STRIP,
+        opts.axes.frame(AnyMapping::Cube),
+    )?;
+    // The base: a cube with about as many texels as the source (a 4096 ×
+    // 2048 latlong gives 1024² faces), the power of two at or below, at
+    // least the chain's level 0 and at most 2048.
+    let src_texels = u64::from(src.width()) * u64::from(src.height());
+    let per_face = ((src_texels as f64 / 6.0).sqrt() * 1.05).max(1.0) as u32;
+    let floor_pow2 = 1u32 << (31 - per_face.leading_zeros());
+    let base_size = floor_pow2.clamp(opts.size.min(2048), 2048);
+    let copts = ConvertOptions {
+        cancel: opts.cancel,
+        ..ConvertOptions::default()
+    };
+    progress(0, sizes.len());
+    let t0 = Instant::now();
+    // Where the time goes, stage by stage.
+    let mut stages: Vec<(&'static str, f64)> = Vec::new();
+    let mut last = Instant::now();
+    let mut tr = |name: &'static str| {
+        stages.push((name, last.elapsed().as_secs_f64()));
+        last = Instant::now();
+    };
+    let mut level0 = convert(src, cube, 6 * sizes[0], sizes[0], &copts, None)?;
+    tr("level 0 resampled");
+    let mut base = convert(src, cube, 6 * base_size, base_size, &copts, None)?;
+    tr("base cube");
+    let clamp = match opts.clamp {
+        Some(t) => {
+            clamp_luminance(&mut level0, t)?;
+            Some(clamp_luminance(&mut base, t)?)
+        }
+        None => None,
+    };
+    let clamped0 = clamp_negative(&mut level0);
+    let mut reports = vec![LevelReport {
+        size: sizes[0],
+        roughness: 0.0,
+        method: "resampled",
+        samples: 0,
+        source_level: None,
+        clamped: clamped0,
+        seconds: t0.elapsed().as_secs_f64(),
+    }];
+    let bright = split_bright(&mut base, opts.bright_max)?;
+    tr("bright texels split");
+    let rest = Pyramid::new(base, 1)?;
+    tr("pyramid");
+    cancel::check(opts.cancel)?;
+    let n = sizes.len();
+    // Each level's roughness and method: exact where that is cheaper than
+    // sampling (a source texel costs about as much as a sample), or when
+    // asked.
+    let plans: Vec<(f32, Method)> = (1..n)
+        .map(|k| {
+            let roughness = opts.rule.roughness(k, n);
+            let samples = opts
+                .samples
+                .unwrap_or_else(|| opts.quality.samples(roughness));
+            let el = exact_level(&rest, roughness);
+            let src_texels = rest.level(el).pixels().len() as u64;
+            let method = if opts.exact || src_texels <= u64::from(samples) {
+                Method::Exact { level: el }
+            } else {
+                Method::Sampled { samples }
+            };
+            (roughness, method)
+        })
+        .collect();
+    // Only the levels the samples read are prepared for trilinear reads.
+    let first = plans
+        .iter()
+        .filter_map(|&(r, m)| match m {
+            Method::Sampled { samples } => {
+                Some(finest_sampled_level(&rest, r, samples, opts.lod_bias))
+            }
+            Method::Exact { .. } => None,
+        })
+        .min()
+        .unwrap_or(rest.len() - 1);
+    let sampler = Trilinear::starting_at(&rest, first);
+    tr("bordered levels");
+    let mut levels = vec![level0];
+    for (i, (&size, &(roughness, method))) in sizes[1..].iter().zip(&plans).enumerate() {
+        let k = i + 1;
+        progress(k, n);
+        let t = Instant::now();
+        let job = LevelJob {
+            rest: &rest,
+            sampler: &sampler,
+            bright: &bright,
+            roughness,
+            method,
+            lod_bias: opts.lod_bias,
+            level: k as u32,
+            cancel: opts.cancel,
+        };
+        let mut img = prefilter_level(&job, cube, 6 * size, size)?;
+        let clamped = clamp_negative(&mut img);
+        reports.push(LevelReport {
+            size,
+            roughness,
+            method: match method {
+                Method::Exact { .. } => "exact",
+                Method::Sampled { .. } => "sampled",
+            },
+            samples: match method {
+                Method::Sampled { samples } => samples,
+                Method::Exact { .. } => 0,
+            },
+            source_level: match method {
+                Method::Exact { level } => Some(level),
+                Method::Sampled { .. } => None,
+            },
+            clamped,
+            seconds: t.elapsed().as_secs_f64(),
+        });
+        levels.push(img);
+    }
+    Ok(SpecularChain {
+        levels,
+        reports,
+        bright: bright.report,
+        clamp,
+        base_size,
+        stages,
+    })
+}
+
+/// The irradiance map and how it was made.
+#[derive(Clone, Debug)]
+pub struct Irradiance {
+    /// The map: a cube (horizontal strip) in the output axes, E or E/π as
+    /// [`BakeOptions::irradiance_scale`] says.
+    pub image: EnvImage,
+    /// `"sh9"` (from the SH, the default) or `"exact"` (direct cosine
+    /// convolution over a level of the source's pyramid: `--exact`).
+    pub method: &'static str,
+    /// The pyramid level convolved (exact).
+    pub source_level: Option<usize>,
+    /// Texels clamped at zero (SH9 rings below zero around a sun; negative
+    /// source data).
+    pub clamped: u64,
+}
+
+/// Everything [`bake`] makes.
+#[derive(Clone, Debug)]
+pub struct Bake {
+    /// The specular chain (`None` with [`BakeOptions::sh_only`]).
+    pub chain: Option<SpecularChain>,
+    /// The source's radiance coefficients, canonical axes, unwindowed.
+    pub sh: Sh9,
+    /// The deringing window's cutoff, if a window was applied.
+    pub sh_cutoff: Option<f64>,
+    /// The irradiance map (`None` for size 0 or [`BakeOptions::sh_only`]).
+    pub irradiance: Option<Irradiance>,
+    /// The DFG table (`None` for size 0 or [`BakeOptions::sh_only`]).
+    pub dfg: Option<DfgTable>,
+    /// Seconds per stage besides the chain's: `sh9`, `irradiance`, `dfg`.
+    pub stages: Vec<(&'static str, f64)>,
+}
+
+/// The whole lighting bake of `src`: the specular chain
+/// ([`specular_chain`]), the SH9 radiance coefficients ([`Sh9::project`]),
+/// the irradiance map (from the SH, or exact with [`BakeOptions::exact`]),
+/// and the DFG table. `progress(level, levels)` as for the chain.
+///
+/// # Errors
+///
+/// As [`specular_chain`]; a bad irradiance or DFG size.
+pub fn bake(
+    src: &EnvImage,
+    opts: &BakeOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Bake> {
+    let cube = Representation::new(
+        AnyMapping::Cube,
+        Atlas::CUBE_HORIZONTAL_STRIP,
+        opts.axes.frame(AnyMapping::Cube),
+    )?;
+    let chain = if opts.sh_only {
+        if src
+            .pixels()
+            .iter()
+            .any(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::Input(
+                "texels hold NaN or infinite values; replace them first".to_owned(),
+            ));
+        }
+        None
+    } else {
+        Some(specular_chain(src, opts, progress)?)
+    };
+    cancel::check(opts.cancel)?;
+    let mut stages = Vec::new();
+    let t = Instant::now();
+    let sh = Sh9::project(src);
+    let (windowed, sh_cutoff) = match opts.sh_window {
+        None => (sh, None),
+        Some(w) => {
+            let cutoff = match w {
+                ShWindow::Sinc4 { cutoff } => Some(cutoff),
+                ShWindow::Auto => sh.auto_cutoff(),
+            };
+            (sh.windowed(w), cutoff)
+        }
+    };
+    stages.push(("sh9", t.elapsed().as_secs_f64()));
+    let mut irradiance = None;
+    if !opts.sh_only && opts.irradiance_size > 0 {
+        let t = Instant::now();
+        let (w, h) = (6 * opts.irradiance_size, opts.irradiance_size);
+        let (mut image, method, source_level) = if opts.exact {
+            let p = Pyramid::new(src.clone(), 1)?;
+            let e =
+                irradiance_map_exact(&p, cube, w, h, opts.irradiance_scale, ExactLevel::default())?;
+            (e.image, "exact", Some(e.level))
+        } else {
+            (
+                irradiance_map(&windowed, cube, w, h, opts.irradiance_scale)?,
+                "sh9",
+                None,
+            )
+        };
+        let clamped = clamp_negative(&mut image);
+        irradiance = Some(Irradiance {
+            image,
+            method,
+            source_level,
+            clamped,
+        });
+        stages.push(("irradiance", t.elapsed().as_secs_f64()));
+    }
+    cancel::check(opts.cancel)?;
+    let mut table = None;
+    if !opts.sh_only && opts.dfg_size > 0 {
+        let t = Instant::now();
+        table = Some(DfgTable::new_cancellable(opts.dfg_size, opts.cancel)?);
+        stages.push(("dfg", t.elapsed().as_secs_f64()));
+    }
+    Ok(Bake {
+        chain,
+        sh,
+        sh_cutoff,
+        irradiance,
+        dfg: table,
+        stages,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chain_sizes_follow_the_rule_and_refuse_too_many_levels() {
+        let o = BakeOptions::default();
+        assert_eq!(
+            chain_sizes(&o).unwrap(),
+            [512, 256, 128, 64, 32, 16, 8, 4, 2]
+        );
+        let f = BakeOptions {
+            rule: RoughnessRule::Filament,
+            ..BakeOptions::default()
+        };
+        assert_eq!(chain_sizes(&f).unwrap(), [512, 256, 128, 64, 32, 16]);
+        let l = BakeOptions {
+            levels: Some(10),
+            ..BakeOptions::default()
+        };
+        assert_eq!(chain_sizes(&l).unwrap().last(), Some(&1));
+        let e = chain_sizes(&BakeOptions {
+            levels: Some(11),
+            ..BakeOptions::default()
+        })
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("at most 10 levels"), "{e}");
+    }
+}
