@@ -459,3 +459,161 @@ fn help_states_the_exit_codes() {
     let o = envmap(&["bogus"], dir.path());
     assert_fails(&o, 2, "unrecognized subcommand 'bogus'");
 }
+
+#[test]
+fn bake_writes_every_output_and_refuses_mistakes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    latlong_file(d, "in.hdr", 256);
+    // A built-in, with no file at all, and a file.
+    for input in ["sky", "in.hdr"] {
+        let out = d.join(format!("bake-{input}"));
+        let o = envmap(
+            &[
+                "bake",
+                input,
+                "--out",
+                out.to_str().unwrap(),
+                "--size",
+                "32",
+                "--env-size",
+                "64",
+                "--quality",
+                "draft",
+            ],
+            d,
+        );
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let err = text(&o.stderr);
+        assert!(err.contains("| level |") && err.contains("E/pi"), "{err}");
+        let mut names: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        // 32, 16, 8, 4, 2: five levels by the linear rule's 2² floor.
+        let mut want: Vec<String> = (0..5).map(|k| format!("specular_{k}.exr")).collect();
+        want.extend(
+            [
+                "dfg.exr",
+                "dfg_multiscatter.exr",
+                "irradiance.exr",
+                "manifest.json",
+                "sh.json",
+            ]
+            .map(String::from),
+        );
+        want.sort();
+        assert_eq!(names, want);
+        let m: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap())
+                .unwrap();
+        assert_eq!(m["irradiance"]["value"], "E/pi");
+        assert_eq!(m["specular"]["roughness_rule"], "linear");
+        assert_eq!(m["specular"]["levels"][4]["perceptual_roughness"], 1.0);
+        let sh: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("sh.json")).unwrap()).unwrap();
+        assert_eq!(sh["filament"]["value"], "E/pi");
+        assert_eq!(
+            sh["irradiance"]["coefficients"]["L00"]
+                .as_array()
+                .unwrap()
+                .len(),
+            3
+        );
+        // The irradiance cube reads back as a 32² cross.
+        let o = envmap(&["info", out.join("irradiance.exr").to_str().unwrap()], d);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        assert!(text(&o.stdout).contains("cube"), "{}", text(&o.stdout));
+    }
+    // A ringing sun (a lossy EXR's negative texels): counted by info, and
+    // the bake's outputs clamped at zero with the count in the manifest.
+    let ring = fill(
+        Representation::default_for(AnyMapping::LatLong),
+        256,
+        128,
+        |v| {
+            let c = v.normalize().z;
+            if c > 0.9995 {
+                [3e4; 3]
+            } else if c > 0.995 {
+                [-3894.0, -20.0, 0.5]
+            } else {
+                [0.2; 3]
+            }
+        },
+    )
+    .unwrap();
+    let negative = ring
+        .pixels()
+        .iter()
+        .filter(|p| p.iter().any(|c| *c < 0.0))
+        .count();
+    assert!(negative > 0);
+    save(&ring, d.join("ring.exr"), &SaveOptions::default()).unwrap();
+    let o = envmap(&["info", "ring.exr"], d);
+    let info = text(&o.stdout);
+    assert!(
+        info.lines()
+            .any(|l| l.starts_with("negative texels") && l.contains(&format!(" {negative} ("))),
+        "{info}"
+    );
+    let rb = d.join("ring-bake");
+    let o = envmap(
+        &[
+            "bake",
+            "ring.exr",
+            "--out",
+            rb.to_str().unwrap(),
+            "--size",
+            "32",
+            "-q",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(rb.join("manifest.json")).unwrap()).unwrap();
+    let clamped: u64 = m["specular"]["levels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["texels_clamped_at_zero"].as_u64().unwrap())
+        .sum();
+    assert!(clamped > 0, "{m}");
+    // SH alone.
+    let only = d.join("sh-only");
+    let o = envmap(
+        &[
+            "bake",
+            "in.hdr",
+            "--out",
+            only.to_str().unwrap(),
+            "--sh-only",
+            "-q",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let n = std::fs::read_dir(&only).unwrap().count();
+    assert_eq!(n, 2, "sh.json and manifest.json only");
+    // Mistakes: clear errors, nothing written.
+    let bad = d.join("bad");
+    let b = bad.to_str().unwrap();
+    assert_fails(
+        &envmap(&["bake", "sky", "--out", b, "--levels", "12"], d),
+        1,
+        "at most 10 levels",
+    );
+    assert_fails(
+        &envmap(&["bake", "nothing.hdr", "--out", b], d),
+        1,
+        "built-in environments: sky, room",
+    );
+    assert_fails(
+        &envmap(&["bake", "sky", "--out", b, "--sh-window=-3"], d),
+        2,
+        "positive cutoff",
+    );
+    assert!(!bad.exists(), "nothing written for a refused bake");
+}

@@ -153,6 +153,18 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
         )?;
         p(&mut out, "NaN texels", s.nan.to_string())?;
         p(&mut out, "Inf texels", s.inf.to_string())?;
+        p(
+            &mut out,
+            "negative texels",
+            if s.negative == 0 {
+                "0".to_owned()
+            } else {
+                format!(
+                    "{} (no light is negative: lossy compression rings around bright texels; convert keeps them, bake integrates them as given and clamps its outputs at zero)",
+                    s.negative
+                )
+            },
+        )?;
         let mib = |b: u64| b as f64 / f64::from(1u32 << 20);
         let held = EnvImage::memory_bytes_for(img.width(), img.height());
         p(

@@ -21,6 +21,7 @@ use signals::Signals;
 use clap::{Parser, Subcommand};
 
 mod args;
+mod bake;
 mod convert;
 mod demo;
 mod info;
@@ -65,6 +66,10 @@ enum Command {
     ///
     /// Example: envmap demo --out envmap-demo
     Demo(demo::DemoArgs),
+    /// Bake image-based lighting: a GGX-prefiltered specular chain, irradiance, SH9 and the DFG table.
+    ///
+    /// Example: envmap bake studio.hdr --out studio-ibl
+    Bake(bake::BakeArgs),
     /// Render a mirror object (teapot, sphere, torus) in an environment.
     ///
     /// Example: envmap render teapot.png --env sky --mapping latlong --mode per-vertex
@@ -87,6 +92,7 @@ pub fn main() -> ExitCode {
         Command::Map(a) => map::run_map(&a, stop),
         Command::Unmap(a) => map::run_unmap(&a, stop),
         Command::Render(a) => render::run(&a, stop),
+        Command::Bake(a) => bake::run(&a, stop),
         Command::Demo(a) => demo::run(&a, stop),
     };
     if let Some(status) = signals.exit_status() {

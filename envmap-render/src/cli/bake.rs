@@ -1,0 +1,569 @@
+//! `envmap bake`: image-based lighting from one environment map.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use clap::Args;
+use envmap_core::AnyMapping;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::cli::args::{
+    load_error, parse_convention, parse_layout, parse_mapping, parse_world, warn_replaced,
+    CliResult,
+};
+use crate::filter::bake::{bake, chain_sizes, Bake, BakeOptions, Quality};
+use crate::filter::sh::{IrradianceScale, ShWindow, NAMES};
+use crate::filter::specular::RoughnessRule;
+use crate::image::convention::{Convention, FileAxes, World};
+use crate::image::io::{load_detailed, ExrPrecision, LoadOptions, NonFinite, Outputs, SaveOptions};
+use crate::image::layout::Layout;
+use crate::image::{EnvImage, Representation};
+use crate::scene::environments::Builtin;
+
+#[derive(Args)]
+pub(crate) struct BakeArgs {
+    /// The environment: a file (.hdr, .exr, .png, .jpg; a six-file cube by one face's name), or a built-in: sky, room.
+    pub(crate) input: String,
+    /// Output directory (created if missing; every file of the bake is renamed into it together at the end).
+    #[arg(long)]
+    pub(crate) out: PathBuf,
+    /// Face size of the specular chain's level 0.
+    #[arg(long, default_value_t = 512)]
+    pub(crate) size: u32,
+    /// Number of levels (default: down to --min-size).
+    #[arg(long)]
+    pub(crate) levels: Option<usize>,
+    /// Face size of the smallest level (default: 2 for linear, 16 for filament, 8 for unity).
+    #[arg(long)]
+    pub(crate) min_size: Option<u32>,
+    /// Mip↔roughness rule: linear (glTF-IBL-Sampler, Bevy), filament, unity, or roughness values per level (0,0.2,0.5,1).
+    #[arg(long, default_value = "linear")]
+    pub(crate) roughness_rule: RoughnessRule,
+    /// Samples per texel of the sampled levels (overrides --quality).
+    #[arg(long)]
+    pub(crate) samples: Option<u32>,
+    /// Sample counts: draft, default, high.
+    #[arg(long, default_value = "default")]
+    pub(crate) quality: Quality,
+    /// Every level by the exact sum over a fine enough source level (slow at large sizes).
+    #[arg(long)]
+    pub(crate) exact: bool,
+    /// Face size of the irradiance cube (0: none).
+    #[arg(long, default_value_t = 32)]
+    pub(crate) irradiance_size: u32,
+    /// What the irradiance map stores: e-over-pi (E/π, what engines expect; the default) or e (E).
+    #[arg(long, value_parser = parse_scale, default_value = "e-over-pi")]
+    pub(crate) irradiance_scale: IrradianceScale,
+    /// Only the spherical harmonics (sh.json and the manifest): no chain, no maps, no table.
+    #[arg(long)]
+    pub(crate) sh_only: bool,
+    /// Deringing of the SH (and of the irradiance map made from it): none (the default), auto (the sinc⁴ window that keeps the irradiance non-negative), or a cutoff in bands (cmgen's default on smooth maps is 12.7675).
+    #[arg(long, value_parser = parse_window, default_value = "none")]
+    pub(crate) sh_window: Window,
+    /// Size of the DFG table (0: none).
+    #[arg(long, default_value_t = 128)]
+    pub(crate) dfg_size: u32,
+    /// At most this many of the brightest texels (a sun) are split out and added exactly to every output texel (0: none).
+    #[arg(long, default_value_t = 1024)]
+    pub(crate) split: usize,
+    /// Compress texels above this luminance before filtering, and report what that changed (off by default).
+    #[arg(long)]
+    pub(crate) clamp: Option<f32>,
+    /// Layout of the chain's EXR files: cross (default), vcross, strip, vstrip, faces (six files per level).
+    #[arg(long, value_parser = parse_layout, default_value = "cross")]
+    pub(crate) layout: Layout,
+    /// The input's mapping, when its aspect ratio does not say.
+    #[arg(long, value_parser = parse_mapping)]
+    pub(crate) from: Option<AnyMapping>,
+    /// The world the input file's conventions are in (default: what the file says, else y-up).
+    #[arg(long, value_parser = parse_world)]
+    pub(crate) from_frame: Option<World>,
+    /// The world of the outputs: y-up (the GL world, the default), y-up-lh, z-up.
+    #[arg(long, value_parser = parse_world, default_value = "y-up")]
+    pub(crate) to_frame: World,
+    /// File conventions (see `envmap convert --help`); default: what the input says, else envmap.
+    #[arg(long, value_parser = parse_convention)]
+    pub(crate) convention: Option<Convention>,
+    /// For a built-in environment: the face size of the cube it is evaluated into.
+    #[arg(long, default_value_t = 1024)]
+    pub(crate) env_size: u32,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub(crate) threads: Option<usize>,
+    /// Largest input accepted, in millions of texels.
+    #[arg(long, default_value_t = 268)]
+    pub(crate) max_megatexels: u64,
+    /// No progress bar or summary.
+    #[arg(long, short)]
+    pub(crate) quiet: bool,
+}
+
+/// `--sh-window`: none, auto, or a cutoff.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Window(pub(crate) Option<ShWindow>);
+
+fn parse_window(s: &str) -> Result<Window, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "none" | "no" | "off" => Ok(Window(None)),
+        "auto" => Ok(Window(Some(ShWindow::Auto))),
+        v => match v.parse::<f64>() {
+            Ok(c) if c.is_finite() && c > 0.0 => Ok(Window(Some(ShWindow::Sinc4 { cutoff: c }))),
+            _ => Err(format!(
+                "{s}: expected none, auto, or a positive cutoff in bands"
+            )),
+        },
+    }
+}
+
+fn parse_scale(s: &str) -> Result<IrradianceScale, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "e-over-pi" | "e/pi" | "eoverpi" => Ok(IrradianceScale::EOverPi),
+        "e" => Ok(IrradianceScale::E),
+        _ => Err(format!("{s}: expected e-over-pi (E/π) or e")),
+    }
+}
+
+/// The source: a file or a built-in.
+fn source(a: &BakeArgs, stop: &AtomicBool) -> Result<(EnvImage, String, Vec<PathBuf>), String> {
+    if let Ok(b) = a.input.parse::<Builtin>() {
+        if a.env_size == 0 || a.env_size > 4096 {
+            return Err("--env-size must be between 1 and 4096".into());
+        }
+        let repr = Representation::for_file(AnyMapping::Cube, FileAxes::default());
+        let (w, h) = repr
+            .atlas
+            .image_size_for_cell_width(a.env_size)
+            .ok_or("--env-size: no such cube")?;
+        let img = b.image(repr, w, h).map_err(|e| e.to_string())?;
+        return Ok((
+            img,
+            format!("built-in {} (a cube of {}² faces)", b.name(), a.env_size),
+            Vec::new(),
+        ));
+    }
+    let axes = (a.from_frame.is_some() || a.convention.is_some()).then(|| {
+        FileAxes::Convention(
+            a.convention.unwrap_or_default(),
+            a.from_frame.unwrap_or_default(),
+        )
+    });
+    let opts = LoadOptions {
+        mapping: a.from,
+        axes,
+        non_finite: NonFinite::Zero,
+        max_texels: a.max_megatexels.saturating_mul(1_000_000),
+        cancel: Some(stop),
+        ..LoadOptions::default()
+    };
+    let loaded = load_detailed(&a.input, &opts).map_err(|e| {
+        if Path::new(&a.input).exists() {
+            load_error(&e)
+        } else {
+            format!("{e} (built-in environments: sky, room)")
+        }
+    })?;
+    warn_replaced(Path::new(&a.input), loaded.replaced);
+    Ok((loaded.image, a.input.clone(), loaded.files))
+}
+
+pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
+    if let Some(n) = a.threads {
+        if n == 0 {
+            return Err("--threads must be at least 1".into());
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| format!("--threads {n}: {e}"))?;
+    }
+    if a.samples == Some(0) {
+        return Err("--samples must be at least 1".into());
+    }
+    if a.irradiance_size > 2048 {
+        return Err("--irradiance-size: at most 2048".into());
+    }
+    if a.dfg_size > crate::filter::dfg::MAX_SIZE {
+        return Err(format!(
+            "--dfg-size: at most {}",
+            crate::filter::dfg::MAX_SIZE
+        ));
+    }
+    if a.clamp.is_some_and(|c| !(c > 0.0 && c.is_finite())) {
+        return Err("--clamp must be a positive luminance".into());
+    }
+    if !Layout::for_mapping(AnyMapping::Cube).contains(&a.layout) {
+        return Err(format!(
+            "--layout {}: not a cube layout (cross, vcross, strip, vstrip, faces)",
+            a.layout
+        ));
+    }
+    let convention = a.convention.unwrap_or_default();
+    let opts = BakeOptions {
+        size: a.size,
+        levels: a.levels,
+        min_size: a.min_size,
+        rule: a.roughness_rule.clone(),
+        quality: a.quality,
+        samples: a.samples,
+        exact: a.exact,
+        clamp: a.clamp,
+        axes: FileAxes::Convention(convention, a.to_frame),
+        irradiance_size: a.irradiance_size,
+        irradiance_scale: a.irradiance_scale,
+        sh_window: a.sh_window.0,
+        sh_only: a.sh_only,
+        dfg_size: a.dfg_size,
+        bright_max: a.split,
+        cancel: Some(stop),
+        ..BakeOptions::default()
+    };
+    // Bad sizes and levels before any loading.
+    let sizes = chain_sizes(&opts).map_err(|e| e.to_string())?;
+    let t0 = Instant::now();
+    let (src, name, inputs) = source(a, stop)?;
+    let t_load = t0.elapsed();
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::new(sizes.len() as u64);
+        b.set_style(
+            ProgressStyle::with_template("{msg:>28} [{bar:30}] {pos}/{len} levels ({elapsed})")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        b
+    };
+    let bar = Mutex::new(bar);
+    let progress = |k: usize, n: usize| {
+        if let Ok(b) = bar.lock() {
+            b.set_length(n as u64);
+            b.set_position(k as u64);
+            b.set_message(format!(
+                "specular level {k} ({}²)",
+                sizes.get(k).copied().unwrap_or(0)
+            ));
+        }
+    };
+    let t1 = Instant::now();
+    let baked = bake(&src, &opts, &progress).map_err(|e| e.to_string())?;
+    let t_bake = t1.elapsed();
+    drop(src);
+    if let Ok(b) = bar.lock() {
+        b.finish_and_clear();
+    }
+    // Every file into the directory together.
+    let created = !a.out.exists();
+    std::fs::create_dir_all(&a.out)
+        .map_err(|e| format!("{}: cannot create: {e}", a.out.display()))?;
+    let written = (|| -> Result<Vec<PathBuf>, String> {
+        let sopts = SaveOptions {
+            six_files: a.layout.is_six_files(),
+            inputs: inputs.clone(),
+            cancel: Some(stop),
+            ..SaveOptions::default()
+        };
+        let mut run = Outputs::new(&sopts);
+        let mut stage = |img: &EnvImage, stem: &str| -> Result<(), String> {
+            let img = if a.layout.is_six_files() {
+                img.clone()
+            } else {
+                img.relayout(a.layout.atlas()).map_err(|e| e.to_string())?
+            };
+            run.stage_image(&img, a.out.join(file_name(a, stem)), &sopts)
+                .map_err(|e| e.to_string())
+        };
+        if let Some(chain) = &baked.chain {
+            for (k, level) in chain.levels.iter().enumerate() {
+                stage(level, &format!("specular_{k}"))?;
+            }
+        }
+        if let Some(irr) = &baked.irradiance {
+            stage(&irr.image, "irradiance")?;
+        }
+        if let Some(t) = &baked.dfg {
+            let f32s = SaveOptions {
+                exr_precision: ExrPrecision::F32,
+                ..sopts.clone()
+            };
+            run.stage_rgb(&t.single_scatter_image(), a.out.join("dfg.exr"), &f32s)
+                .map_err(|e| e.to_string())?;
+            run.stage_rgb(
+                &t.multiscatter_image(),
+                a.out.join("dfg_multiscatter.exr"),
+                &f32s,
+            )
+            .map_err(|e| e.to_string())?;
+        }
+        let frame = opts.axes.frame(AnyMapping::Cube);
+        run.stage_bytes(a.out.join("sh.json"), sh_json(a, &baked, frame).as_bytes())
+            .map_err(|e| e.to_string())?;
+        let manifest = manifest(
+            a,
+            &name,
+            &baked,
+            &opts,
+            t_load.as_secs_f64(),
+            t_bake.as_secs_f64(),
+        );
+        run.stage_bytes(a.out.join("manifest.json"), manifest.as_bytes())
+            .map_err(|e| e.to_string())?;
+        run.commit().map_err(|e| e.to_string())
+    })();
+    let written = match written {
+        Ok(w) => w,
+        Err(e) => {
+            if created {
+                let _ = std::fs::remove_dir(&a.out);
+            }
+            return Err(e);
+        }
+    };
+    if !a.quiet {
+        summary(
+            a,
+            &name,
+            &baked,
+            written.len(),
+            t_load.as_secs_f64(),
+            t_bake.as_secs_f64(),
+        );
+    }
+    Ok(())
+}
+
+/// A file's name in the output directory (`{face}` for six files).
+fn file_name(a: &BakeArgs, stem: &str) -> String {
+    if a.layout.is_six_files() {
+        format!("{stem}_{{face}}.exr")
+    } else {
+        format!("{stem}.exr")
+    }
+}
+
+/// The table printed at the end.
+fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, load: f64, work: f64) {
+    eprintln!(
+        "{name} -> {} ({files} files): load {:.0} ms, bake {:.0} ms",
+        a.out.display(),
+        load * 1e3,
+        work * 1e3
+    );
+    if let Some(chain) = &b.chain {
+        eprintln!("| level | size | roughness | method | samples | clamped | ms |");
+        eprintln!("| ---: | ---: | ---: | --- | ---: | ---: | ---: |");
+        for (k, r) in chain.reports.iter().enumerate() {
+            eprintln!(
+                "| {k} | {} | {:.3} | {}{} | {} | {} | {:.0} |",
+                r.size,
+                r.roughness,
+                r.method,
+                r.source_level
+                    .map(|l| format!(" (source level {l})"))
+                    .unwrap_or_default(),
+                r.samples,
+                r.clamped,
+                r.seconds * 1e3
+            );
+        }
+        let prep: Vec<String> = chain
+            .stages
+            .iter()
+            .map(|(n, t)| format!("{n} {:.0} ms", t * 1e3))
+            .collect();
+        eprintln!("preparation: {}", prep.join(", "));
+        eprintln!(
+            "bright texels split out and added exactly: {} ({:.2} % of the energy; luminance above {:.3})",
+            chain.bright.texels,
+            100.0 * chain.bright.energy_share,
+            chain.bright.threshold
+        );
+        if let Some(c) = chain.clamp {
+            eprintln!(
+                "clamp: {} texels above luminance {} compressed, {:.3} % of the energy removed",
+                c.texels,
+                c.threshold,
+                100.0 * c.energy_removed
+            );
+        }
+    }
+    if let Some(irr) = &b.irradiance {
+        eprintln!(
+            "irradiance: {}² cube of {} from {}{}, {} texels clamped at zero",
+            irr.image.cell_size().0,
+            a.irradiance_scale.name(),
+            irr.method,
+            irr.source_level
+                .map(|l| format!(" (source level {l})"))
+                .unwrap_or_default(),
+            irr.clamped
+        );
+    }
+    let rest: Vec<String> = b
+        .stages
+        .iter()
+        .map(|(n, t)| format!("{n} {:.0} ms", t * 1e3))
+        .collect();
+    eprintln!("{}", rest.join(", "));
+}
+
+/// The frame's matrix as rows, for the JSON files.
+fn frame_rows(frame: envmap_core::Frame) -> [[f32; 3]; 3] {
+    let m = frame.matrix().transpose();
+    [
+        m.x_axis.to_array(),
+        m.y_axis.to_array(),
+        m.z_axis.to_array(),
+    ]
+}
+
+/// Coefficients as `{ "L00": [r, g, b], ... }`.
+fn named(c: &[[f64; 3]; 9]) -> serde_json::Value {
+    let map: serde_json::Map<String, serde_json::Value> = NAMES
+        .iter()
+        .zip(c)
+        .map(|(n, v)| ((*n).to_owned(), serde_json::json!(v)))
+        .collect();
+    serde_json::Value::Object(map)
+}
+
+/// `sh.json`: the coefficients, their basis, frame and kind.
+fn sh_json(a: &BakeArgs, b: &Bake, frame: envmap_core::Frame) -> String {
+    let windowed = match a.sh_window.0 {
+        Some(w) => b.sh.windowed(w),
+        None => b.sh,
+    };
+    let out = windowed.in_frame(frame);
+    let m = serde_json::json!({
+        "basis": "real spherical harmonics, bands 0-2, Ramamoorthi & Hanrahan 2001 (no Condon-Shortley phase): Y00 = 0.282095, Y1m = 0.488603 (y, z, x), Y2-2 = 1.092548 xy, Y2-1 = 1.092548 yz, Y20 = 0.315392 (3z^2 - 1), Y21 = 1.092548 xz, Y22 = 0.546274 (x^2 - y^2)",
+        "order": NAMES,
+        "axes": opts_axes(a),
+        "frame_rows": frame_rows(frame),
+        "frame_note": "coefficients are in the axes of the cube files (x, y, z as the files' face names say); canonical: envmap's z-up right-handed axes",
+        "window": match a.sh_window.0 {
+            None => serde_json::json!("none"),
+            Some(_) => serde_json::json!({
+                "kind": "sinc^4 (Filament CubemapSH::sincWindow; Sloan 2017)",
+                "cutoff_bands": b.sh_cutoff,
+            }),
+        },
+        "radiance": {
+            "meaning": "L_lm = integral of L(w) Y_lm(w) dw (radiance coefficients)",
+            "coefficients": named(&out.coeffs),
+        },
+        "irradiance": {
+            "meaning": "E_lm = A_l L_lm, A = (pi, 2pi/3, pi/4): sum of E_lm Y_lm(n) is the irradiance E(n), not divided by pi",
+            "value": "E",
+            "coefficients": named(&out.irradiance().coeffs),
+        },
+        "canonical_radiance": {
+            "meaning": "radiance coefficients in envmap's canonical axes (z up, right-handed)",
+            "coefficients": named(&windowed.coeffs),
+        },
+        "filament": {
+            "meaning": "Filament's pre-scaled shader form (cmgen --sh-shader, the sh of its KTX and sh.txt), GL axes (y up, cmgen --no-mirror): E(n)/pi = sh0 + sh1 y + sh2 z + sh3 x + sh4 yx + sh5 yz + sh6 (3z^2 - 1) + sh7 zx + sh8 (x^2 - y^2)",
+            "value": "E/pi",
+            "sh": windowed.filament_shader_form(),
+        },
+    });
+    serde_json::to_string_pretty(&m).unwrap_or_default()
+}
+
+fn opts_axes(a: &BakeArgs) -> String {
+    FileAxes::Convention(a.convention.unwrap_or_default(), a.to_frame).describe(AnyMapping::Cube)
+}
+
+/// The manifest: the input, the conventions, the rule, every level.
+fn manifest(
+    a: &BakeArgs,
+    name: &str,
+    b: &Bake,
+    opts: &BakeOptions,
+    load: f64,
+    work: f64,
+) -> String {
+    let specular = b.chain.as_ref().map(|chain| {
+        let levels: Vec<serde_json::Value> = chain
+            .reports
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                serde_json::json!({
+                    "level": k,
+                    "file": file_name(a, &format!("specular_{k}")),
+                    "size": r.size,
+                    "perceptual_roughness": r.roughness,
+                    "alpha": r.roughness * r.roughness,
+                    "method": r.method,
+                    "samples": r.samples,
+                    "exact_source_level": r.source_level,
+                    "estimated_relative_rms_error": estimated_error(r),
+                    "texels_clamped_at_zero": r.clamped,
+                    "seconds": r.seconds,
+                })
+            })
+            .collect();
+        serde_json::json!({
+            "integral": "LD(R) = ∫ L(l) D(h) (n·l)⁺ dl / ∫ D(h) (n·l)⁺ dl, N = V = R, GGX D, alpha = roughness²",
+            "value": "radiance (the prefiltered radiance LD, same units as the input)",
+            "roughness_rule": opts.rule.name(),
+            "roughness_rule_formula": opts.rule.formula(),
+            "base_cube_size": chain.base_size,
+            "fis_lod_bias": opts.lod_bias,
+            "bright_texels": {
+                "count": chain.bright.texels,
+                "energy_share": chain.bright.energy_share,
+                "luminance_threshold": chain.bright.threshold,
+                "rule": format!("luminance above 16 × the solid-angle-weighted 99th percentile, at most {} texels (the brightest), added exactly", opts.bright_max),
+            },
+            "clamp": chain.clamp.map(|c| serde_json::json!({
+                "luminance": c.threshold,
+                "texels": c.texels,
+                "energy_removed": c.energy_removed,
+            })),
+            "preparation_seconds": chain.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
+            "levels": levels,
+        })
+    });
+    let m = serde_json::json!({
+        "envmap": crate::image::metadata::software(),
+        "input": name,
+        "axes": opts.axes.describe(AnyMapping::Cube),
+        "layout": a.layout.name(),
+        "seconds": { "load": load, "bake": work },
+        "specular": specular,
+        "irradiance": b.irradiance.as_ref().map(|i| serde_json::json!({
+            "file": file_name(a, "irradiance"),
+            "size": i.image.cell_size().0,
+            "value": opts.irradiance_scale.name(),
+            "value_note": "E/pi is the outgoing radiance of a white Lambertian surface (what engines expect); E = pi × that",
+            "method": i.method,
+            "exact_source_level": i.source_level,
+            "texels_clamped_at_zero": i.clamped,
+        })),
+        "sh": {
+            "file": "sh.json",
+            "window": a.sh_window.0.map(|_| b.sh_cutoff),
+        },
+        "dfg": b.dfg.as_ref().map(|t| serde_json::json!({
+            "files": {
+                "dfg.exr": "single scatter: R = scale, G = bias (F0·scale + bias)",
+                "dfg_multiscatter.exr": "Filament's multiscatter form: R = bias, G = scale + bias",
+            },
+            "size": t.size(),
+            "x": "column i: N·V = (i + 0.5) / size",
+            "y": "row j from the top: perceptual roughness = (j + 0.5) / size",
+            "visibility": "height-correlated Smith GGX",
+            "precision": "computed in f64 by quadrature, stored as f32",
+        })),
+        "stages_seconds": b.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
+    });
+    serde_json::to_string_pretty(&m).unwrap_or_default()
+}
+
+/// The relative RMS error a level's method is measured to have
+/// (`docs/lighting.md`): 0 for the resampled and exact levels.
+fn estimated_error(r: &crate::filter::bake::LevelReport) -> Option<f64> {
+    (r.method == "sampled").then(|| crate::filter::bake::estimated_error(r.roughness, r.samples))
+}
