@@ -13,14 +13,13 @@
 //! (default: the bake's own choice).
 use std::time::Instant;
 
-use envmap_core::texel::texel_center;
-use envmap_core::{AnyMapping, Atlas, ChartUv};
+use envmap_core::{AnyMapping, Atlas};
 use envmap_render::convert::{convert, ConvertOptions};
 use envmap_render::environments::Builtin;
-use envmap_render::filter::bake::{chain_sizes, BakeOptions};
+use envmap_render::filter::bake::{chain_sizes, measure_level, BakeOptions};
 use envmap_render::filter::pyramid::{Pyramid, Trilinear};
 use envmap_render::filter::specular::{
-    exact_at, exact_level, prefilter_level, split_bright, LevelJob, Method,
+    exact_level, prefilter_level, split_bright, LevelJob, Method,
 };
 use envmap_render::image::{FileAxes, Representation};
 use envmap_render::io::{load, LoadOptions, NonFinite};
@@ -75,26 +74,7 @@ fn main() {
     println!("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     for (k, &s) in sizes.iter().enumerate().skip(1) {
         let r = opts.rule.roughness(k, sizes.len());
-        // The texels checked: a fixed hash over the level's texels.
-        let mut coords = Vec::new();
-        let mut h = 0x9e37_79b9u32 ^ k as u32;
-        for _ in 0..per_level.min(6 * s * s) {
-            h ^= h << 13;
-            h ^= h >> 17;
-            h ^= h << 5;
-            let t = h % (6 * s * s);
-            coords.push((t / (s * s), t % s, (t / s) % s));
-        }
-        let dirs: Vec<_> = coords
-            .iter()
-            .map(|&(c, i, j)| {
-                AnyMapping::Cube
-                    .inverse(ChartUv::new(c, texel_center(i, s), texel_center(j, s)))
-                    .unwrap()
-            })
-            .collect();
         let el = exact_level(&rest, r);
-        let exact = exact_at(&rest, &bright, r, el, &dirs);
         let counts = sweep
             .clone()
             .unwrap_or_else(|| vec![opts.quality.samples(r)]);
@@ -112,21 +92,11 @@ fn main() {
             };
             let img = prefilter_level(&job, cube, 6 * s, s).unwrap();
             let secs = t.elapsed().as_secs_f64();
-            let (mut se, mut ss, mut sd, mut sm) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-            for (&(c, i, j), e) in coords.iter().zip(&exact) {
-                let a = img.chart_texel(c, i, j).unwrap();
-                for ch in 0..3 {
-                    let d = f64::from(a[ch]) - f64::from(e[ch]);
-                    se += d * d;
-                    ss += f64::from(e[ch]) * f64::from(e[ch]);
-                    sd += d;
-                    sm += f64::from(e[ch]);
-                }
-            }
+            let m = measure_level(&rest, &bright, r, &img, per_level, k as u32).unwrap();
             println!(
                 "| {k} | {s} | {r:.3} | {n} | {:.3} % | {:+.3} % | {secs:.3} | {el} |",
-                100.0 * (se / ss).sqrt(),
-                100.0 * sd / sm
+                100.0 * m.relative_rms,
+                100.0 * m.bias
             );
         }
     }

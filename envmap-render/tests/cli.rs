@@ -480,6 +480,8 @@ fn bake_writes_every_output_and_refuses_mistakes() {
                 "64",
                 "--quality",
                 "draft",
+                "--check",
+                "50",
             ],
             d,
         );
@@ -511,6 +513,16 @@ fn bake_writes_every_output_and_refuses_mistakes() {
         assert_eq!(m["irradiance"]["value"], "E/pi");
         assert_eq!(m["specular"]["roughness_rule"], "linear");
         assert_eq!(m["specular"]["levels"][4]["perceptual_roughness"], 1.0);
+        // --check: each sampled level measured against the exact sum.
+        let mut sampled = 0;
+        for l in m["specular"]["levels"].as_array().unwrap() {
+            if l["method"] == "sampled" {
+                let e = l["measured"]["relative_rms_error"].as_f64().unwrap();
+                assert!(e.is_finite() && e < 0.05, "{l}");
+                sampled += 1;
+            }
+        }
+        assert!(sampled > 0, "{m}");
         let sh: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("sh.json")).unwrap()).unwrap();
         assert_eq!(sh["filament"]["value"], "E/pi");

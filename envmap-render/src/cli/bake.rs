@@ -62,6 +62,9 @@ pub(crate) struct BakeArgs {
     /// Deringing of the SH (and of the irradiance map made from it): none (the default), auto (the sinc⁴ window that keeps the irradiance non-negative), or a cutoff in bands (cmgen's default on smooth maps is 12.7675).
     #[arg(long, value_parser = parse_window, default_value = "none")]
     pub(crate) sh_window: Window,
+    /// Measure each sampled level against the exact integral on this many of its texels, and report the error (slow for the sharpest levels: the exact sums run over the fine pyramid levels).
+    #[arg(long, default_value_t = 0)]
+    pub(crate) check: u32,
     /// Size of the DFG table (0: none).
     #[arg(long, default_value_t = 128)]
     pub(crate) dfg_size: u32,
@@ -216,6 +219,7 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         sh_only: a.sh_only,
         dfg_size: a.dfg_size,
         bright_max: a.split,
+        check: a.check,
         cancel: Some(stop),
         ..BakeOptions::default()
     };
@@ -351,11 +355,27 @@ fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, load: f64, work: f6
         work * 1e3
     );
     if let Some(chain) = &b.chain {
-        eprintln!("| level | size | roughness | method | samples | clamped | ms |");
-        eprintln!("| ---: | ---: | ---: | --- | ---: | ---: | ---: |");
+        eprintln!(
+            "| level | size | roughness | method | samples | clamped | ms | error (expected{}) |",
+            if a.check > 0 { "; measured, bias" } else { "" }
+        );
+        eprintln!("| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: |");
         for (k, r) in chain.reports.iter().enumerate() {
+            let expected = estimated_error(r)
+                .map(|e| format!("{:.2} %", 100.0 * e))
+                .unwrap_or_else(|| "not sampled".to_owned());
+            let measured = r
+                .measured
+                .map(|m| {
+                    format!(
+                        "; {:.2} %, {:+.3} %",
+                        100.0 * m.relative_rms,
+                        100.0 * m.bias
+                    )
+                })
+                .unwrap_or_default();
             eprintln!(
-                "| {k} | {} | {:.3} | {}{} | {} | {} | {:.0} |",
+                "| {k} | {} | {:.3} | {}{} | {} | {} | {:.0} | {expected}{measured} |",
                 r.size,
                 r.roughness,
                 r.method,
@@ -498,7 +518,14 @@ fn manifest(
                     "method": r.method,
                     "samples": r.samples,
                     "exact_source_level": r.source_level,
-                    "estimated_relative_rms_error": estimated_error(r),
+                    "expected_relative_rms_error_smooth_light": estimated_error(r),
+                    "measured": r.measured.map(|m| serde_json::json!({
+                        "texels": m.texels,
+                        "relative_rms_error": m.relative_rms,
+                        "bias": m.bias,
+                        "seconds": m.seconds,
+                        "against": "the exact sum over a pyramid level fine enough for the lobe, plus the split texels",
+                    })),
                     "texels_clamped_at_zero": r.clamped,
                     "seconds": r.seconds,
                 })

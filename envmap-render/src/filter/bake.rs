@@ -19,7 +19,8 @@
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use envmap_core::{AnyMapping, Atlas, Mapping};
+use envmap_core::texel::texel_center;
+use envmap_core::{AnyMapping, Atlas, ChartUv, Mapping};
 
 use crate::cancel;
 use crate::error::{Error, Result};
@@ -31,8 +32,8 @@ use crate::filter::sh::{
     DEFAULT_IRRADIANCE_SIZE,
 };
 use crate::filter::specular::{
-    exact_level, finest_sampled_level, prefilter_level, split_bright, BrightReport, LevelJob,
-    Method, RoughnessRule,
+    exact_at, exact_level, finest_sampled_level, prefilter_level, split_bright, Bright,
+    BrightReport, LevelJob, Method, RoughnessRule,
 };
 use crate::image::{luminance, EnvImage, FileAxes, Representation};
 
@@ -141,6 +142,9 @@ pub struct BakeOptions<'a> {
     pub sh_only: bool,
     /// The DFG table's size ([`bake`]); 0 for none. Default 128.
     pub dfg_size: u32,
+    /// Texels per sampled level measured against the exact integral
+    /// ([`measure_level`]); 0 (the default) for none.
+    pub check: u32,
     /// Stops the bake once set ([`Error::Cancelled`]).
     pub cancel: Option<&'a AtomicBool>,
 }
@@ -164,6 +168,7 @@ impl Default for BakeOptions<'_> {
             sh_window: None,
             sh_only: false,
             dfg_size: dfg::DEFAULT_SIZE,
+            check: 0,
             cancel: None,
         }
     }
@@ -186,12 +191,92 @@ pub struct LevelReport {
     pub clamped: u64,
     /// Seconds.
     pub seconds: f64,
+    /// The error measured against the exact integral on
+    /// [`BakeOptions::check`] texels (sampled levels, when asked).
+    pub measured: Option<LevelError>,
+}
+
+/// A level's error against the exact integral on a subset of its texels
+/// ([`measure_level`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelError {
+    /// Texels measured.
+    pub texels: u32,
+    /// Relative RMS error √(Σ(a − b)²/Σb²) over the texels and channels.
+    pub relative_rms: f64,
+    /// Bias: Σ(a − b)/Σb.
+    pub bias: f64,
+    /// Seconds the exact sums took.
+    pub seconds: f64,
+}
+
+/// Measures `level` (a cube in the axes of `rest`, made at `roughness`)
+/// against the exact integral (the sum over pyramid level
+/// [`exact_level`] of `rest`, plus the split texels, clamped at zero as
+/// the outputs are) at `texels` of its texels picked by a fixed hash
+/// (`seed` varies the pick).
+///
+/// # Errors
+///
+/// `level` is not a cube.
+pub fn measure_level(
+    rest: &Pyramid,
+    bright: &Bright,
+    roughness: f32,
+    level: &EnvImage,
+    texels: u32,
+    seed: u32,
+) -> Result<LevelError> {
+    if level.mapping() != AnyMapping::Cube {
+        return Err(Error::Input(
+            "measure_level: a cube level expected".to_owned(),
+        ));
+    }
+    let t = Instant::now();
+    let s = level.cell_size().0;
+    let n = 6 * s * s;
+    let mut coords = Vec::new();
+    let mut h = 0x9e37_79b9u32 ^ seed.wrapping_mul(0x85eb_ca77);
+    for _ in 0..texels.min(n) {
+        h ^= h << 13;
+        h ^= h >> 17;
+        h ^= h << 5;
+        let k = h % n;
+        coords.push((k / (s * s), k % s, (k / s) % s));
+    }
+    let dirs: Vec<_> = coords
+        .iter()
+        .filter_map(|&(c, i, j)| {
+            AnyMapping::Cube.inverse(ChartUv::new(c, texel_center(i, s), texel_center(j, s)))
+        })
+        .collect();
+    let exact = exact_at(rest, bright, roughness, exact_level(rest, roughness), &dirs);
+    let (mut se, mut ss, mut sd, mut sm) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (&(c, i, j), e) in coords.iter().zip(&exact) {
+        let a = level.chart_texel(c, i, j).unwrap_or_default();
+        for (x, y) in a.iter().zip(e) {
+            let y = f64::from(y.max(0.0));
+            let d = f64::from(*x) - y;
+            se += d * d;
+            ss += y * y;
+            sd += d;
+            sm += y;
+        }
+    }
+    let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
+    Ok(LevelError {
+        texels: exact.len() as u32,
+        relative_rms: ratio(se, ss).sqrt(),
+        bias: ratio(sd, sm),
+        seconds: t.elapsed().as_secs_f64(),
+    })
 }
 
 /// The relative RMS error a sampled level is expected to have against the
-/// exact integral on a smooth environment, from the measurements in
-/// `docs/lighting.md` (`examples/bake_accuracy.rs`: a 512² chain from a
-/// smooth 4096 × 2048 HDR, 64 samples per texel: 0.30 % at roughness
+/// exact integral on a smooth environment, from a sweep of sample counts
+/// (`examples/bake_accuracy.rs` with `SAMPLES=64,256`, 300 texels per
+/// level: a 512² chain from a smooth 4096 × 2048 HDR, 64 samples per texel
+/// at every level: 0.30 % at roughness
 /// 0.125, 0.53 % at 0.25, 0.57 % at 0.375, 0.59 % at 0.5, 0.74 % at 0.625,
 /// 1.02 % at 0.75, 1.19 % at 0.875, 2.04 % at 1), interpolated in
 /// roughness and scaled by √(64/N) for N samples (conservative: at 256
@@ -399,6 +484,7 @@ pub fn specular_chain(
         source_level: None,
         clamped: clamped0,
         seconds: t0.elapsed().as_secs_f64(),
+        measured: None,
     }];
     let bright = split_bright(&mut base, opts.bright_max)?;
     tr("bright texels split");
@@ -455,6 +541,13 @@ pub fn specular_chain(
         };
         let mut img = prefilter_level(&job, cube, 6 * size, size)?;
         let clamped = clamp_negative(&mut img);
+        let seconds = t.elapsed().as_secs_f64();
+        let measured = match method {
+            Method::Sampled { .. } if opts.check > 0 => Some(measure_level(
+                &rest, &bright, roughness, &img, opts.check, k as u32,
+            )?),
+            _ => None,
+        };
         reports.push(LevelReport {
             size,
             roughness,
@@ -471,7 +564,8 @@ pub fn specular_chain(
                 Method::Sampled { .. } => None,
             },
             clamped,
-            seconds: t.elapsed().as_secs_f64(),
+            seconds,
+            measured,
         });
         levels.push(img);
     }
