@@ -463,10 +463,13 @@ fn sh_json(a: &BakeArgs, b: &Bake, frame: envmap_core::Frame) -> String {
         "frame_note": "coefficients are in the axes of the cube files (x, y, z as the files' face names say); canonical: envmap's z-up right-handed axes",
         "window": match a.sh_window.0 {
             None => serde_json::json!("none"),
-            Some(_) => serde_json::json!({
-                "kind": "sinc^4 (Filament CubemapSH::sincWindow; Sloan 2017)",
-                "cutoff_bands": b.sh_cutoff,
-            }),
+            Some(_) => match b.sh_cutoff {
+                Some(cutoff) => serde_json::json!({
+                    "kind": "sinc^4 (Filament CubemapSH::sincWindow; Sloan 2017)",
+                    "cutoff_bands": cutoff,
+                }),
+                None => serde_json::json!("auto: none applied (the irradiance is non-negative without one)"),
+            },
         },
         "radiance": {
             "meaning": "L_lm = integral of L(w) Y_lm(w) dw (radiance coefficients)",
