@@ -19,10 +19,7 @@ use envmap_render::image::{FileAxes, Representation};
 use envmap_render::procedural::{fill, smooth};
 
 fn bench(c: &mut Criterion) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap();
+    let pool = common::pool(2);
     let src = fill(
         Representation::default_for(AnyMapping::LatLong),
         4096,

@@ -49,10 +49,7 @@ fn bench(c: &mut Criterion) {
     // converting many maps would); "alloc" also makes a fresh output.
     let mut out = convert(&src, repr, 6144, 1024, &opts, None).unwrap();
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
+        let pool = common::pool(threads);
         g.bench_function(format!("bilinear/{threads}-threads"), |b| {
             b.iter(|| {
                 pool.install(|| {
@@ -61,10 +58,7 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap();
+    let pool = common::pool(2);
     let never = std::sync::atomic::AtomicBool::new(false);
     let with_flag = ConvertOptions {
         cancel: Some(&never),

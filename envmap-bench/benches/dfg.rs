@@ -18,10 +18,7 @@ fn bench(c: &mut Criterion) {
     g.sample_size(20);
     g.throughput(Throughput::Elements(u64::from(DEFAULT_SIZE * DEFAULT_SIZE)));
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
+        let pool = common::pool(threads);
         g.bench_function(format!("table/{threads}-threads"), |b| {
             b.iter(|| pool.install(|| DfgTable::new(black_box(DEFAULT_SIZE)).expect("table")))
         });

@@ -38,10 +38,7 @@ fn bench(c: &mut Criterion) {
         ("per-pixel", Mode::PerPixel, 2),
         ("per-vertex", Mode::PerVertex, 2),
     ] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
+        let pool = common::pool(threads);
         let opts = RenderOptions {
             width,
             height,

@@ -25,13 +25,6 @@ use envmap_render::filter::sh::{
 use envmap_render::image::Representation;
 use envmap_render::procedural::{fill, smooth};
 
-fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-}
-
 fn bench(c: &mut Criterion) {
     let src = fill(
         Representation::default_for(AnyMapping::LatLong),
@@ -48,7 +41,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| copy.copy_from_slice(black_box(src.pixels())))
     });
     for threads in [1, 2] {
-        let p = pool(threads);
+        let p = common::pool(threads);
         g.bench_function(format!("sh9/{threads}-threads"), |b| {
             b.iter(|| p.install(|| Sh9::project(black_box(&src))))
         });
@@ -65,7 +58,7 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("sh/project-cube1024");
     g.sample_size(20);
     g.throughput(Throughput::Elements(6 * 1024 * 1024));
-    let p2 = pool(2);
+    let p2 = common::pool(2);
     g.bench_function("sh9/2-threads", |b| {
         b.iter(|| p2.install(|| Sh9::project(black_box(&cube))))
     });

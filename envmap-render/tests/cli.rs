@@ -1,7 +1,7 @@
 //! The `envmap` command run as a user runs it: happy paths and mistakes.
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::Output;
 
 use envmap_core::AnyMapping;
 use envmap_render::image::Representation;
@@ -9,26 +9,7 @@ use envmap_render::io::{save, SaveOptions};
 use envmap_render::procedural::{fill, smooth};
 
 mod common;
-use common::{envmap, text};
-
-fn envmap_stdin(args: &[&str], dir: &Path, input: &str) -> Output {
-    use std::io::Write;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_envmap"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run envmap");
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(input.as_bytes())
-        .expect("write stdin");
-    child.wait_with_output().expect("wait")
-}
+use common::{envmap, envmap_stdin, text};
 
 /// Asserts a user-facing failure: exit code, message naming `needle`, no panic.
 fn assert_fails(o: &Output, code: i32, needle: &str) {
@@ -536,7 +517,20 @@ fn bake_writes_every_output_and_refuses_mistakes() {
         // The irradiance cube reads back as a 32² cross.
         let o = envmap(&["info", out.join("irradiance.exr").to_str().unwrap()], d);
         assert!(o.status.success(), "{}", text(&o.stderr));
-        assert!(text(&o.stdout).contains("cube"), "{}", text(&o.stdout));
+        let info = text(&o.stdout);
+        assert!(info.contains("cube"), "{info}");
+        // The files say what they hold.
+        assert!(
+            info.lines()
+                .any(|l| l.starts_with("content") && l.contains("irradiance E/pi")),
+            "{info}"
+        );
+        let o = envmap(&["info", out.join("specular_4.exr").to_str().unwrap()], d);
+        let info = text(&o.stdout);
+        assert!(
+            info.contains("level 4 of 5, perceptual roughness 1.0000"),
+            "{info}"
+        );
     }
     // A ringing sun (a lossy EXR's negative texels): counted by info, and
     // the bake's outputs clamped at zero with the count in the manifest.

@@ -20,22 +20,11 @@ use envmap_render::filter::sh::{
 };
 use envmap_render::image::FileAxes;
 use envmap_render::io::{load, save, LoadOptions, SaveOptions};
-use envmap_render::procedural::{fill, smooth};
+use envmap_render::procedural::{fill, smooth, sunny};
 use envmap_render::{EnvImage, Representation};
 
 mod common;
 use common::text;
-
-/// smooth() plus a sun 50 000 times as bright, 3° across.
-fn sunny(d: Vec3) -> [f32; 3] {
-    let s = Vec3::new(0.3, -0.5, 0.8).normalize();
-    let base = smooth(d);
-    if d.normalize().dot(s) > (1.5f32).to_radians().cos() {
-        base.map(|v| v + 50_000.0)
-    } else {
-        base
-    }
-}
 
 /// Radiance 1 above the canonical horizon (z > 0), 0 below.
 fn step(d: Vec3) -> [f32; 3] {

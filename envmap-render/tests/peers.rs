@@ -65,16 +65,7 @@ fn rel_rms(a: &RgbImage, b: &RgbImage) -> f64 {
 /// Checks that face `k` of `theirs` matches face `k` of `ours` within `tol`
 /// (relative RMS) and better than any other face in any of the eight turns.
 fn same_faces(tool: &str, theirs: &EnvImage, ours: &EnvImage, tol: f64) {
-    let turns = [
-        FaceTurn::IDENTITY,
-        FaceTurn::ROT90,
-        FaceTurn::ROT180,
-        FaceTurn::ROT270,
-        FaceTurn::FLIP_X,
-        FaceTurn::FLIP_Y,
-        FaceTurn::TRANSPOSE,
-        FaceTurn::TRANSPOSE.then(FaceTurn::ROT180),
-    ];
+    let turns = FaceTurn::ALL;
     for k in 0..6u32 {
         let t = theirs.chart_image(k).unwrap();
         let same = rel_rms(&t, &ours.chart_image(k).unwrap());

@@ -14,3 +14,12 @@ pub(crate) fn config() -> Criterion {
         c.without_plots()
     }
 }
+
+/// A rayon pool of `threads` workers, for timing one thread count.
+#[allow(dead_code)] // each bench file compiles this module on its own
+pub(crate) fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+}

@@ -269,40 +269,70 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             ..SaveOptions::default()
         };
         let mut run = Outputs::new(&sopts);
-        let mut stage = |img: &EnvImage, stem: &str| -> Result<(), String> {
+        let mut stage = |img: &EnvImage, stem: &str, content: String| -> Result<(), String> {
             let img = if a.layout.is_six_files() {
                 img.clone()
             } else {
                 img.relayout(a.layout.atlas()).map_err(|e| e.to_string())?
             };
-            run.stage_image(&img, a.out.join(file_name(a, stem)), &sopts)
+            let o = SaveOptions {
+                content: Some(content),
+                ..sopts.clone()
+            };
+            run.stage_image(&img, a.out.join(file_name(a, stem)), &o)
                 .map_err(|e| e.to_string())
         };
         if let Some(chain) = &baked.chain {
-            for (k, level) in chain.levels.iter().enumerate() {
-                stage(level, &format!("specular_{k}"))?;
+            let n = chain.levels.len();
+            for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
+                let content = format!(
+                    "GGX-prefiltered radiance (split sum, N = V = R): level {k} of {n}, perceptual roughness {:.4} (alpha = roughness^2), rule {}",
+                    r.roughness,
+                    opts.rule.name()
+                );
+                stage(level, &format!("specular_{k}"), content)?;
             }
         }
         if let Some(irr) = &baked.irradiance {
-            stage(&irr.image, "irradiance")?;
+            let content = match a.irradiance_scale {
+                IrradianceScale::EOverPi => {
+                    "irradiance E/pi (the radiance a white Lambertian surface reflects)".to_owned()
+                }
+                IrradianceScale::E => "irradiance E (not divided by pi)".to_owned(),
+            };
+            stage(&irr.image, "irradiance", content)?;
         }
         if let Some(t) = &baked.dfg {
-            let f32s = SaveOptions {
-                exr_precision: ExrPrecision::F32,
-                ..sopts.clone()
-            };
-            run.stage_rgb(&t.single_scatter_image(), a.out.join("dfg.exr"), &f32s)
-                .map_err(|e| e.to_string())?;
-            run.stage_rgb(
-                &t.multiscatter_image(),
-                a.out.join("dfg_multiscatter.exr"),
-                &f32s,
-            )
-            .map_err(|e| e.to_string())?;
+            let axes = format!(
+                "column i: N.V = (i + 0.5)/{0}, row j from the top: perceptual roughness (j + 0.5)/{0}; height-correlated Smith GGX",
+                t.size()
+            );
+            for (file, form, image) in [
+                (
+                    "dfg.exr",
+                    "DFG single scatter: R = scale, G = bias (F0 scale + bias)",
+                    t.single_scatter_image(),
+                ),
+                (
+                    "dfg_multiscatter.exr",
+                    "DFG multiscatter (Filament): R = bias, G = scale + bias",
+                    t.multiscatter_image(),
+                ),
+            ] {
+                let o = SaveOptions {
+                    exr_precision: ExrPrecision::F32,
+                    content: Some(format!("{form}; {axes}")),
+                    ..sopts.clone()
+                };
+                run.stage_rgb(&image, a.out.join(file), &o)
+                    .map_err(|e| e.to_string())?;
+            }
         }
-        let frame = opts.axes.frame(AnyMapping::Cube);
-        run.stage_bytes(a.out.join("sh.json"), sh_json(a, &baked, frame).as_bytes())
-            .map_err(|e| e.to_string())?;
+        run.stage_bytes(
+            a.out.join("sh.json"),
+            sh_json(a, &baked, opts.axes).as_bytes(),
+        )
+        .map_err(|e| e.to_string())?;
         let manifest = manifest(
             a,
             &name,
@@ -449,7 +479,8 @@ fn named(c: &[[f64; 3]; 9]) -> serde_json::Value {
 }
 
 /// `sh.json`: the coefficients, their basis, frame and kind.
-fn sh_json(a: &BakeArgs, b: &Bake, frame: envmap_core::Frame) -> String {
+fn sh_json(a: &BakeArgs, b: &Bake, axes: FileAxes) -> String {
+    let frame = axes.frame(AnyMapping::Cube);
     let windowed = match a.sh_window.0 {
         Some(w) => b.sh.windowed(w),
         None => b.sh,
@@ -458,7 +489,7 @@ fn sh_json(a: &BakeArgs, b: &Bake, frame: envmap_core::Frame) -> String {
     let m = serde_json::json!({
         "basis": "real spherical harmonics, bands 0-2, Ramamoorthi & Hanrahan 2001 (no Condon-Shortley phase): Y00 = 0.282095, Y1m = 0.488603 (y, z, x), Y2-2 = 1.092548 xy, Y2-1 = 1.092548 yz, Y20 = 0.315392 (3z^2 - 1), Y21 = 1.092548 xz, Y22 = 0.546274 (x^2 - y^2)",
         "order": NAMES,
-        "axes": opts_axes(a),
+        "axes": axes.describe(AnyMapping::Cube),
         "frame_rows": frame_rows(frame),
         "frame_note": "coefficients are in the axes of the cube files (x, y, z as the files' face names say); canonical: envmap's z-up right-handed axes",
         "window": match a.sh_window.0 {
@@ -491,10 +522,6 @@ fn sh_json(a: &BakeArgs, b: &Bake, frame: envmap_core::Frame) -> String {
         },
     });
     serde_json::to_string_pretty(&m).unwrap_or_default()
-}
-
-fn opts_axes(a: &BakeArgs) -> String {
-    FileAxes::Convention(a.convention.unwrap_or_default(), a.to_frame).describe(AnyMapping::Cube)
 }
 
 /// The manifest: the input, the conventions, the rule, every level.

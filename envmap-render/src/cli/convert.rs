@@ -270,6 +270,7 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         overwrite_input: a.overwrite_input,
         face_names: a.face_names,
         face_transforms: a.face_transform.unwrap_or_default(),
+        content: None,
         cancel: Some(stop),
     };
     stage(format!("saving {}", a.output.display()));

@@ -97,6 +97,14 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
                 }
             ),
         )?;
+        if let Some((_, c)) = loaded
+            .source
+            .tags
+            .iter()
+            .find(|(k, _)| k == metadata::CONTENT)
+        {
+            p(&mut out, "content", c.clone())?;
+        }
         let whence = match (given, loaded.metadata.axes) {
             (Some(_), _) => "as given",
             (None, Some(_)) => "as the file says",

@@ -126,8 +126,9 @@ pub struct BakeOptions<'a> {
     /// At most this many brightest texels are split out and added exactly.
     pub bright_max: usize,
     /// Firefly control: texels above this luminance are compressed
-    /// (Y → T·(1 + ln(Y/T))) before filtering; `None` (the default) leaves
-    /// them.
+    /// (Y → T·(1 + ln(Y/T))) before the specular chain is filtered (the SH
+    /// and the irradiance map integrate the data as given); `None` (the
+    /// default) leaves them.
     pub clamp: Option<f32>,
     /// The outputs' axes (cube files in the GL world by default).
     pub axes: FileAxes,
@@ -416,6 +417,21 @@ pub struct SpecularChain {
     pub stages: Vec<(&'static str, f64)>,
 }
 
+/// An error counting the NaN and infinite texels of `src`, if it has any.
+fn refuse_non_finite(src: &EnvImage) -> Result<()> {
+    let bad = src
+        .pixels()
+        .iter()
+        .filter(|p| !p.iter().all(|c| c.is_finite()))
+        .count();
+    if bad == 0 {
+        return Ok(());
+    }
+    Err(Error::Input(format!(
+        "{bad} texels hold NaN or infinite values; replace them first (envmap bake does, as convert does)"
+    )))
+}
+
 /// The specular chain of `src` (any representation, finite texels).
 /// `progress(level, levels)` is called as each level starts.
 ///
@@ -428,16 +444,7 @@ pub fn specular_chain(
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SpecularChain> {
-    let bad = src
-        .pixels()
-        .iter()
-        .filter(|p| !p.iter().all(|c| c.is_finite()))
-        .count();
-    if bad > 0 {
-        return Err(Error::Input(format!(
-            "{bad} texels hold NaN or infinite values; replace them first (envmap bake does, as convert does)"
-        )));
-    }
+    refuse_non_finite(src)?;
     let sizes = chain_sizes(opts)?;
     let cube = Representation::new(
         AnyMapping::Cube,
@@ -631,15 +638,7 @@ pub fn bake(
         opts.axes.frame(AnyMapping::Cube),
     )?;
     let chain = if opts.sh_only {
-        if src
-            .pixels()
-            .iter()
-            .any(|p| !p.iter().all(|c| c.is_finite()))
-        {
-            return Err(Error::Input(
-                "texels hold NaN or infinite values; replace them first".to_owned(),
-            ));
-        }
+        refuse_non_finite(src)?;
         None
     } else {
         Some(specular_chain(src, opts, progress)?)

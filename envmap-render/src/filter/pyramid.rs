@@ -607,7 +607,26 @@ mod tests {
                     );
                 }
             }
-            let _ = smooth;
+        }
+    }
+
+    #[test]
+    fn a_sampler_starting_at_a_level_reads_as_the_full_one_from_there() {
+        let repr = Representation::default_for(AnyMapping::Cube);
+        let (w, h) = repr.atlas.image_size_for_cell_width(32).unwrap();
+        let p = Pyramid::new(fill(repr, w, h, smooth).unwrap(), 1).unwrap();
+        let (full, from2) = (Trilinear::new(&p), Trilinear::starting_at(&p, 2));
+        for chart in 0..6 {
+            for k in 0..7 {
+                let c = ChartUv::new(chart, (k as f32 + 0.3) / 7.0, (k as f32 * 0.61) % 1.0);
+                for lod in [2.0, 2.3, 3.7, 5.0, 10.0] {
+                    let (a, b) = (full.sample(c, lod), from2.sample(c, lod));
+                    assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "{c:?} {lod}");
+                }
+                // Finer than its first level: read at the first.
+                let (a, b) = (full.sample(c, 2.0), from2.sample(c, 0.5));
+                assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "{c:?}");
+            }
         }
     }
 }

@@ -1757,7 +1757,7 @@ impl DMat3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::procedural::{fill, smooth};
+    use crate::scene::procedural::{fill, smooth, sunny};
     use envmap_core::glam::Quat;
     use envmap_core::Atlas;
 
@@ -1817,17 +1817,6 @@ mod tests {
 
     fn repr(mapping: AnyMapping, atlas: Atlas, frame: Frame) -> Representation {
         Representation::new(mapping, atlas, frame).unwrap()
-    }
-
-    /// smooth() plus a sun 50 000 times as bright, 3° across.
-    fn sunny(d: Vec3) -> [f32; 3] {
-        let s = Vec3::new(0.3, -0.5, 0.8).normalize();
-        let base = smooth(d);
-        if d.normalize().dot(s) > (1.5f32).to_radians().cos() {
-            base.map(|v| v + 50_000.0)
-        } else {
-            base
-        }
     }
 
     fn gl_cube() -> Representation {

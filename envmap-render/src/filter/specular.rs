@@ -591,18 +591,16 @@ fn exact_sums(t: &Texels, r: &Dir8, a2: f32) -> ([[f64; 3]; 8], [f64; 8]) {
     (acc, wsum)
 }
 
-/// Σ w Ω L over the bright texels for eight directions (lanes).
-fn bright_sums(b: &Bright, r: &Dir8, a2: f32) -> [[f64; 3]; 8] {
-    let mut acc = [[0.0f64; 3]; 8];
-    for (d, ol) in b.dirs.iter().zip(&b.omega_l) {
-        let w = weight8(r, *d, a2).to_array();
-        for l in 0..8 {
-            for ch in 0..3 {
-                acc[l][ch] += f64::from(w[l]) * f64::from(ol[ch]);
-            }
-        }
+/// The bright texels as [`Texels`] (Ω·L as they are, Ω 0: the exact sums'
+/// normalizer is the rest's), so that [`exact_sums`] adds them up too.
+fn texels_of_bright(b: &Bright) -> Texels {
+    Texels {
+        x: b.dirs.iter().map(|d| d.x).collect(),
+        y: b.dirs.iter().map(|d| d.y).collect(),
+        z: b.dirs.iter().map(|d| d.z).collect(),
+        omega: vec![0.0; b.dirs.len()],
+        ol: [0, 1, 2].map(|c| b.omega_l.iter().map(|v| v[c]).collect()),
     }
-    acc
 }
 
 /// The exact prefiltered value (as [`Method::Exact`] at pyramid level
@@ -620,11 +618,12 @@ pub fn exact_at(
     let alpha = roughness * roughness;
     let a2 = alpha * alpha;
     let t = texels_of(rest.level(level));
+    let bt = texels_of_bright(bright);
     dirs.par_chunks(LANES)
         .flat_map_iter(|d| {
             let r = Dir8::from_partial(d);
             let (acc, wsum) = exact_sums(&t, &r, a2);
-            let b = bright_sums(bright, &r, a2);
+            let b = exact_sums(&bt, &r, a2).0;
             (0..d.len())
                 .map(|l| {
                     if wsum[l] > 0.0 {
@@ -683,6 +682,7 @@ pub fn prefilter_level(
     let z = lobe_normalizer(f64::from(alpha));
     let (cw, ch) = out.cell_size();
     let mapping = repr.mapping;
+    let bright_texels = texels_of_bright(job.bright);
     let exact_texels = match job.method {
         Method::Exact { level } => Some(texels_of(job.rest.level(level))),
         Method::Sampled { .. } => None,
@@ -717,7 +717,7 @@ pub fn prefilter_level(
                         s(c0.y) * d.x + s(c1.y) * d.y + s(c2.y) * d.z,
                         s(c0.z) * d.x + s(c1.z) * d.y + s(c2.z) * d.z,
                     );
-                    let bright = bright_sums(job.bright, &r, a2);
+                    let bright = exact_sums(&bright_texels, &r, a2).0;
                     let vals: [[f32; 3]; 8] = match &exact_texels {
                         Some(t) => {
                             let (acc, wsum) = exact_sums(t, &r, a2);

@@ -72,6 +72,21 @@ impl FaceTurn {
     pub const TRANSPOSE: FaceTurn = FaceTurn {
         m: [[0, 1], [1, 0]],
     };
+    /// Mirrored about the other diagonal (the transpose turned half a turn).
+    pub const ANTI_TRANSPOSE: FaceTurn = FaceTurn {
+        m: [[0, -1], [-1, 0]],
+    };
+    /// All eight: the four turns, then the four mirrors.
+    pub const ALL: [FaceTurn; 8] = [
+        FaceTurn::IDENTITY,
+        FaceTurn::ROT90,
+        FaceTurn::ROT180,
+        FaceTurn::ROT270,
+        FaceTurn::FLIP_X,
+        FaceTurn::FLIP_Y,
+        FaceTurn::TRANSPOSE,
+        FaceTurn::ANTI_TRANSPOSE,
+    ];
 
     /// `self` followed by `next`.
     #[must_use]
@@ -131,7 +146,8 @@ impl FaceTurn {
         }
     }
 
-    fn name(self) -> Option<&'static str> {
+    /// The name [`FromStr`] reads (every one of the eight has one).
+    fn name(self) -> &'static str {
         [
             (FaceTurn::ROT90, "rot90"),
             (FaceTurn::ROT180, "rot180"),
@@ -139,17 +155,20 @@ impl FaceTurn {
             (FaceTurn::FLIP_X, "flipx"),
             (FaceTurn::FLIP_Y, "flipy"),
             (FaceTurn::TRANSPOSE, "transpose"),
+            (FaceTurn::ANTI_TRANSPOSE, "antitranspose"),
+            (FaceTurn::IDENTITY, "none"),
         ]
         .into_iter()
         .find(|(t, _)| *t == self)
-        .map(|(_, n)| n)
+        .map_or("none", |(_, n)| n)
     }
 }
 
 impl FromStr for FaceTurn {
     type Err = Error;
 
-    /// `rot90`, `rot180`, `rot270`, `flipx`, `flipy`, `transpose` (and
+    /// `rot90`, `rot180`, `rot270`, `flipx`, `flipy`, `transpose`,
+    /// `antitranspose` (and
     /// `rotate90` ..., `fliph`/`flipv` as cmft spells them, `none`).
     fn from_str(s: &str) -> Result<Self> {
         Ok(match s.to_ascii_lowercase().as_str() {
@@ -159,12 +178,14 @@ impl FromStr for FaceTurn {
             "flipx" | "fliph" | "mirror" => FaceTurn::FLIP_X,
             "flipy" | "flipv" => FaceTurn::FLIP_Y,
             "transpose" => FaceTurn::TRANSPOSE,
+            "antitranspose" | "anti-transpose" => FaceTurn::ANTI_TRANSPOSE,
             "none" | "identity" => FaceTurn::IDENTITY,
             _ => {
                 return Err(Error::UnknownName {
                     what: "face transform",
                     name: s.to_owned(),
-                    expected: "rot90, rot180, rot270, flipx, flipy, transpose".to_owned(),
+                    expected: "rot90, rot180, rot270, flipx, flipy, transpose, antitranspose"
+                        .to_owned(),
                 })
             }
         })
@@ -225,12 +246,8 @@ impl fmt::Display for FaceTransforms {
                 f.write_str(",")?;
             }
             first = false;
-            // Every composition is one of the eight named ones or the
-            // anti-transpose, which is `transpose` after `rot180`.
-            match t.name() {
-                Some(n) => write!(f, "{}:{n}", face.name())?,
-                None => write!(f, "{0}:transpose,{0}:rot180", face.name())?,
-            }
+            // Every composition is one of the eight, each named.
+            write!(f, "{}:{}", face.name(), t.name())?;
         }
         if first {
             f.write_str("none")?;
@@ -316,16 +333,11 @@ mod tests {
         assert_eq!(FaceTurn::ROT90.then(FaceTurn::ROT270), FaceTurn::IDENTITY);
         assert_eq!(FaceTurn::ROT90.inverse(), FaceTurn::ROT270);
         // Every one of the eight undoes, on even and odd sizes.
-        let all = [
-            FaceTurn::IDENTITY,
-            FaceTurn::ROT90,
-            FaceTurn::ROT180,
-            FaceTurn::ROT270,
-            FaceTurn::FLIP_X,
-            FaceTurn::FLIP_Y,
-            FaceTurn::TRANSPOSE,
+        assert_eq!(
             FaceTurn::TRANSPOSE.then(FaceTurn::ROT180),
-        ];
+            FaceTurn::ANTI_TRANSPOSE
+        );
+        let all = FaceTurn::ALL;
         for n in [1, 2, 4, 5] {
             let img = numbered(n);
             for t in all {
@@ -342,6 +354,12 @@ mod tests {
         assert_eq!(t.to_string(), "+x:rot180,+z:flipx");
         assert_eq!(t.to_string().parse::<FaceTransforms>().unwrap(), t);
         assert!("none".parse::<FaceTransforms>().unwrap().is_identity());
+        // Every one of the eight prints as a name that parses back to it.
+        for turn in FaceTurn::ALL {
+            assert_eq!(turn.name().parse::<FaceTurn>().unwrap(), turn);
+            let t = FaceTransforms::default().with(CubeFace::NegZ, turn);
+            assert_eq!(t.to_string().parse::<FaceTransforms>().unwrap(), t);
+        }
         let e = "+w:rot90"
             .parse::<FaceTransforms>()
             .unwrap_err()

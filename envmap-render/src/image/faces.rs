@@ -413,8 +413,11 @@ pub(super) fn stage(
             .chart_image(chart)
             .ok_or_else(|| Error::layout(format!("the image has no face {chart}")))?;
         let repr = image.representation();
-        let tags = metadata::tags(repr, Some(Layout::Faces), Some(f.name()));
-        let description = metadata::description(repr, Some(Layout::Faces), Some(f.name()));
+        let (tags, description) = metadata::with_content(
+            metadata::tags(repr, Some(Layout::Faces), Some(f.name())),
+            metadata::description(repr, Some(Layout::Faces), Some(f.name())),
+            opts.content.as_deref(),
+        );
         let view = View {
             width: face.width,
             height: face.height,

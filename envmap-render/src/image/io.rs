@@ -237,6 +237,10 @@ pub struct SaveOptions<'a> {
     /// For a cube: how to turn or mirror each face against GL's in the
     /// file; see [`crate::image::face_ops`].
     pub face_transforms: FaceTransforms,
+    /// What the values are, when more than radiance (for example
+    /// "irradiance E/pi"): written as the [`metadata::CONTENT`] tag and at
+    /// the end of the file's description. `None` (the default) for none.
+    pub content: Option<String>,
     /// Stops writing once set: the output being written is removed and
     /// nothing is renamed into place ([`Error::Cancelled`]); see
     /// [`crate::cancel`].
@@ -253,6 +257,7 @@ impl Default for SaveOptions<'_> {
             overwrite_input: false,
             face_names: None,
             face_transforms: FaceTransforms::default(),
+            content: None,
             cancel: None,
         }
     }
@@ -552,8 +557,11 @@ impl<'a> Outputs<'a> {
             return faces::stage(self, image, path, format, opts);
         }
         let repr = image.representation();
-        let tags = metadata::tags(repr, None, None);
-        let description = metadata::description(repr, None, None);
+        let (tags, description) = metadata::with_content(
+            metadata::tags(repr, None, None),
+            metadata::description(repr, None, None),
+            opts.content.as_deref(),
+        );
         let view = View {
             width: image.width(),
             height: image.height(),
@@ -584,12 +592,14 @@ impl<'a> Outputs<'a> {
             }
             .in_file(path));
         }
+        let (tags, description) =
+            metadata::with_content(Vec::new(), String::new(), opts.content.as_deref());
         let view = View {
             width: image.width,
             height: image.height,
             pixels: &image.pixels,
-            tags: &[],
-            description: "",
+            tags: &tags,
+            description: &description,
         };
         self.stage_with(path, |out| encode(path, format, view, opts, out))
     }

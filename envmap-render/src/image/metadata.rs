@@ -31,6 +31,29 @@ pub const LAYOUT: &str = "envmap.layout";
 pub const FACE: &str = "envmap.face";
 /// The key of the axes ([`format_axes`]).
 pub const AXES: &str = "envmap.axes";
+/// The key of what the values are, when the writer said
+/// ([`crate::image::io::SaveOptions::content`]): "irradiance E/pi", a
+/// specular level's roughness, a DFG table's axes.
+pub const CONTENT: &str = "envmap.content";
+
+/// `tags` and `description` with `content` (what the values are) added,
+/// when there is one.
+pub(crate) fn with_content(
+    mut tags: Vec<(String, String)>,
+    description: String,
+    content: Option<&str>,
+) -> (Vec<(String, String)>, String) {
+    let Some(c) = content else {
+        return (tags, description);
+    };
+    tags.push((CONTENT.to_owned(), c.to_owned()));
+    let description = if description.is_empty() {
+        c.to_owned()
+    } else {
+        format!("{description}; {c}")
+    };
+    (tags, description)
+}
 
 /// What a file says about itself (any part may be missing).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
