@@ -22,7 +22,7 @@ use crate::image::io::{
 };
 use crate::image::layout::Layout;
 use crate::image::metadata;
-use crate::image::{EnvImage, Representation};
+use crate::image::{EnvImage, Representation, TextureOptions};
 
 #[derive(Args)]
 pub(crate) struct ConvertArgs {
@@ -271,6 +271,7 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         face_names: a.face_names,
         face_transforms: a.face_transform.unwrap_or_default(),
         content: None,
+        texture: TextureOptions::default(),
         cancel: Some(stop),
     };
     stage(format!("saving {}", a.output.display()));

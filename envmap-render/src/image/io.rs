@@ -9,6 +9,9 @@
 //! | `.hdr` | Radiance RGBE, linear | Radiance RGBE, linear (within RGBE precision, ~1 %) | `hdr.rs` |
 //! | `.exr` | R, G, B channels (any of f16, f32, u32) of the first layer that has them; alpha and other channels ignored | f32 RGB (bit for bit), or f16 | `exr.rs` |
 //! | six files | a cube by one face's name or a `{face}` pattern | six faces | `faces.rs` |
+//! | `.ktx2` | 2D or cube, level 0 (all levels: [`texture::read`]); RGBA16F, RGBA32F, B10G11R11, E5B9G9R9, RGB16F, RGB32F; zstd | one level ([`Outputs::stage_texture`] for chains) in [`SaveOptions::texture`]'s format | `ktx2.rs` |
+//! | `.dds` | 2D or cube (DX10 header), level 0; the same formats but RGB16F | as KTX2, no zstd | `dds.rs` |
+//! | `.ktx` | no (written for Filament) | KTX 1 as `cmgen` writes it | `ktx1.rs` |
 //!
 //! The format is chosen by the extension, case-insensitively. Alpha is
 //! dropped. Colour profiles and PNG gamma chunks are ignored: 8- and 16-bit
@@ -75,6 +78,8 @@ use crate::image::envimage::{check_size, EnvImage, RgbImage, DEFAULT_MAX_TEXELS}
 use crate::image::face_ops::FaceTransforms;
 use crate::image::layout::{resolve, Layout, Representation};
 use crate::image::metadata::FileMetadata;
+use crate::image::texel::Clamped;
+use crate::image::texture::{self, Texture, TextureKind, TextureOptions};
 use crate::image::{exr, faces, hdr, metadata, png_jpeg};
 
 pub use crate::image::atomic::Outputs;
@@ -96,11 +101,18 @@ pub enum FileFormat {
     Hdr,
     /// OpenEXR (`.exr`): linear f16 or f32.
     Exr,
+    /// KTX 2.0 (`.ktx2`): GPU texture with mip levels.
+    Ktx2,
+    /// DDS (`.dds`): GPU texture with mip levels, DX10 header.
+    Dds,
+    /// KTX 1 (`.ktx`): GPU texture with mip levels, as Filament reads it
+    /// (written only).
+    Ktx,
 }
 
 impl FileFormat {
     /// The accepted extensions, as listed in error messages.
-    pub const EXTENSIONS: &'static str = "png, jpg, jpeg, hdr, exr";
+    pub const EXTENSIONS: &'static str = "png, jpg, jpeg, hdr, exr, ktx2, dds, ktx";
 
     /// The format of a path's extension (case-insensitive); an error naming
     /// the file and the accepted extensions otherwise.
@@ -111,6 +123,9 @@ impl FileFormat {
             Some("jpg" | "jpeg") => FileFormat::Jpeg,
             Some("hdr") => FileFormat::Hdr,
             Some("exr") => FileFormat::Exr,
+            Some("ktx2") => FileFormat::Ktx2,
+            Some("dds") => FileFormat::Dds,
+            Some("ktx") => FileFormat::Ktx,
             _ => {
                 return Err(Error::UnknownExtension {
                     path: path.to_path_buf(),
@@ -130,14 +145,24 @@ impl FileFormat {
             FileFormat::Jpeg => "JPEG",
             FileFormat::Hdr => "Radiance HDR",
             FileFormat::Exr => "OpenEXR",
+            FileFormat::Ktx2 => "KTX2",
+            FileFormat::Dds => "DDS",
+            FileFormat::Ktx => "KTX 1",
         }
+    }
+
+    /// Whether the format is a GPU texture file with mip levels (KTX2, DDS,
+    /// KTX 1; see [`crate::image::texture`]).
+    #[must_use]
+    pub const fn is_texture(self) -> bool {
+        matches!(self, FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx)
     }
 
     /// Whether the format stores linear floating-point values (HDR, EXR)
     /// rather than 8- or 16-bit sRGB.
     #[must_use]
     pub const fn is_float(self) -> bool {
-        matches!(self, FileFormat::Hdr | FileFormat::Exr)
+        matches!(self, FileFormat::Hdr | FileFormat::Exr) || self.is_texture()
     }
 }
 
@@ -241,6 +266,9 @@ pub struct SaveOptions<'a> {
     /// "irradiance E/pi"): written as the [`metadata::CONTENT`] tag and at
     /// the end of the file's description. `None` (the default) for none.
     pub content: Option<String>,
+    /// The texel format and supercompression of KTX2, DDS and KTX 1
+    /// outputs.
+    pub texture: TextureOptions,
     /// Stops writing once set: the output being written is removed and
     /// nothing is renamed into place ([`Error::Cancelled`]); see
     /// [`crate::cancel`].
@@ -258,6 +286,7 @@ impl Default for SaveOptions<'_> {
             face_names: None,
             face_transforms: FaceTransforms::default(),
             content: None,
+            texture: TextureOptions::default(),
             cancel: None,
         }
     }
@@ -334,6 +363,10 @@ fn open<'a>(path: &Path, cancel: Option<&'a AtomicBool>) -> Result<Source<'a>> {
 /// The size of an image file, from its header alone.
 pub fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
     let format = FileFormat::from_path(path)?;
+    if format.is_texture() {
+        let t = texture::read(path, u64::MAX, None)?;
+        return Ok(level0_size(&t));
+    }
     let file = open(path, None)?;
     guarded(path, format, || match format {
         FileFormat::Exr => {
@@ -362,11 +395,16 @@ pub fn read_rgb(
 ) -> Result<(RgbImage, SourceFormat)> {
     cancel::check(cancel)?;
     let format = FileFormat::from_path(path)?;
+    if format.is_texture() {
+        let t = guarded(path, format, || texture::read(path, max_texels, cancel))?;
+        return Ok(texture_level0(t, format));
+    }
     let file = open(path, cancel)?;
     let read = guarded(path, format, || match format {
         FileFormat::Exr => exr::read(path, file, max_texels),
         FileFormat::Hdr => hdr::read(path, file, max_texels),
         FileFormat::Png | FileFormat::Jpeg => png_jpeg::read(path, file, format, max_texels),
+        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => unreachable!("read above"),
     });
     cancel::or_cancelled(read, cancel)
 }
@@ -376,8 +414,41 @@ fn image_format(format: FileFormat) -> ::image::ImageFormat {
         FileFormat::Png => ::image::ImageFormat::Png,
         FileFormat::Jpeg => ::image::ImageFormat::Jpeg,
         FileFormat::Hdr => ::image::ImageFormat::Hdr,
-        FileFormat::Exr => ::image::ImageFormat::OpenExr,
+        // Texture files never reach the `image` crate; OpenEXR is a
+        // harmless stand-in that keeps this total.
+        FileFormat::Exr | FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => {
+            ::image::ImageFormat::OpenExr
+        }
     }
+}
+
+/// Level 0's size as a plain image: a cube's faces side by side.
+fn level0_size(t: &texture::TextureFile) -> (u32, u32) {
+    let (w, h) = t.texture.size();
+    match t.texture.kind() {
+        TextureKind::Cube => (6 * w, h),
+        TextureKind::Flat => (w, h),
+    }
+}
+
+/// Level 0 of a texture file as a plain image (a cube as a horizontal
+/// strip, stated in the tags), with what the file held.
+fn texture_level0(t: texture::TextureFile, format: FileFormat) -> (RgbImage, SourceFormat) {
+    let mut tags = Vec::new();
+    if t.texture.kind() == TextureKind::Cube {
+        tags.push((metadata::MAPPING.to_owned(), AnyMapping::Cube.to_string()));
+        tags.push((metadata::LAYOUT.to_owned(), Layout::Strip.name().to_owned()));
+    }
+    let pixel_format = format!("{} (level 0 read)", t.info.summary());
+    let image = t.texture.level_rgb(0).unwrap_or_default();
+    (
+        image,
+        SourceFormat {
+            format,
+            pixel_format,
+            tags,
+        },
+    )
 }
 
 /// Decodes a PNG, JPEG or Radiance file with the `image` crate, after
@@ -553,6 +624,18 @@ impl<'a> Outputs<'a> {
             turned = opts.face_transforms.apply(image.clone(), true)?;
             &turned
         };
+        if format.is_texture() {
+            if opts.six_files || is_face_pattern(path) {
+                return Err(Error::Input(format!(
+                    "a {} file holds a whole cube; it is not written as six files",
+                    format.name()
+                ))
+                .in_file(path));
+            }
+            let tex =
+                Texture::from_env(std::slice::from_ref(image)).map_err(|e| e.in_file(path))?;
+            return self.stage_texture(&tex, path, opts.texture).map(drop);
+        }
         if opts.six_files || is_face_pattern(path) {
             return faces::stage(self, image, path, format, opts);
         }
@@ -592,6 +675,11 @@ impl<'a> Outputs<'a> {
             }
             .in_file(path));
         }
+        if format.is_texture() {
+            let tex = Texture::new(TextureKind::Flat, vec![vec![image.clone()]])
+                .map_err(|e| e.in_file(path))?;
+            return self.stage_texture(&tex, path, opts.texture).map(drop);
+        }
         let (tags, description) =
             metadata::with_content(Vec::new(), String::new(), opts.content.as_deref());
         let view = View {
@@ -602,6 +690,27 @@ impl<'a> Outputs<'a> {
             description: &description,
         };
         self.stage_with(path, |out| encode(path, format, view, opts, out))
+    }
+}
+
+impl Outputs<'_> {
+    /// Stages a texture with its levels as a KTX2, DDS or KTX 1 file (by
+    /// the extension), in `opts`' texel format; returns what packing
+    /// clamped (see [`crate::image::texel`]).
+    ///
+    /// # Errors
+    ///
+    /// Another extension; what the format refuses; write errors.
+    pub fn stage_texture(
+        &mut self,
+        tex: &Texture,
+        path: impl AsRef<Path>,
+        opts: TextureOptions,
+    ) -> Result<Clamped> {
+        let path = path.as_ref();
+        let (bytes, clamped) = texture::encode(tex, path, opts)?;
+        self.stage_bytes(path, &bytes)?;
+        Ok(clamped)
     }
 }
 
@@ -619,6 +728,10 @@ pub(super) fn encode(
         }
         FileFormat::Hdr => hdr::encode(path, view, out),
         FileFormat::Exr => exr::encode(path, view, opts.exr_precision, out),
+        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => Err(Error::Input(
+            "texture files are staged whole (Outputs::stage_texture)".into(),
+        )
+        .in_file(path)),
     }
 }
 
@@ -661,7 +774,7 @@ mod tests {
             .to_string();
         assert_eq!(
             e,
-            "a.tiff: unknown image extension \".tiff\"; accepted: png, jpg, jpeg, hdr, exr"
+            "a.tiff: unknown image extension \".tiff\"; accepted: png, jpg, jpeg, hdr, exr, ktx2, dds, ktx"
         );
         let e = FileFormat::from_path(Path::new("sky"))
             .unwrap_err()

@@ -16,7 +16,9 @@
 //! * [`io`]: the format by extension, load and save options, [`io::load`] and
 //!   [`io::save`].
 //! * One file per format: `png_jpeg.rs`, `hdr.rs`, `exr.rs`, and
-//!   `faces.rs` for cubes as six files; `srgb.rs` holds the sRGB transfer
+//!   `faces.rs` for cubes as six files; the GPU texture files with mip
+//!   levels [`ktx2`], [`dds`] and [`ktx1`], around [`texture::Texture`]
+//!   and the texel formats and packers of [`texel`]; `srgb.rs` holds the sRGB transfer
 //!   functions and `atomic.rs` the safe-write helper every output goes
 //!   through (a temporary file renamed into place).
 //!
@@ -27,19 +29,26 @@
 
 mod atomic;
 pub mod convention;
+pub mod dds;
 mod envimage;
 mod exr;
 pub mod face_ops;
 mod faces;
 mod hdr;
 pub mod io;
+pub mod ktx1;
+pub mod ktx2;
 pub mod layout;
 pub mod metadata;
 mod png_jpeg;
 mod srgb;
+pub mod texel;
+pub mod texture;
 
 pub use convention::{Convention, FileAxes, World};
 pub use envimage::{
     check_size, luminance, EnvImage, RgbImage, Stats, BYTES_PER_TEXEL, DEFAULT_MAX_TEXELS,
 };
 pub use layout::{Layout, Representation};
+pub use texel::{Clamped, TexelFormat};
+pub use texture::{Texture, TextureFile, TextureInfo, TextureKind, TextureOptions};

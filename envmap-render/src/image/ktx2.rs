@@ -1,0 +1,673 @@
+//! KTX 2.0 files (Khronos, `ktxspec.adoc` v2.0): 2D textures and cube maps
+//! with their mip levels, uncompressed or with Zstandard supercompression
+//! (scheme 2), written and read.
+//!
+//! What is written, in file order (§"File Structure"):
+//!
+//! * the 12-byte identifier, the nine header words (`vkFormat`, `typeSize`
+//!   as [`TexelFormat::type_size`] — kept under zstd, `pixelWidth`,
+//!   `pixelHeight`, `pixelDepth` 0, `layerCount` 0, `faceCount` 1 or 6,
+//!   `levelCount` the levels stored, never 0, `supercompressionScheme` 0 or
+//!   2) and the index;
+//! * the level index, largest level first;
+//! * the Data Format Descriptor: one basic block, colour model RGBSDA,
+//!   primaries BT.709, transfer linear, straight alpha, one sample per
+//!   channel (RGB9E5: mantissa and exponent per channel), bounds as
+//!   §"Data Format Descriptor" and the Khronos Data Format Specification
+//!   1.4 give them ([`dfd`]);
+//! * the key/value data: `KTXorientation` = `rd` and `KTXwriter` =
+//!   `envmap <version>`, sorted, each entry padded to 4 bytes with zeros
+//!   (no custom keys, so `ktx validate -e` finds nothing to warn of);
+//! * the levels, smallest first, each starting at the next multiple of
+//!   lcm(texel size, 4) with zero padding (8 for RGBA16F, 16 for RGBA32F,
+//!   4 for the packed formats); under zstd each level is one frame, no
+//!   padding (alignment 1), compressed in parallel.
+//!
+//! Inside a level: faces +X, −X, +Y, −Y, +Z, −Z, rows top-down, tightly
+//! packed (§"levelImages").
+//!
+//! Reading accepts the writable formats and R16G16B16_SFLOAT (90) and
+//! R32G32B32_SFLOAT (106), with or without zstd; Basis Universal, BCn,
+//! ETC, ASTC, depth formats, array textures, 3D and 1D textures are
+//! refused with an error naming the feature. The DFD must describe the
+//! `vkFormat` (primaries and the L qualifier aside). Every offset and length
+//! is checked against the file before use, and the texel count against the
+//! limit before any level is decoded.
+
+use std::path::Path;
+
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::image::envimage::RgbImage;
+use crate::image::texel::{Clamped, TexelFormat};
+use crate::image::texture::{
+    check_texels, full_chain, level_bytes, level_size, Texture, TextureFile, TextureInfo,
+    TextureKind, TextureOptions,
+};
+
+/// The file identifier: «KTX 20»\r\n\x1A\n.
+pub const IDENTIFIER: [u8; 12] = [
+    0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A,
+];
+
+const HEADER_LEN: usize = 80;
+const LEVEL_ENTRY: usize = 24;
+
+/// The DFD sample qualifiers (KDFS §"Sample information"): float, signed,
+/// exponent, linear.
+const Q_FLOAT: u32 = 0x80;
+const Q_SIGNED: u32 = 0x40;
+const Q_EXPONENT: u32 = 0x20;
+const Q_LINEAR: u32 = 0x10;
+/// 1.0 and −1.0 as f32 bits: the bounds of float samples.
+const ONE: u32 = 0x3F80_0000;
+const MINUS_ONE: u32 = 0xBF80_0000;
+
+/// One DFD sample: bit offset, bit length, channel id (R 0, G 1, B 2,
+/// A 15) with qualifiers, lower and upper.
+fn sample(offset: u32, bits: u32, channel: u32, lower: u32, upper: u32) -> [u32; 4] {
+    [
+        offset | ((bits - 1) << 16) | (channel << 24),
+        0,
+        lower,
+        upper,
+    ]
+}
+
+/// The Data Format Descriptor of `format`, as bytes (dfdTotalSize
+/// included): one Khronos basic block (KDFS 1.4 §5), colour model RGBSDA,
+/// primaries BT.709, transfer linear, straight alpha, texel block 1×1,
+/// bytesPlane0 the texel size, and the samples of `ktxspec` §"Data Format
+/// Descriptor" (signed floats bounded by −1.0 and 1.0, unsigned by 0 and
+/// 1.0; RGB9E5's mantissas 0 and 8448 = 256·2^(16−15)·… — 1.0 as mantissa
+/// 256 at exponent 16 — and its exponents 15 and 31, the KDFS example
+/// `exampledescriptor_e5b9g9r9`).
+#[must_use]
+pub fn dfd(format: TexelFormat) -> Vec<u8> {
+    let float_rgba = |bits: u32, n: u32| {
+        (0..n)
+            .map(|i| {
+                let ch = if i == 3 { 15 } else { i };
+                sample(i * bits, bits, ch | Q_FLOAT | Q_SIGNED, MINUS_ONE, ONE)
+            })
+            .collect::<Vec<_>>()
+    };
+    let samples = match format {
+        TexelFormat::Rgba16f => float_rgba(16, 4),
+        TexelFormat::Rgba32f => float_rgba(32, 4),
+        TexelFormat::Rgb16f => float_rgba(16, 3),
+        TexelFormat::Rgb32f => float_rgba(32, 3),
+        TexelFormat::B10g11r11 => vec![
+            sample(0, 11, Q_FLOAT, 0, ONE),
+            sample(11, 11, 1 | Q_FLOAT, 0, ONE),
+            sample(22, 10, 2 | Q_FLOAT, 0, ONE),
+        ],
+        TexelFormat::E5b9g9r9 => (0..3)
+            .flat_map(|c| {
+                [
+                    sample(9 * c, 9, c, 0, 8448),
+                    sample(27, 5, c | Q_EXPONENT, 15, 31),
+                ]
+            })
+            .collect(),
+    };
+    let n = samples.len() as u32;
+    let block = 24 + 16 * n;
+    let mut words = vec![
+        4 + block,
+        0,
+        2 | (block << 16),
+        0x0001_0101,
+        0,
+        format.bytes() as u32,
+        0,
+    ];
+    words.extend(samples.into_iter().flatten());
+    words.iter().flat_map(|w| w.to_le_bytes()).collect()
+}
+
+/// The key/value data: each entry `{u32 length, key, NUL, value, NUL}`
+/// padded with zeros to 4 bytes, sorted by key (§"Key/Value Data").
+fn key_values(entries: &[(&str, &str)]) -> Vec<u8> {
+    let mut sorted = entries.to_vec();
+    sorted.sort_by(|a, b| a.0.cmp(b.0));
+    let mut out = Vec::new();
+    for (k, v) in sorted {
+        let len = k.len() + 1 + v.len() + 1;
+        out.extend_from_slice(&(len as u32).to_le_bytes());
+        out.extend_from_slice(k.as_bytes());
+        out.push(0);
+        out.extend_from_slice(v.as_bytes());
+        out.push(0);
+        out.resize(out.len().next_multiple_of(4), 0);
+    }
+    out
+}
+
+/// lcm(texel size, 4): the alignment of every level without
+/// supercompression (§"mipPadding").
+#[must_use]
+pub fn level_alignment(format: TexelFormat) -> usize {
+    let t = format.bytes();
+    let gcd = |mut a: usize, mut b: usize| {
+        while b != 0 {
+            (a, b) = (b, a % b);
+        }
+        a
+    };
+    t / gcd(t, 4) * 4
+}
+
+/// What `KTXwriter` says: `envmap` and its version.
+#[must_use]
+pub fn writer_name() -> String {
+    format!("envmap {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// The KTX2 file of `tex` in `opts.format`, zstd-compressed if
+/// `opts.zstd` says; returns the bytes and what packing clamped.
+///
+/// # Errors
+///
+/// A read-only format, or a zstd level outside 1–22.
+pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
+    let format = opts.format;
+    if !format.is_writable() {
+        return Err(Error::Input(format!(
+            "{} is read only; write one of {}",
+            format.name(),
+            TexelFormat::NAMES
+        )));
+    }
+    if let Some(l) = opts.zstd {
+        if !(1..=22).contains(&l) {
+            return Err(Error::Input(format!(
+                "zstd level {l}: levels 1 (fastest) to 22 (smallest) exist"
+            )));
+        }
+    }
+    let (raw, clamped) = tex.pack(format);
+    let raw_lens: Vec<u64> = raw.iter().map(|l| l.len() as u64).collect();
+    let stored: Vec<Vec<u8>> = match opts.zstd {
+        None => raw,
+        Some(level) => raw
+            .par_iter()
+            .map(|l| zstd::bulk::compress(l, level))
+            .collect::<std::io::Result<_>>()
+            .map_err(|e| Error::Input(format!("zstd compression failed: {e}")))?,
+    };
+    let n = stored.len();
+    let (w, h) = tex.size();
+    let faces = tex.kind().faces() as u32;
+    let dfd = dfd(format);
+    let writer = writer_name();
+    let kvd = key_values(&[("KTXorientation", "rd"), ("KTXwriter", &writer)]);
+    let dfd_offset = (HEADER_LEN + LEVEL_ENTRY * n).next_multiple_of(4);
+    let kvd_offset = dfd_offset + dfd.len();
+    let align = if opts.zstd.is_some() {
+        1
+    } else {
+        level_alignment(format)
+    };
+    // Offsets: smallest level first after the key/value data.
+    let mut offsets = vec![0usize; n];
+    let mut at = kvd_offset + kvd.len();
+    for p in (0..n).rev() {
+        at = at.next_multiple_of(align);
+        offsets[p] = at;
+        at += stored[p].len();
+    }
+    let mut out = Vec::with_capacity(at);
+    out.extend_from_slice(&IDENTIFIER);
+    let scheme = u32::from(opts.zstd.is_some()) * 2;
+    for v in [
+        format.vk_format(),
+        format.type_size(),
+        w,
+        h,
+        0,
+        0,
+        faces,
+        n as u32,
+        scheme,
+    ] {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    for v in [dfd_offset, dfd.len(), kvd_offset, kvd.len()] {
+        out.extend_from_slice(&(v as u32).to_le_bytes());
+    }
+    out.extend_from_slice(&[0; 16]); // sgdByteOffset, sgdByteLength
+    for p in 0..n {
+        for v in [offsets[p] as u64, stored[p].len() as u64, raw_lens[p]] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    out.resize(dfd_offset, 0);
+    out.extend_from_slice(&dfd);
+    out.extend_from_slice(&kvd);
+    for p in (0..n).rev() {
+        out.resize(offsets[p], 0);
+        out.extend_from_slice(&stored[p]);
+    }
+    Ok((out, clamped))
+}
+
+fn u32_at(b: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
+}
+
+fn u64_at(b: &[u8], at: usize) -> u64 {
+    u64::from(u32_at(b, at)) | (u64::from(u32_at(b, at + 4)) << 32)
+}
+
+/// The slice `[offset, offset + len)` of `b`, or an error naming `what`.
+fn section<'b>(
+    b: &'b [u8],
+    offset: u64,
+    len: u64,
+    what: &str,
+) -> std::result::Result<&'b [u8], String> {
+    let end = offset.checked_add(len);
+    match end {
+        Some(end) if end <= b.len() as u64 => Ok(&b[offset as usize..end as usize]),
+        _ => Err(format!(
+            "the {what} (bytes {offset}..{}) runs past the end of the file ({} bytes)",
+            offset.saturating_add(len),
+            b.len()
+        )),
+    }
+}
+
+/// Why a `vkFormat` envmap does not read is not read: a name for the
+/// feature.
+fn unsupported_format(vk: u32) -> String {
+    let what = match vk {
+        0 => "VK_FORMAT_UNDEFINED (Basis Universal or another universal format)".to_owned(),
+        124..=130 => format!("a depth/stencil format (vkFormat {vk})"),
+        131..=146 => format!("a BCn block-compressed format (vkFormat {vk})"),
+        147..=156 => format!("an ETC2/EAC block-compressed format (vkFormat {vk})"),
+        157..=184 | 1_000_066_000..=1_000_066_013 => {
+            format!("an ASTC block-compressed format (vkFormat {vk})")
+        }
+        _ => format!("vkFormat {vk}"),
+    };
+    format!(
+        "{what} is not supported; envmap reads R16G16B16A16_SFLOAT (97), R32G32B32A32_SFLOAT (109), \
+         B10G11R11_UFLOAT_PACK32 (122), E5B9G9R9_UFLOAT_PACK32 (123), R16G16B16_SFLOAT (90) and R32G32B32_SFLOAT (106)"
+    )
+}
+
+/// Checks a file's DFD against the one `format` has (primaries, the alpha
+/// flag and the L qualifier may differ; bytesPlane0 may be 0 under
+/// supercompression, as older writers left it).
+fn check_dfd(
+    found: &[u8],
+    format: TexelFormat,
+    supercompressed: bool,
+) -> std::result::Result<(), String> {
+    let want = dfd(format);
+    let mismatch = || {
+        format!(
+            "the Data Format Descriptor does not describe vkFormat {} ({})",
+            format.vk_format(),
+            format.vk_name()
+        )
+    };
+    if found.len() < want.len() {
+        return Err(mismatch());
+    }
+    let (fw, ww) = (|i| u32_at(found, 4 * i), |i| u32_at(&want, 4 * i));
+    // Total size, block header, block size: exact.
+    if fw(0) != ww(0) || fw(1) != ww(1) || fw(2) != ww(2) {
+        return Err(mismatch());
+    }
+    // Colour model and transfer exact; primaries and flags free.
+    if fw(3) & 0x00ff_00ff != ww(3) & 0x00ff_00ff {
+        return Err(format!(
+            "{}: colour model {} and transfer function {} (envmap reads linear RGB only)",
+            mismatch(),
+            fw(3) & 0xff,
+            (fw(3) >> 16) & 0xff
+        ));
+    }
+    if fw(4) != 0 || (fw(5) != ww(5) && !(supercompressed && fw(5) == 0)) || fw(6) != 0 {
+        return Err(mismatch());
+    }
+    for i in 7..ww(0) as usize / 4 {
+        let (mut f, w) = (fw(i), ww(i));
+        if (i - 7) % 4 == 0 {
+            f &= !(Q_LINEAR << 24);
+        }
+        if f != w {
+            return Err(mismatch());
+        }
+    }
+    Ok(())
+}
+
+/// The key/value entries of a KTX2 key/value section, in file order
+/// (value without its terminating NUL). Malformed entries end the list
+/// with an error.
+fn parse_key_values(kvd: &[u8]) -> std::result::Result<Vec<(String, String)>, String> {
+    let mut out = Vec::new();
+    let mut at = 0usize;
+    while at + 4 <= kvd.len() {
+        let len = u32_at(kvd, at) as usize;
+        let body = kvd
+            .get(at + 4..(at + 4).saturating_add(len))
+            .ok_or("a key/value entry runs past the key/value data")?;
+        let nul = body
+            .iter()
+            .position(|&c| c == 0)
+            .ok_or("a key/value entry has no NUL after its key")?;
+        let key = String::from_utf8_lossy(&body[..nul]).into_owned();
+        let value = &body[nul + 1..];
+        let value = value.strip_suffix(&[0]).unwrap_or(value);
+        out.push((key, String::from_utf8_lossy(value).into_owned()));
+        at = (at + 4 + len).next_multiple_of(4);
+    }
+    Ok(out)
+}
+
+/// Reads a KTX2 file's bytes; errors name `path`.
+///
+/// # Errors
+///
+/// [`Error::Decode`] for anything malformed or unsupported (see the
+/// [module docs](self)); [`Error::TooLarge`] above `max_texels` (all
+/// levels and faces), before decoding.
+pub fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile> {
+    decode_inner(bytes, max_texels).map_err(|e| match e {
+        Failure::Message(m) => Error::Decode {
+            path: path.to_path_buf(),
+            format: "KTX2",
+            message: m,
+        },
+        Failure::Error(e) => e.in_file(path),
+    })
+}
+
+enum Failure {
+    Message(String),
+    Error(Error),
+}
+
+impl From<String> for Failure {
+    fn from(m: String) -> Self {
+        Failure::Message(m)
+    }
+}
+
+impl From<&str> for Failure {
+    fn from(m: &str) -> Self {
+        Failure::Message(m.to_owned())
+    }
+}
+
+fn decode_inner(b: &[u8], max_texels: u64) -> std::result::Result<TextureFile, Failure> {
+    if b.len() < 12 || b[..12] != IDENTIFIER {
+        return Err("not a KTX 2.0 file (the identifier «KTX 20» is missing)".into());
+    }
+    if b.len() < HEADER_LEN {
+        return Err(format!("the header is cut short: {} of 80 bytes", b.len()).into());
+    }
+    let h = |i: usize| u32_at(b, 12 + 4 * i);
+    let (vk, type_size, w, hgt, depth, layers, faces, level_count, scheme) =
+        (h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8));
+    let format = TexelFormat::from_vk_format(vk).ok_or_else(|| unsupported_format(vk))?;
+    if type_size != format.type_size() {
+        return Err(format!(
+            "typeSize is {type_size}; {} has {}",
+            format.vk_name(),
+            format.type_size()
+        )
+        .into());
+    }
+    if depth != 0 {
+        return Err(format!("3D textures (pixelDepth {depth}) are not supported").into());
+    }
+    if layers != 0 {
+        return Err(format!("array textures (layerCount {layers}) are not supported").into());
+    }
+    if w == 0 || hgt == 0 {
+        return Err(format!(
+            "a {w}×{hgt} texture ({}) is not supported",
+            if w == 0 { "no width" } else { "1D" }
+        )
+        .into());
+    }
+    let kind = match faces {
+        1 => TextureKind::Flat,
+        6 if w == hgt => TextureKind::Cube,
+        6 => return Err(format!("faceCount 6 with non-square {w}×{hgt} faces").into()),
+        _ => return Err(format!("faceCount {faces}; 1 or 6 are valid").into()),
+    };
+    let n = (level_count as usize).max(1);
+    if n > full_chain(w, hgt) {
+        return Err(format!(
+            "levelCount {level_count} is more than the {} levels of a {w}×{hgt} chain",
+            full_chain(w, hgt)
+        )
+        .into());
+    }
+    let zstd =
+        match scheme {
+            0 => false,
+            2 => true,
+            1 => return Err("BasisLZ supercompression (scheme 1) is not supported".into()),
+            3 => return Err(
+                "ZLIB supercompression (scheme 3) is not supported; envmap reads none or Zstandard"
+                    .into(),
+            ),
+            s => return Err(format!("unknown supercompression scheme {s}").into()),
+        };
+    check_texels(kind, w, hgt, n, max_texels).map_err(Failure::Error)?;
+    let index = section(
+        b,
+        HEADER_LEN as u64,
+        (LEVEL_ENTRY * n) as u64,
+        "level index",
+    )?;
+    let dfd_bytes = section(
+        b,
+        u64::from(h(9)),
+        u64::from(h(10)),
+        "Data Format Descriptor",
+    )?;
+    check_dfd(dfd_bytes, format, zstd)?;
+    let kvd = section(b, u64::from(h(11)), u64::from(h(12)), "key/value data")?;
+    let key_values = parse_key_values(kvd)?;
+    let find = |k: &str| {
+        key_values
+            .iter()
+            .find(|(key, _)| key == k)
+            .map(|(_, v)| v.clone())
+    };
+    let orientation = find("KTXorientation");
+    let writer = find("KTXwriter");
+    let (flip_x, flip_y) = match orientation.as_deref().map(str::as_bytes) {
+        None | Some(b"rd") => (false, false),
+        Some([x @ (b'r' | b'l'), y @ (b'd' | b'u'), ..]) if kind == TextureKind::Flat => {
+            (*x == b'l', *y == b'u')
+        }
+        Some(o) => {
+            return Err(format!(
+                "KTXorientation {:?} is not supported for {} (envmap reads rd{})",
+                String::from_utf8_lossy(o),
+                if kind == TextureKind::Cube {
+                    "a cube"
+                } else {
+                    "this texture"
+                },
+                if kind == TextureKind::Cube {
+                    ", which the spec requires of cubes"
+                } else {
+                    ", ru, ld, lu"
+                }
+            )
+            .into())
+        }
+    };
+    let mut spans = Vec::with_capacity(n);
+    for p in 0..n {
+        let e = &index[LEVEL_ENTRY * p..];
+        let (off, len, raw) = (u64_at(e, 0), u64_at(e, 8), u64_at(e, 16));
+        let want = level_bytes(kind, w, hgt, p, format).ok_or("a level's size overflows")?;
+        if raw != want {
+            return Err(format!(
+                "level {p}: uncompressedByteLength is {raw}; a {}×{} {} level of {} is {want} bytes",
+                level_size(w, hgt, p).0,
+                level_size(w, hgt, p).1,
+                if kind == TextureKind::Cube { "cube" } else { "2D" },
+                format.vk_name()
+            )
+            .into());
+        }
+        if !zstd && len != want {
+            return Err(format!("level {p}: byteLength is {len}, expected {want}").into());
+        }
+        let data = section(b, off, len, &format!("level {p}"))?;
+        spans.push((data, want));
+    }
+    let levels = spans
+        .par_iter()
+        .enumerate()
+        .map(|(p, &(data, want))| {
+            let raw;
+            let data = if zstd {
+                raw = zstd::bulk::decompress(data, want as usize)
+                    .map_err(|e| format!("level {p}: the zstd data does not decode: {e}"))?;
+                if raw.len() as u64 != want {
+                    return Err(format!(
+                        "level {p}: the zstd data holds {} bytes, expected {want}",
+                        raw.len()
+                    ));
+                }
+                &raw[..]
+            } else {
+                data
+            };
+            let (lw, lh) = level_size(w, hgt, p);
+            let face_bytes = lw as usize * lh as usize * format.bytes();
+            Ok(data
+                .chunks_exact(face_bytes)
+                .map(|f| {
+                    let mut img = RgbImage {
+                        width: lw,
+                        height: lh,
+                        pixels: format.unpack(f),
+                    };
+                    flip(&mut img, flip_x, flip_y);
+                    img
+                })
+                .collect::<Vec<_>>())
+        })
+        .collect::<std::result::Result<Vec<_>, String>>()?;
+    let level_lens = spans.iter().map(|(d, _)| d.len() as u64).collect();
+    let texture = Texture::new(kind, levels).map_err(Failure::Error)?;
+    Ok(TextureFile {
+        texture,
+        info: TextureInfo {
+            container: "KTX2",
+            format,
+            kind,
+            size: (w, hgt),
+            levels: n,
+            supercompression: zstd.then_some("zstd"),
+            orientation,
+            writer,
+            key_values,
+            level_bytes: level_lens,
+        },
+    })
+}
+
+/// Turns an image stored with other axes (`l`: right to left, `u`: bottom
+/// up) to the top-left-first order.
+fn flip(img: &mut RgbImage, x: bool, y: bool) {
+    let w = img.width as usize;
+    if x {
+        for row in img.pixels.chunks_exact_mut(w) {
+            row.reverse();
+        }
+    }
+    if y {
+        let h = img.height as usize;
+        for j in 0..h / 2 {
+            let (top, bottom) = img.pixels.split_at_mut((h - 1 - j) * w);
+            top[j * w..(j + 1) * w].swap_with_slice(&mut bottom[..w]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dfd_words_match_the_spec_table() {
+        let words = |f| {
+            dfd(f)
+                .chunks_exact(4)
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect::<Vec<_>>()
+        };
+        let w = words(TexelFormat::Rgba16f);
+        assert_eq!(w[0], 92);
+        assert_eq!(w[2], 0x0058_0002);
+        assert_eq!(w[3], 0x0001_0101);
+        assert_eq!(w[5], 8);
+        assert_eq!(
+            [w[7], w[11], w[15], w[19]],
+            [0xC00F_0000, 0xC10F_0010, 0xC20F_0020, 0xCF0F_0030]
+        );
+        assert_eq!([w[9], w[10]], [MINUS_ONE, ONE]);
+        let w = words(TexelFormat::Rgba32f);
+        assert_eq!(
+            [w[7], w[11], w[15], w[19]],
+            [0xC01F_0000, 0xC11F_0020, 0xC21F_0040, 0xCF1F_0060]
+        );
+        let w = words(TexelFormat::B10g11r11);
+        assert_eq!((w[0], w[2]), (76, 0x0048_0002));
+        assert_eq!(
+            [w[7], w[11], w[15]],
+            [0x800A_0000, 0x810A_000B, 0x8209_0016]
+        );
+        assert_eq!([w[9], w[10]], [0, ONE]);
+        let w = words(TexelFormat::E5b9g9r9);
+        assert_eq!((w[0], w[2]), (124, 0x0078_0002));
+        assert_eq!(
+            [w[7], w[11], w[15], w[19], w[23], w[27]],
+            [
+                0x0008_0000,
+                0x2004_001B,
+                0x0108_0009,
+                0x2104_001B,
+                0x0208_0012,
+                0x2204_001B
+            ]
+        );
+        assert_eq!([w[9], w[10], w[13], w[14]], [0, 8448, 15, 31]);
+    }
+
+    #[test]
+    fn alignment_is_lcm_of_texel_and_4() {
+        assert_eq!(level_alignment(TexelFormat::Rgba16f), 8);
+        assert_eq!(level_alignment(TexelFormat::Rgba32f), 16);
+        assert_eq!(level_alignment(TexelFormat::B10g11r11), 4);
+        assert_eq!(level_alignment(TexelFormat::E5b9g9r9), 4);
+        assert_eq!(level_alignment(TexelFormat::Rgb16f), 12);
+    }
+
+    #[test]
+    fn key_values_are_sorted_and_padded() {
+        let kvd = key_values(&[("KTXwriter", "envmap 0.1.0"), ("KTXorientation", "rd")]);
+        // 4 + 18 ("KTXorientation\0rd\0") → 24; 4 + 23 → 28 (27 padded).
+        assert_eq!(kvd.len(), 24 + 28);
+        assert_eq!(&kvd[4..18], b"KTXorientation");
+        assert_eq!(u32_at(&kvd, 0), 18);
+        assert_eq!(u32_at(&kvd, 24), 23);
+        assert_eq!(kvd[51], 0);
+    }
+}

@@ -1,0 +1,713 @@
+//! GPU texel formats and their packers: what a KTX2, DDS or KTX 1 file's
+//! texels are, bit for bit.
+//!
+//! | format | Vulkan | DXGI | GL | bytes | range | source of the packing |
+//! | --- | ---: | ---: | --- | ---: | --- | --- |
+//! | [`TexelFormat::Rgba16f`] | 97 | 10 | `GL_RGBA16F` | 8 | ±65504 | IEEE 754 binary16, round to nearest even |
+//! | [`TexelFormat::Rgba32f`] | 109 | 2 | `GL_RGBA32F` | 16 | f32 | IEEE 754 binary32, as is |
+//! | [`TexelFormat::B10g11r11`] | 122 | 26 | `GL_R11F_G11F_B10F` | 4 | 0 … 65024 (B 64512) | unsigned 11- and 10-bit floats (Vulkan spec §"Fixed-Point/Floating-Point Data Conversions", 5-bit exponent, bias 15), round to nearest even |
+//! | [`TexelFormat::E5b9g9r9`] | 123 | 67 | `GL_RGB9_E5` | 4 | 0 … 65408 | `EXT_texture_shared_exponent`, §"Appendix: RGB9E5 shared exponent" |
+//! | [`TexelFormat::Rgb16f`] | 90 | – | `GL_RGB16F` | 6 | ±65504 | read only (no DXGI or Metal equivalent) |
+//! | [`TexelFormat::Rgb32f`] | 106 | 6 | `GL_RGB32F` | 12 | f32 | read only |
+//!
+//! RGBA formats get alpha 1. Values a format cannot hold are clamped to the
+//! nearest value it can, and counted ([`Clamped`]): above the largest
+//! finite value (RGBA16F would otherwise turn them into infinity, which GPU
+//! filtering spreads as NaN), below zero for the unsigned formats, and NaN
+//! (written as 0). RGBA32F stores every f32 as is.
+
+use half::f16;
+
+/// A texel format a GPU samples directly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TexelFormat {
+    /// `R16G16B16A16_SFLOAT`: binary16 RGBA, 8 bytes.
+    Rgba16f,
+    /// `R32G32B32A32_SFLOAT`: binary32 RGBA, 16 bytes.
+    Rgba32f,
+    /// `B10G11R11_UFLOAT_PACK32`: R 11 bits (bits 0-10), G 11 bits
+    /// (11-21), B 10 bits (22-31), unsigned floats, 4 bytes.
+    B10g11r11,
+    /// `E5B9G9R9_UFLOAT_PACK32`: 9-bit mantissas R (bits 0-8), G (9-17),
+    /// B (18-26) with a shared 5-bit exponent (27-31), 4 bytes.
+    E5b9g9r9,
+    /// `R16G16B16_SFLOAT`: binary16 RGB, 6 bytes (read only).
+    Rgb16f,
+    /// `R32G32B32_SFLOAT`: binary32 RGB, 12 bytes (read only).
+    Rgb32f,
+}
+
+/// What packing changed: components clamped, by cause.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Clamped {
+    /// Components above the format's largest finite value (including +∞),
+    /// written as that value.
+    pub above: u64,
+    /// Negative components (−∞ included) of an unsigned format, written as 0;
+    /// for the signed half formats, components below −65504, written as
+    /// −65504.
+    pub below: u64,
+    /// NaN components, written as 0.
+    pub nan: u64,
+}
+
+impl Clamped {
+    /// Whether nothing was clamped.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.above == 0 && self.below == 0 && self.nan == 0
+    }
+
+    /// All components clamped.
+    #[must_use]
+    pub fn total(&self) -> u64 {
+        self.above + self.below + self.nan
+    }
+
+    /// Adds `other`'s counts to these.
+    pub fn add(&mut self, other: Clamped) {
+        self.above += other.above;
+        self.below += other.below;
+        self.nan += other.nan;
+    }
+
+    /// One line for a summary: "none", or what was clamped (`max` is the
+    /// format's largest value).
+    #[must_use]
+    pub fn describe(&self, format: TexelFormat) -> String {
+        if self.is_empty() {
+            return "none".to_owned();
+        }
+        let mut parts = Vec::new();
+        if self.above > 0 {
+            parts.push(format!(
+                "{} components above {} clamped to it",
+                self.above,
+                format.max_value()
+            ));
+        }
+        if self.below > 0 {
+            parts.push(if format.is_unsigned() {
+                format!("{} negative components written as 0", self.below)
+            } else {
+                format!("{} components below -65504 clamped to it", self.below)
+            });
+        }
+        if self.nan > 0 {
+            parts.push(format!("{} NaN components written as 0", self.nan));
+        }
+        parts.join(", ")
+    }
+}
+
+/// The largest finite binary16 value.
+pub const F16_MAX: f32 = 65504.0;
+/// The largest RGB9E5 value: (2⁹ − 1)/2⁹ · 2^(31 − 15) (`EXT_texture_shared_exponent`).
+pub const RGB9E5_MAX: f32 = 65408.0;
+/// The largest unsigned 11-bit float: (2 − 2⁻⁶) · 2¹⁵.
+pub const UF11_MAX: f32 = 65024.0;
+/// The largest unsigned 10-bit float: (2 − 2⁻⁵) · 2¹⁵.
+pub const UF10_MAX: f32 = 64512.0;
+
+impl TexelFormat {
+    /// The formats envmap writes.
+    pub const WRITABLE: [TexelFormat; 4] = [
+        TexelFormat::Rgba16f,
+        TexelFormat::Rgba32f,
+        TexelFormat::B10g11r11,
+        TexelFormat::E5b9g9r9,
+    ];
+
+    /// The names accepted by [`TexelFormat::parse`], for messages.
+    pub const NAMES: &'static str = "rgba16f, rgba32f, rg11b10f, rgb9e5";
+
+    /// The format by its name: `rgba16f`, `rgba32f`, `rg11b10f` (also
+    /// `r11g11b10f`, `b10g11r11`), `rgb9e5` (also `e5b9g9r9`).
+    ///
+    /// # Errors
+    ///
+    /// An unknown name, listing the accepted ones.
+    pub fn parse(name: &str) -> crate::Result<Self> {
+        Ok(match name.to_ascii_lowercase().as_str() {
+            "rgba16f" | "rgba16" | "f16" => TexelFormat::Rgba16f,
+            "rgba32f" | "rgba32" | "f32" => TexelFormat::Rgba32f,
+            "rg11b10f" | "r11g11b10f" | "b10g11r11" | "rg11b10" => TexelFormat::B10g11r11,
+            "rgb9e5" | "e5b9g9r9" => TexelFormat::E5b9g9r9,
+            _ => {
+                return Err(crate::Error::UnknownName {
+                    what: "texel format",
+                    name: name.to_owned(),
+                    expected: Self::NAMES.to_owned(),
+                })
+            }
+        })
+    }
+
+    /// The short name (`"rgba16f"`, `"rgb9e5"`, ...).
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            TexelFormat::Rgba16f => "rgba16f",
+            TexelFormat::Rgba32f => "rgba32f",
+            TexelFormat::B10g11r11 => "rg11b10f",
+            TexelFormat::E5b9g9r9 => "rgb9e5",
+            TexelFormat::Rgb16f => "rgb16f",
+            TexelFormat::Rgb32f => "rgb32f",
+        }
+    }
+
+    /// The Vulkan name (`"R16G16B16A16_SFLOAT"`, ...).
+    #[must_use]
+    pub const fn vk_name(self) -> &'static str {
+        match self {
+            TexelFormat::Rgba16f => "R16G16B16A16_SFLOAT",
+            TexelFormat::Rgba32f => "R32G32B32A32_SFLOAT",
+            TexelFormat::B10g11r11 => "B10G11R11_UFLOAT_PACK32",
+            TexelFormat::E5b9g9r9 => "E5B9G9R9_UFLOAT_PACK32",
+            TexelFormat::Rgb16f => "R16G16B16_SFLOAT",
+            TexelFormat::Rgb32f => "R32G32B32_SFLOAT",
+        }
+    }
+
+    /// The `VkFormat` number (KTX2's `vkFormat`).
+    #[must_use]
+    pub const fn vk_format(self) -> u32 {
+        match self {
+            TexelFormat::Rgba16f => 97,
+            TexelFormat::Rgba32f => 109,
+            TexelFormat::B10g11r11 => 122,
+            TexelFormat::E5b9g9r9 => 123,
+            TexelFormat::Rgb16f => 90,
+            TexelFormat::Rgb32f => 106,
+        }
+    }
+
+    /// The format of a `VkFormat` number, if envmap reads it.
+    #[must_use]
+    pub const fn from_vk_format(vk: u32) -> Option<Self> {
+        Some(match vk {
+            97 => TexelFormat::Rgba16f,
+            109 => TexelFormat::Rgba32f,
+            122 => TexelFormat::B10g11r11,
+            123 => TexelFormat::E5b9g9r9,
+            90 => TexelFormat::Rgb16f,
+            106 => TexelFormat::Rgb32f,
+            _ => return None,
+        })
+    }
+
+    /// The `DXGI_FORMAT` number (DDS), if the format has one.
+    #[must_use]
+    pub const fn dxgi_format(self) -> Option<u32> {
+        match self {
+            TexelFormat::Rgba16f => Some(10),
+            TexelFormat::Rgba32f => Some(2),
+            TexelFormat::B10g11r11 => Some(26),
+            TexelFormat::E5b9g9r9 => Some(67),
+            TexelFormat::Rgb32f => Some(6),
+            TexelFormat::Rgb16f => None,
+        }
+    }
+
+    /// The format of a `DXGI_FORMAT` number, if envmap reads it.
+    #[must_use]
+    pub const fn from_dxgi_format(dxgi: u32) -> Option<Self> {
+        Some(match dxgi {
+            10 => TexelFormat::Rgba16f,
+            2 => TexelFormat::Rgba32f,
+            26 => TexelFormat::B10g11r11,
+            67 => TexelFormat::E5b9g9r9,
+            6 => TexelFormat::Rgb32f,
+            _ => return None,
+        })
+    }
+
+    /// Bytes per texel.
+    #[must_use]
+    pub const fn bytes(self) -> usize {
+        match self {
+            TexelFormat::Rgba16f => 8,
+            TexelFormat::Rgba32f => 16,
+            TexelFormat::B10g11r11 | TexelFormat::E5b9g9r9 => 4,
+            TexelFormat::Rgb16f => 6,
+            TexelFormat::Rgb32f => 12,
+        }
+    }
+
+    /// KTX2's `typeSize`: the size of one component, or of the packed word
+    /// for the `_PACK32` formats.
+    #[must_use]
+    pub const fn type_size(self) -> u32 {
+        match self {
+            TexelFormat::Rgba16f | TexelFormat::Rgb16f => 2,
+            _ => 4,
+        }
+    }
+
+    /// Whether the format has no sign (negative values clamp to 0).
+    #[must_use]
+    pub const fn is_unsigned(self) -> bool {
+        matches!(self, TexelFormat::B10g11r11 | TexelFormat::E5b9g9r9)
+    }
+
+    /// Whether envmap writes this format.
+    #[must_use]
+    pub const fn is_writable(self) -> bool {
+        !matches!(self, TexelFormat::Rgb16f | TexelFormat::Rgb32f)
+    }
+
+    /// The largest finite value the format holds (of its smallest channel
+    /// for B10G11R11: R and G reach 65024, B 64512).
+    #[must_use]
+    pub const fn max_value(self) -> f32 {
+        match self {
+            TexelFormat::Rgba16f | TexelFormat::Rgb16f => F16_MAX,
+            TexelFormat::Rgba32f | TexelFormat::Rgb32f => f32::MAX,
+            TexelFormat::B10g11r11 => UF10_MAX,
+            TexelFormat::E5b9g9r9 => RGB9E5_MAX,
+        }
+    }
+
+    /// The worst relative rounding error of one component within the
+    /// format's normal range (half a unit in the last place of its mantissa):
+    /// 2⁻¹¹ binary16, 2⁻²⁴ binary32, 2⁻⁶ (B 2⁻⁵) the small floats, and for
+    /// RGB9E5 2⁻⁹ of the texel's largest channel.
+    #[must_use]
+    pub fn relative_precision(self) -> f32 {
+        match self {
+            TexelFormat::Rgba16f | TexelFormat::Rgb16f => 2f32.powi(-11),
+            TexelFormat::Rgba32f | TexelFormat::Rgb32f => 2f32.powi(-24),
+            TexelFormat::B10g11r11 => 2f32.powi(-6),
+            TexelFormat::E5b9g9r9 => 2f32.powi(-9),
+        }
+    }
+
+    /// Packs `texels` (alpha 1 where the format has it), appending to `out`;
+    /// returns what was clamped.
+    ///
+    /// # Panics
+    ///
+    /// Never for the writable formats; the read-only ones pack as their
+    /// RGBA counterparts' RGB would (used in tests only).
+    pub fn pack(self, texels: &[[f32; 3]], out: &mut Vec<u8>) -> Clamped {
+        let mut c = Clamped::default();
+        out.reserve(texels.len() * self.bytes());
+        match self {
+            TexelFormat::Rgba16f | TexelFormat::Rgb16f => {
+                let one = f16::ONE.to_bits().to_le_bytes();
+                for t in texels {
+                    for &v in t {
+                        out.extend_from_slice(&pack_f16(v, &mut c).to_le_bytes());
+                    }
+                    if self == TexelFormat::Rgba16f {
+                        out.extend_from_slice(&one);
+                    }
+                }
+            }
+            TexelFormat::Rgba32f | TexelFormat::Rgb32f => {
+                for t in texels {
+                    for &v in t {
+                        out.extend_from_slice(&v.to_le_bytes());
+                    }
+                    if self == TexelFormat::Rgba32f {
+                        out.extend_from_slice(&1f32.to_le_bytes());
+                    }
+                }
+            }
+            TexelFormat::B10g11r11 => {
+                for t in texels {
+                    out.extend_from_slice(&pack_b10g11r11(*t, &mut c).to_le_bytes());
+                }
+            }
+            TexelFormat::E5b9g9r9 => {
+                for t in texels {
+                    out.extend_from_slice(&pack_rgb9e5(*t, &mut c).to_le_bytes());
+                }
+            }
+        }
+        c
+    }
+
+    /// Unpacks `bytes` (a whole number of texels) into linear RGB, dropping
+    /// alpha.
+    #[must_use]
+    pub fn unpack(self, bytes: &[u8]) -> Vec<[f32; 3]> {
+        let n = self.bytes();
+        let word = |b: &[u8], i: usize| u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        let half =
+            |b: &[u8], i: usize| f16::from_bits(u16::from_le_bytes([b[i], b[i + 1]])).to_f32();
+        let float = |b: &[u8], i: usize| f32::from_bits(word(b, i));
+        bytes
+            .chunks_exact(n)
+            .map(|b| match self {
+                TexelFormat::Rgba16f | TexelFormat::Rgb16f => [half(b, 0), half(b, 2), half(b, 4)],
+                TexelFormat::Rgba32f | TexelFormat::Rgb32f => {
+                    [float(b, 0), float(b, 4), float(b, 8)]
+                }
+                TexelFormat::B10g11r11 => unpack_b10g11r11(word(b, 0)),
+                TexelFormat::E5b9g9r9 => unpack_rgb9e5(word(b, 0)),
+            })
+            .collect()
+    }
+}
+
+/// `v` clamped to `[lo, hi]`, NaN to 0, counting each.
+fn clamp_counted(v: f32, lo: f32, hi: f32, c: &mut Clamped) -> f32 {
+    if v.is_nan() {
+        c.nan += 1;
+        0.0
+    } else if v > hi {
+        c.above += 1;
+        hi
+    } else if v < lo {
+        c.below += 1;
+        lo
+    } else {
+        v
+    }
+}
+
+/// One binary16 component: clamped to ±65504 (counted), then rounded to
+/// nearest even (`half`).
+#[must_use]
+pub fn pack_f16(v: f32, c: &mut Clamped) -> u16 {
+    f16::from_f32(clamp_counted(v, -F16_MAX, F16_MAX, c)).to_bits()
+}
+
+/// ⌊log₂ v⌋ for a positive finite f32, exactly (from its bits).
+fn floor_log2(v: f32) -> i32 {
+    let bits = v.to_bits();
+    let e = ((bits >> 23) & 0xff) as i32;
+    if e == 0 {
+        // Subnormal: the position of the highest set mantissa bit.
+        -127 + (32 - (bits & 0x7f_ffff).leading_zeros() as i32) - 23
+    } else {
+        e - 127
+    }
+}
+
+/// One texel as `E5B9G9R9_UFLOAT_PACK32`, by the extension's algorithm
+/// (`EXT_texture_shared_exponent`, "Appendix: RGB9E5 shared exponent
+/// conversion"): each channel clamped to [0, 65408], the shared exponent
+/// from the largest, raised by one when that channel's mantissa rounds to
+/// 512, mantissas ⌊c/2^(e−24) + ½⌋. The arithmetic is in f64, where every
+/// step is exact.
+#[must_use]
+pub fn pack_rgb9e5(rgb: [f32; 3], c: &mut Clamped) -> u32 {
+    let ch = rgb.map(|v| clamp_counted(v, 0.0, RGB9E5_MAX, c));
+    let max = ch[0].max(ch[1]).max(ch[2]);
+    let mut e = if max > 0.0 {
+        floor_log2(max).max(-16) + 16
+    } else {
+        0
+    };
+    let scale = |e: i32| 2f64.powi(24 - e);
+    if (f64::from(max) * scale(e) + 0.5).floor() >= 512.0 {
+        e += 1;
+    }
+    let s = scale(e);
+    let m = ch.map(|v| (f64::from(v) * s + 0.5).floor() as u32);
+    m[0] | (m[1] << 9) | (m[2] << 18) | ((e as u32) << 27)
+}
+
+/// One `E5B9G9R9_UFLOAT_PACK32` texel: each mantissa · 2^(e − 24).
+#[must_use]
+pub fn unpack_rgb9e5(w: u32) -> [f32; 3] {
+    let scale = 2f32.powi((w >> 27) as i32 - 24);
+    [w & 0x1ff, (w >> 9) & 0x1ff, (w >> 18) & 0x1ff].map(|m| m as f32 * scale)
+}
+
+/// One unsigned small float with `m` mantissa bits and a 5-bit exponent
+/// (bias 15, exponent 31 reserved for infinity and NaN), rounded to nearest
+/// even; `v` already clamped to [0, max].
+fn pack_ufloat(v: f32, m: u32) -> u32 {
+    if v == 0.0 {
+        return 0;
+    }
+    let e = floor_log2(v);
+    if e < -14 {
+        // Subnormal: v / 2^(−14 − m), rounded to nearest even; 2^m rounds
+        // up into the smallest normal, whose bits are the same number.
+        let x = f64::from(v) * 2f64.powi(14 + m as i32);
+        return round_half_even(x) as u32;
+    }
+    // Normal: round the f32 mantissa from 23 bits to m, carrying into the
+    // exponent when it overflows.
+    let bits = v.to_bits();
+    let shift = 23 - m;
+    let mant = bits & 0x7f_ffff;
+    let mut q = ((e + 15) as u32) << m | (mant >> shift);
+    let rest = mant & ((1 << shift) - 1);
+    let half = 1 << (shift - 1);
+    if rest > half || (rest == half && q & 1 == 1) {
+        q += 1;
+    }
+    q
+}
+
+/// x rounded to the nearest integer, ties to even.
+fn round_half_even(x: f64) -> f64 {
+    let r = x.round();
+    if (r - x).abs() == 0.5 && r % 2.0 != 0.0 {
+        r - x.signum()
+    } else {
+        r
+    }
+}
+
+/// An unsigned small float with `m` mantissa bits → f32.
+fn unpack_ufloat(q: u32, m: u32) -> f32 {
+    let e = q >> m;
+    let f = q & ((1 << m) - 1);
+    let unit = 2f32.powi(-(m as i32));
+    match e {
+        0 => f as f32 * unit * 2f32.powi(-14),
+        31 if f == 0 => f32::INFINITY,
+        31 => f32::NAN,
+        _ => (1.0 + f as f32 * unit) * 2f32.powi(e as i32 - 15),
+    }
+}
+
+/// One texel as `B10G11R11_UFLOAT_PACK32`: R and G unsigned 11-bit floats
+/// (6-bit mantissa), B unsigned 10-bit (5-bit mantissa), each clamped to
+/// its largest finite value and at zero (counted), rounded to nearest even.
+#[must_use]
+pub fn pack_b10g11r11(rgb: [f32; 3], c: &mut Clamped) -> u32 {
+    let r = pack_ufloat(clamp_counted(rgb[0], 0.0, UF11_MAX, c), 6);
+    let g = pack_ufloat(clamp_counted(rgb[1], 0.0, UF11_MAX, c), 6);
+    let b = pack_ufloat(clamp_counted(rgb[2], 0.0, UF10_MAX, c), 5);
+    r | (g << 11) | (b << 22)
+}
+
+/// One `B10G11R11_UFLOAT_PACK32` texel → linear RGB.
+#[must_use]
+pub fn unpack_b10g11r11(w: u32) -> [f32; 3] {
+    [
+        unpack_ufloat(w & 0x7ff, 6),
+        unpack_ufloat((w >> 11) & 0x7ff, 6),
+        unpack_ufloat(w >> 22, 5),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rt9(v: [f32; 3]) -> [f32; 3] {
+        unpack_rgb9e5(pack_rgb9e5(v, &mut Clamped::default()))
+    }
+
+    fn rt11(v: [f32; 3]) -> [f32; 3] {
+        unpack_b10g11r11(pack_b10g11r11(v, &mut Clamped::default()))
+    }
+
+    #[test]
+    fn rgb9e5_named_values() {
+        assert_eq!(pack_rgb9e5([0.0; 3], &mut Clamped::default()), 0);
+        assert_eq!(rt9([0.0; 3]), [0.0; 3]);
+        // 1.0 is mantissa 256 at exponent 16 (the DFD's 8448 = 0x2100 sample upper).
+        let one = pack_rgb9e5([1.0, 0.0, 0.0], &mut Clamped::default());
+        assert_eq!((one & 0x1ff, one >> 27), (256, 16));
+        assert_eq!(rt9([1.0, 0.5, 0.25]), [1.0, 0.5, 0.25]);
+        assert_eq!(rt9([RGB9E5_MAX; 3]), [RGB9E5_MAX; 3]);
+        // The smallest non-zero value, 2^-24 (mantissa 1 at exponent 0).
+        let tiny = 2f32.powi(-24);
+        assert_eq!(pack_rgb9e5([tiny, 0.0, 0.0], &mut Clamped::default()), 1);
+        assert_eq!(rt9([tiny, 0.0, 0.0])[0], tiny);
+        // 511.5 · 2^-8 rounds to 512 · 2^-8 = 2: the exponent goes up by one.
+        let v = 511.5 / 256.0;
+        let w = pack_rgb9e5([v, 0.0, 0.0], &mut Clamped::default());
+        assert_eq!((w & 0x1ff, w >> 27), (256, 17));
+        assert_eq!(rt9([v, 0.0, 0.0])[0], 2.0);
+        // Just below the tie stays at the lower exponent.
+        let v = 511.49 / 256.0;
+        assert_eq!(
+            pack_rgb9e5([v, 0.0, 0.0], &mut Clamped::default()) >> 27,
+            16
+        );
+    }
+
+    #[test]
+    fn rgb9e5_clamps_and_counts() {
+        let mut c = Clamped::default();
+        let w = pack_rgb9e5([1e6, -1.0, f32::NAN], &mut c);
+        assert_eq!(
+            c,
+            Clamped {
+                above: 1,
+                below: 1,
+                nan: 1
+            }
+        );
+        assert_eq!(unpack_rgb9e5(w), [RGB9E5_MAX, 0.0, 0.0]);
+        let mut c = Clamped::default();
+        pack_rgb9e5([f32::INFINITY, f32::NEG_INFINITY, 3.0], &mut c);
+        assert_eq!(
+            c,
+            Clamped {
+                above: 1,
+                below: 1,
+                nan: 0
+            }
+        );
+    }
+
+    #[test]
+    fn b10g11r11_named_values() {
+        assert_eq!(pack_b10g11r11([0.0; 3], &mut Clamped::default()), 0);
+        assert_eq!(rt11([1.0, 1.0, 1.0]), [1.0; 3]);
+        // 1.0 is exponent 15, mantissa 0, in each field.
+        assert_eq!(
+            pack_b10g11r11([1.0, 1.0, 1.0], &mut Clamped::default()),
+            (15 << 6) | (15 << 17) | (15 << 27)
+        );
+        assert_eq!(
+            rt11([UF11_MAX, UF11_MAX, UF10_MAX]),
+            [UF11_MAX, UF11_MAX, UF10_MAX]
+        );
+        // The smallest normal, 2^-14, and the smallest subnormals.
+        let n = 2f32.powi(-14);
+        assert_eq!(rt11([n, n, n]), [n, n, n]);
+        assert_eq!(
+            pack_b10g11r11([n, 0.0, 0.0], &mut Clamped::default()),
+            1 << 6
+        );
+        let s11 = 2f32.powi(-20);
+        let s10 = 2f32.powi(-19);
+        assert_eq!(rt11([s11, s11, s10]), [s11, s11, s10]);
+        // Rounds up an exponent: (2 − 2^-7)·1 rounds (tie, odd mantissa 63) to 2.
+        let v = 2.0 - 2f32.powi(-7);
+        assert_eq!(rt11([v, 0.0, 0.0])[0], 2.0);
+        // A tie with an even mantissa stays: 1 + 2^-7 → 1.
+        assert_eq!(rt11([1.0 + 2f32.powi(-7), 0.0, 0.0])[0], 1.0);
+        // The largest subnormal rounding into the smallest normal.
+        let v = 2f32.powi(-14) - 2f32.powi(-22);
+        assert_eq!(rt11([v, 0.0, 0.0])[0], n);
+    }
+
+    #[test]
+    fn b10g11r11_clamps_and_counts() {
+        let mut c = Clamped::default();
+        let w = pack_b10g11r11([70000.0, -2.0, 65000.0], &mut c);
+        assert_eq!(
+            c,
+            Clamped {
+                above: 2,
+                below: 1,
+                nan: 0
+            }
+        );
+        assert_eq!(unpack_b10g11r11(w), [UF11_MAX, 0.0, UF10_MAX]);
+    }
+
+    #[test]
+    fn f16_clamps_instead_of_overflowing() {
+        let mut c = Clamped::default();
+        let mut out = Vec::new();
+        let got = TexelFormat::Rgba16f.pack(&[[1e5, -1e5, 65504.0]], &mut out);
+        c.add(got);
+        assert_eq!(
+            c,
+            Clamped {
+                above: 1,
+                below: 1,
+                nan: 0
+            }
+        );
+        assert_eq!(
+            TexelFormat::Rgba16f.unpack(&out),
+            vec![[65504.0, -65504.0, 65504.0]]
+        );
+        assert_eq!(&out[6..8], &f16::ONE.to_bits().to_le_bytes());
+    }
+
+    /// A deterministic stream of values spread over many octaves.
+    fn values(n: usize) -> impl Iterator<Item = f32> {
+        let mut s = 0x9e37_79b9_7f4a_7c15_u64;
+        (0..n).map(move |_| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            let u = (s >> 11) as f64 / (1u64 << 53) as f64;
+            (2f64.powf(u * 36.0 - 20.0)) as f32
+        })
+    }
+
+    #[test]
+    fn relative_error_bounds_over_random_values() {
+        let v: Vec<f32> = values(30_000).collect();
+        let mut worst = [0f64; 3];
+        for t in v.chunks_exact(3) {
+            let t = [t[0].min(6e4), t[1].min(6e4), t[2].min(6e4)];
+            let a = rt11(t);
+            let b = rt9(t);
+            let mut out = Vec::new();
+            TexelFormat::Rgba16f.pack(&[t], &mut out);
+            let h = TexelFormat::Rgba16f.unpack(&out)[0];
+            let max = f64::from(t[0].max(t[1]).max(t[2]));
+            for k in 0..3 {
+                let x = f64::from(t[k]);
+                // Normal range of each format only (subnormals have absolute steps).
+                if x >= 2f64.powi(-14) {
+                    let m = if k == 2 { 5 } else { 6 };
+                    let e = (f64::from(a[k]) - x).abs() / x;
+                    assert!(e <= 2f64.powi(-m - 1) * (1.0 + 1e-12), "{x} {}", a[k]);
+                    worst[0] = worst[0].max(e);
+                    let e = (f64::from(h[k]) - x).abs() / x;
+                    assert!(e <= 2f64.powi(-11) * (1.0 + 1e-12), "{x} {}", h[k]);
+                    worst[1] = worst[1].max(e);
+                }
+                // RGB9E5: within half a step of the shared exponent, i.e. 2^-9 of the
+                // largest channel (2^-24 absolute at the bottom).
+                let e = (f64::from(b[k]) - x).abs();
+                assert!(
+                    e <= (max * 2f64.powi(-9)).max(2f64.powi(-25)) * (1.0 + 1e-12),
+                    "{t:?} {b:?}"
+                );
+                if max > 2f64.powi(-15) {
+                    worst[2] = worst[2].max(e / max);
+                }
+            }
+        }
+        // The bounds are reached, not just respected.
+        assert!(worst[0] > 2f64.powi(-6) * 0.9, "{worst:?}");
+        assert!(worst[1] > 2f64.powi(-11) * 0.9, "{worst:?}");
+        assert!(worst[2] > 2f64.powi(-9) * 0.9, "{worst:?}");
+    }
+
+    #[test]
+    fn packed_words_round_trip_exactly() {
+        // Every finite 11/10-bit code decodes and re-encodes to itself.
+        for q in 0..(31u32 << 6) {
+            let w = q | (q << 11) | ((q >> 1) << 22);
+            let v = unpack_b10g11r11(w);
+            assert_eq!(pack_b10g11r11(v, &mut Clamped::default()), w, "{q}");
+        }
+        // Every RGB9E5 word whose largest mantissa is normalised (≥ 256, or
+        // exponent 0) is canonical and round-trips.
+        for e in 0..32u32 {
+            for m in [0u32, 1, 255, 256, 300, 511] {
+                if e > 0 && m < 256 {
+                    continue;
+                }
+                let w = m | ((m / 2) << 9) | (1 << 18) | (e << 27);
+                let w = if e == 0 && m == 0 { 0 } else { w };
+                let v = unpack_rgb9e5(w);
+                assert_eq!(pack_rgb9e5(v, &mut Clamped::default()), w, "{e} {m}");
+            }
+        }
+    }
+
+    #[test]
+    fn names_and_numbers() {
+        for f in TexelFormat::WRITABLE {
+            assert_eq!(TexelFormat::parse(f.name()).unwrap(), f);
+            assert_eq!(TexelFormat::from_vk_format(f.vk_format()), Some(f));
+            assert_eq!(
+                TexelFormat::from_dxgi_format(f.dxgi_format().unwrap()),
+                Some(f)
+            );
+        }
+        assert!(TexelFormat::parse("bc6h").is_err());
+    }
+}
