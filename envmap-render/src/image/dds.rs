@@ -67,7 +67,9 @@ pub fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Clamped)> 
         format: dxgi_format,
         mipmap_levels: Some(n as u32),
         array_layers: cube.then_some(6),
-        caps2: None,
+        // ddsfile leaves caps2 to the caller: a cube needs CUBEMAP and
+        // all six face bits (0xFE00) for readers that look only there.
+        caps2: cube.then_some(Caps2::CUBEMAP | Caps2::CUBEMAP_ALLFACES),
         is_cubemap: cube,
         resource_dimension: D3D10ResourceDimension::Texture2D,
         alpha_mode: AlphaMode::Unknown,

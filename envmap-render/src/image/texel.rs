@@ -541,7 +541,7 @@ mod tests {
         );
         assert_eq!(unpack_rgb9e5(w), [RGB9E5_MAX, 0.0, 0.0]);
         let mut c = Clamped::default();
-        pack_rgb9e5([f32::INFINITY, f32::NEG_INFINITY, 3.0], &mut c);
+        let _ = pack_rgb9e5([f32::INFINITY, f32::NEG_INFINITY, 3.0], &mut c);
         assert_eq!(
             c,
             Clamped {
