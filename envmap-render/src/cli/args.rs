@@ -135,3 +135,55 @@ pub(crate) fn output_size(repr: &Representation, size: u32) -> Result<(u32, u32)
             )
         })
 }
+
+/// The flags of GPU texture outputs (`.ktx2`, `.dds`, `.ktx`), shared by
+/// `convert` and `bake`.
+#[derive(clap::Args, Clone, Copy, Debug)]
+pub(crate) struct TextureFlags {
+    /// Texel format of .ktx2, .dds and .ktx outputs: rgba16f (the default), rgba32f, rg11b10f (B10G11R11), rgb9e5 (E5B9G9R9).
+    #[arg(long, value_parser = parse_texel_format)]
+    pub(crate) format: Option<crate::image::TexelFormat>,
+    /// Zstandard supercompression of .ktx2 outputs, each level its own frame; an optional level 1 (fastest) to 22 (smallest), default 19.
+    #[arg(long, num_args = 0..=1, default_missing_value = "19", require_equals = false)]
+    pub(crate) zstd: Option<i32>,
+    /// No Zstandard supercompression, even where a --target would use it.
+    #[arg(long, conflicts_with = "zstd")]
+    pub(crate) no_zstd: bool,
+}
+
+impl TextureFlags {
+    /// The options these flags give over `base` (a preset's, or the
+    /// defaults).
+    pub(crate) fn over(&self, base: crate::image::TextureOptions) -> crate::image::TextureOptions {
+        crate::image::TextureOptions {
+            format: self.format.unwrap_or(base.format),
+            zstd: if self.no_zstd {
+                None
+            } else {
+                self.zstd.or(base.zstd)
+            },
+        }
+    }
+}
+
+/// `--format`: a texel format's name.
+pub(crate) fn parse_texel_format(s: &str) -> Result<crate::image::TexelFormat, String> {
+    crate::image::TexelFormat::parse(s).map_err(|e| e.to_string())
+}
+
+/// One line saying what packing clamped, or nothing when nothing was.
+pub(crate) fn warn_clamped(
+    path: &Path,
+    format: crate::image::TexelFormat,
+    c: crate::image::Clamped,
+) {
+    if !c.is_empty() {
+        eprintln!(
+            "warning: {}: {} ({}): {}",
+            path.display(),
+            format.name(),
+            format.vk_name(),
+            c.describe(format)
+        );
+    }
+}

@@ -6,19 +6,22 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use clap::Args;
-use envmap_core::AnyMapping;
+use envmap_core::glam::{Mat3, Vec3};
+use envmap_core::{AnyMapping, Frame};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli::args::{
-    load_error, parse_convention, parse_layout, parse_mapping, parse_world, warn_replaced,
-    CliResult,
+    load_error, parse_convention, parse_layout, parse_mapping, parse_world, warn_clamped,
+    warn_replaced, CliResult, TextureFlags,
 };
 use crate::filter::bake::{bake, chain_sizes, Bake, BakeOptions, Quality};
 use crate::filter::sh::{IrradianceScale, ShWindow, NAMES};
 use crate::filter::specular::RoughnessRule;
 use crate::image::convention::{Convention, FileAxes, World};
 use crate::image::io::{load_detailed, ExrPrecision, LoadOptions, NonFinite, Outputs, SaveOptions};
+use crate::image::ktx1;
 use crate::image::layout::Layout;
+use crate::image::{Clamped, TexelFormat, Texture, TextureKind, TextureOptions};
 use crate::image::{EnvImage, Representation};
 use crate::scene::environments::Builtin;
 
@@ -29,18 +32,29 @@ pub(crate) struct BakeArgs {
     /// Output directory (created if missing; every file of the bake is renamed into it together at the end).
     #[arg(long)]
     pub(crate) out: PathBuf,
-    /// Face size of the specular chain's level 0.
-    #[arg(long, default_value_t = 512)]
-    pub(crate) size: u32,
+    /// Engine preset: bevy (E5B9G9R9 + zstd KTX2: 512² specular, 32² diffuse), gltf (glTF-IBL-Sampler's RGBA16F KTX2 outputs and BRDF LUT), filament (cmgen's KTX 1 files: <dir>_ibl.ktx, <dir>_skybox.ktx, sh.txt). Sets the format, sizes, levels, roughness rule and orientation; any flag given still overrides its part. See docs/engines.md.
+    #[arg(long, value_parser = parse_target)]
+    pub(crate) target: Option<Target>,
+    /// Container of the maps: exr (the default without --target: one file per level), ktx2, dds (the whole chain in one file), ktx (KTX 1).
+    #[arg(long, value_parser = parse_container)]
+    pub(crate) container: Option<Container>,
+    #[command(flatten)]
+    pub(crate) texture: TextureFlags,
+    /// --target filament: do not mirror the cube (cmgen mirrors by default: its files hold the environment seen with x negated, which Filament's shaders undo; --no-mirror matches cmgen --no-mirror).
+    #[arg(long)]
+    pub(crate) no_mirror: bool,
+    /// Face size of the specular chain's level 0 (default 512; 256 for --target filament, as cmgen).
+    #[arg(long)]
+    pub(crate) size: Option<u32>,
     /// Number of levels (default: down to --min-size).
     #[arg(long)]
     pub(crate) levels: Option<usize>,
     /// Face size of the smallest level (default: 2 for linear, 16 for filament, 8 for unity).
     #[arg(long)]
     pub(crate) min_size: Option<u32>,
-    /// Mip↔roughness rule: linear (glTF-IBL-Sampler, Bevy), filament, unity, or roughness values per level (0,0.2,0.5,1).
-    #[arg(long, default_value = "linear")]
-    pub(crate) roughness_rule: RoughnessRule,
+    /// Mip↔roughness rule: linear (glTF-IBL-Sampler, Bevy; the default), filament (the default of --target filament), unity, or roughness values per level (0,0.2,0.5,1).
+    #[arg(long)]
+    pub(crate) roughness_rule: Option<RoughnessRule>,
     /// Samples per texel of the sampled levels (overrides --quality).
     #[arg(long)]
     pub(crate) samples: Option<u32>,
@@ -50,9 +64,9 @@ pub(crate) struct BakeArgs {
     /// Every level by the exact sum over a fine enough source level (slow at large sizes).
     #[arg(long)]
     pub(crate) exact: bool,
-    /// Face size of the irradiance cube (0: none).
-    #[arg(long, default_value_t = 32)]
-    pub(crate) irradiance_size: u32,
+    /// Face size of the irradiance cube (0: none; default 32, none for --target filament, which uses the SH).
+    #[arg(long)]
+    pub(crate) irradiance_size: Option<u32>,
     /// What the irradiance map stores: e-over-pi (E/π, what engines expect; the default) or e (E).
     #[arg(long, value_parser = parse_scale, default_value = "e-over-pi")]
     pub(crate) irradiance_scale: IrradianceScale,
@@ -60,14 +74,15 @@ pub(crate) struct BakeArgs {
     #[arg(long)]
     pub(crate) sh_only: bool,
     /// Deringing of the SH (and of the irradiance map made from it): none (the default), auto (the sinc⁴ window that keeps the irradiance non-negative), or a cutoff in bands (cmgen's default on smooth maps is 12.7675).
-    #[arg(long, value_parser = parse_window, default_value = "none")]
-    pub(crate) sh_window: Window,
+    /// Default none; auto for --target filament (cmgen's default).
+    #[arg(long, value_parser = parse_window)]
+    pub(crate) sh_window: Option<Window>,
     /// Measure each sampled level against the exact integral on this many of its texels, and report the error (slow for the sharpest levels: the exact sums run over the fine pyramid levels).
     #[arg(long, default_value_t = 0)]
     pub(crate) check: u32,
-    /// Size of the DFG table (0: none).
-    #[arg(long, default_value_t = 128)]
-    pub(crate) dfg_size: u32,
+    /// Size of the DFG table (0: none; default 128, none for --target bevy and filament, whose engines ship their own).
+    #[arg(long)]
+    pub(crate) dfg_size: Option<u32>,
     /// At most this many of the brightest texels (a sun) are split out and added exactly to every output texel (0: none).
     #[arg(long, default_value_t = 1024)]
     pub(crate) split: usize,
@@ -102,6 +117,195 @@ pub(crate) struct BakeArgs {
     #[arg(long, short)]
     pub(crate) quiet: bool,
 }
+
+/// `--target`: an engine's preset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Target {
+    /// Bevy's `EnvironmentMapLight`: E5B9G9R9 + zstd KTX2 cubes.
+    Bevy,
+    /// glTF-IBL-Sampler's outputs: RGBA16F KTX2 cubes and the BRDF LUT.
+    Gltf,
+    /// Filament's `cmgen --deploy`: KTX 1, R11F_G11F_B10F, `sh` key.
+    Filament,
+}
+
+fn parse_target(s: &str) -> Result<Target, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "bevy" => Ok(Target::Bevy),
+        "gltf" | "gltf-ibl-sampler" | "khronos" => Ok(Target::Gltf),
+        "filament" | "cmgen" => Ok(Target::Filament),
+        _ => Err(format!("{s}: expected bevy, gltf or filament")),
+    }
+}
+
+/// `--container`: how the maps are stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Container {
+    /// One OpenEXR file (or six) per level.
+    Exr,
+    /// One KTX2 file per map, every level inside.
+    Ktx2,
+    /// One DDS file per map.
+    Dds,
+    /// One KTX 1 file per map (Filament).
+    Ktx,
+}
+
+impl Container {
+    fn extension(self) -> &'static str {
+        match self {
+            Container::Exr => "exr",
+            Container::Ktx2 => "ktx2",
+            Container::Dds => "dds",
+            Container::Ktx => "ktx",
+        }
+    }
+}
+
+fn parse_container(s: &str) -> Result<Container, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "exr" => Ok(Container::Exr),
+        "ktx2" => Ok(Container::Ktx2),
+        "dds" => Ok(Container::Dds),
+        "ktx" | "ktx1" => Ok(Container::Ktx),
+        _ => Err(format!("{s}: expected exr, ktx2, dds or ktx")),
+    }
+}
+
+/// What a bake makes, once the preset and the flags are put together.
+#[derive(Clone, Debug)]
+struct Plan {
+    size: u32,
+    rule: RoughnessRule,
+    min_size: Option<u32>,
+    irradiance_size: u32,
+    sh_window: Option<ShWindow>,
+    dfg_size: u32,
+    container: Container,
+    texture: TextureOptions,
+    axes: FileAxes,
+    /// Filament's cube mirrored as cmgen's default (x negated).
+    mirrored: bool,
+    /// The file names: specular chain, irradiance map.
+    specular: &'static str,
+    irradiance: &'static str,
+}
+
+/// The GL world with x negated: the axes of cmgen's default (mirrored)
+/// cube files (`CubemapUtils::mirrorCubemap` samples the source at
+/// (−x, y, z)).
+fn mirrored_gl() -> FileAxes {
+    let m = Frame::Y_UP_RH.matrix() * Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
+    FileAxes::Frame(Frame::from_mat3(m).unwrap_or(Frame::Y_UP_RH))
+}
+
+/// The preset of `a.target` with every flag given laid over it.
+fn plan(a: &BakeArgs) -> Result<Plan, String> {
+    let convention = a.convention.unwrap_or_default();
+    let gl = FileAxes::Convention(convention, a.to_frame);
+    let base = match a.target {
+        None => Plan {
+            size: 512,
+            rule: RoughnessRule::Linear,
+            min_size: None,
+            irradiance_size: 32,
+            sh_window: None,
+            dfg_size: crate::filter::dfg::DEFAULT_SIZE,
+            container: Container::Exr,
+            texture: TextureOptions::default(),
+            axes: gl,
+            mirrored: false,
+            specular: "specular",
+            irradiance: "irradiance",
+        },
+        // Bevy's shipped maps (pisa_*_rgb9e5_zstd.ktx2) and its runtime
+        // generator: 512² specular with roughness = mip / (mips − 1), 32²
+        // diffuse, one level; E5B9G9R9 + zstd; a standard KTX cube (Bevy
+        // negates z itself when it samples).
+        Some(Target::Bevy) => Plan {
+            size: 512,
+            rule: RoughnessRule::Linear,
+            min_size: None,
+            irradiance_size: 32,
+            sh_window: None,
+            dfg_size: 0,
+            container: Container::Ktx2,
+            texture: TextureOptions {
+                format: TexelFormat::E5b9g9r9,
+                zstd: Some(DEFAULT_ZSTD),
+            },
+            axes: gl,
+            mirrored: false,
+            specular: "specular",
+            irradiance: "diffuse",
+        },
+        // glTF-IBL-Sampler (lib/source/lib.cpp): RGBA16F through libktx,
+        // ⌊log2 size⌋ levels (down to 2×2) at roughness i/(n − 1), the
+        // Lambertian map, the GGX BRDF LUT.
+        Some(Target::Gltf) => Plan {
+            size: 512,
+            rule: RoughnessRule::Linear,
+            min_size: Some(2),
+            irradiance_size: 32,
+            sh_window: None,
+            dfg_size: crate::filter::dfg::DEFAULT_SIZE,
+            container: Container::Ktx2,
+            texture: TextureOptions::default(),
+            axes: gl,
+            mirrored: false,
+            specular: "specular",
+            irradiance: "diffuse",
+        },
+        // cmgen --deploy (tools/cmgen): 256², levels down to 16² at
+        // lod = (n − 1)·r·(2 − r), R11F_G11F_B10F KTX 1, the SH in the `sh`
+        // key (auto-windowed), mirrored unless --no-mirror.
+        Some(Target::Filament) => Plan {
+            size: 256,
+            rule: RoughnessRule::Filament,
+            min_size: Some(16),
+            irradiance_size: 0,
+            sh_window: Some(ShWindow::Auto),
+            dfg_size: 0,
+            container: Container::Ktx,
+            texture: TextureOptions {
+                format: TexelFormat::B10g11r11,
+                zstd: None,
+            },
+            axes: if a.no_mirror { gl } else { mirrored_gl() },
+            mirrored: !a.no_mirror,
+            specular: "ibl",
+            irradiance: "irradiance",
+        },
+    };
+    if a.no_mirror && a.target != Some(Target::Filament) {
+        return Err("--no-mirror is for --target filament".into());
+    }
+    let container = a.container.unwrap_or(base.container);
+    let texture = a.texture.over(base.texture);
+    if container == Container::Exr && (a.texture.format.is_some() || a.texture.zstd.is_some()) {
+        return Err("--format and --zstd are for --container ktx2, dds or ktx".into());
+    }
+    if container != Container::Ktx2 && texture.zstd.is_some() {
+        return Err(format!(
+            "--zstd: only KTX2 has supercompression (the container is {})",
+            container.extension()
+        ));
+    }
+    Ok(Plan {
+        size: a.size.unwrap_or(base.size),
+        rule: a.roughness_rule.clone().unwrap_or(base.rule),
+        min_size: a.min_size.or(base.min_size),
+        irradiance_size: a.irradiance_size.unwrap_or(base.irradiance_size),
+        sh_window: a.sh_window.map_or(base.sh_window, |w| w.0),
+        dfg_size: a.dfg_size.unwrap_or(base.dfg_size),
+        container,
+        texture,
+        ..base
+    })
+}
+
+/// The zstd level of the presets that supercompress.
+pub(crate) const DEFAULT_ZSTD: i32 = 19;
 
 /// `--sh-window`: none, auto, or a cutoff.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -184,10 +388,11 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
     if a.samples == Some(0) {
         return Err("--samples must be at least 1".into());
     }
-    if a.irradiance_size > 2048 {
+    let plan = plan(a)?;
+    if plan.irradiance_size > 2048 {
         return Err("--irradiance-size: at most 2048".into());
     }
-    if a.dfg_size > crate::filter::dfg::MAX_SIZE {
+    if plan.dfg_size > crate::filter::dfg::MAX_SIZE {
         return Err(format!(
             "--dfg-size: at most {}",
             crate::filter::dfg::MAX_SIZE
@@ -202,22 +407,21 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             a.layout
         ));
     }
-    let convention = a.convention.unwrap_or_default();
     let opts = BakeOptions {
-        size: a.size,
+        size: plan.size,
         levels: a.levels,
-        min_size: a.min_size,
-        rule: a.roughness_rule.clone(),
+        min_size: plan.min_size,
+        rule: plan.rule.clone(),
         quality: a.quality,
         samples: a.samples,
         exact: a.exact,
         clamp: a.clamp,
-        axes: FileAxes::Convention(convention, a.to_frame),
-        irradiance_size: a.irradiance_size,
+        axes: plan.axes,
+        irradiance_size: plan.irradiance_size,
         irradiance_scale: a.irradiance_scale,
-        sh_window: a.sh_window.0,
+        sh_window: plan.sh_window,
         sh_only: a.sh_only,
-        dfg_size: a.dfg_size,
+        dfg_size: plan.dfg_size,
         bright_max: a.split,
         check: a.check,
         cancel: Some(stop),
@@ -261,6 +465,7 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
     let created = !a.out.exists();
     std::fs::create_dir_all(&a.out)
         .map_err(|e| format!("{}: cannot create: {e}", a.out.display()))?;
+    let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
     let written = (|| -> Result<Vec<PathBuf>, String> {
         let sopts = SaveOptions {
             six_files: a.layout.is_six_files(),
@@ -282,25 +487,89 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             run.stage_image(&img, a.out.join(file_name(a, stem)), &o)
                 .map_err(|e| e.to_string())
         };
-        if let Some(chain) = &baked.chain {
-            let n = chain.levels.len();
-            for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
-                let content = format!(
-                    "GGX-prefiltered radiance (split sum, N = V = R): level {k} of {n}, perceptual roughness {:.4} (alpha = roughness^2), rule {}",
-                    r.roughness,
-                    opts.rule.name()
-                );
-                stage(level, &format!("specular_{k}"), content)?;
-            }
-        }
-        if let Some(irr) = &baked.irradiance {
-            let content = match a.irradiance_scale {
-                IrradianceScale::EOverPi => {
-                    "irradiance E/pi (the radiance a white Lambertian surface reflects)".to_owned()
+        if plan.container == Container::Exr {
+            if let Some(chain) = &baked.chain {
+                let n = chain.levels.len();
+                for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
+                    let content = format!(
+                        "GGX-prefiltered radiance (split sum, N = V = R): level {k} of {n}, perceptual roughness {:.4} (alpha = roughness^2), rule {}",
+                        r.roughness,
+                        opts.rule.name()
+                    );
+                    stage(level, &format!("specular_{k}"), content)?;
                 }
-                IrradianceScale::E => "irradiance E (not divided by pi)".to_owned(),
+            }
+            if let Some(irr) = &baked.irradiance {
+                let content = match a.irradiance_scale {
+                    IrradianceScale::EOverPi => {
+                        "irradiance E/pi (the radiance a white Lambertian surface reflects)"
+                            .to_owned()
+                    }
+                    IrradianceScale::E => "irradiance E (not divided by pi)".to_owned(),
+                };
+                stage(&irr.image, "irradiance", content)?;
+            }
+        } else {
+            let mut texture = |levels: &[EnvImage], name: &str, kv: &[(&str, &[u8])]| {
+                let tex = Texture::from_env(levels).map_err(|e| e.to_string())?;
+                let path = a.out.join(name);
+                let clamped = if plan.container == Container::Ktx {
+                    let (bytes, c) = ktx1::encode(&tex, plan.texture.format, kv)
+                        .map_err(|e| e.in_file(&path).to_string())?;
+                    run.stage_bytes(&path, &bytes).map_err(|e| e.to_string())?;
+                    c
+                } else {
+                    run.stage_texture(&tex, &path, plan.texture)
+                        .map_err(|e| e.to_string())?
+                };
+                clamped_total.push((path, clamped));
+                Ok::<(), String>(())
             };
-            stage(&irr.image, "irradiance", content)?;
+            let ext = plan.container.extension();
+            let sh_key = filament_sh_text(&baked, &plan);
+            if let Some(chain) = &baked.chain {
+                let kv: Vec<(&str, &[u8])> = if plan.container == Container::Ktx {
+                    vec![("sh", sh_key.as_bytes())]
+                } else {
+                    Vec::new()
+                };
+                texture(&chain.levels, &texture_name(a, &plan, plan.specular), &kv)?;
+                if plan.container == Container::Ktx {
+                    texture(&chain.levels[..1], &texture_name(a, &plan, "skybox"), &[])?;
+                }
+            }
+            if let Some(irr) = &baked.irradiance {
+                texture(
+                    std::slice::from_ref(&irr.image),
+                    &texture_name(a, &plan, plan.irradiance),
+                    &[],
+                )?;
+            }
+            if plan.container == Container::Ktx {
+                run.stage_bytes(
+                    a.out.join("sh.txt"),
+                    filament_sh_txt(&baked, &plan).as_bytes(),
+                )
+                .map_err(|e| e.to_string())?;
+            }
+            if let (Some(t), Some(Target::Gltf)) = (&baked.dfg, a.target) {
+                // glTF-IBL-Sampler's LUT: R = scale, G = bias, N·V across,
+                // roughness down (row 0 = roughness 0.5/size).
+                let lut = Texture::new(TextureKind::Flat, vec![vec![t.single_scatter_image()]])
+                    .map_err(|e| e.to_string())?;
+                let path = a.out.join(format!("lut_ggx.{ext}"));
+                let c = run
+                    .stage_texture(
+                        &lut,
+                        &path,
+                        TextureOptions {
+                            zstd: None,
+                            ..plan.texture
+                        },
+                    )
+                    .map_err(|e| e.to_string())?;
+                clamped_total.push((path, c));
+            }
         }
         if let Some(t) = &baked.dfg {
             let axes = format!(
@@ -330,11 +599,12 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         }
         run.stage_bytes(
             a.out.join("sh.json"),
-            sh_json(a, &baked, opts.axes).as_bytes(),
+            sh_json(&plan, &baked, opts.axes).as_bytes(),
         )
         .map_err(|e| e.to_string())?;
         let manifest = manifest(
             a,
+            &plan,
             &name,
             &baked,
             &opts,
@@ -346,7 +616,12 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         run.commit().map_err(|e| e.to_string())
     })();
     let written = match written {
-        Ok(w) => w,
+        Ok(w) => {
+            for (path, c) in &clamped_total {
+                warn_clamped(path, plan.texture.format, *c);
+            }
+            w
+        }
         Err(e) => {
             if created {
                 let _ = std::fs::remove_dir(&a.out);
@@ -365,6 +640,114 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         );
     }
     Ok(())
+}
+
+/// The file of a texture container: `<stem>.<ext>`, or for KTX 1 (cmgen's
+/// names) `<dir>_<stem>.ktx` with `<dir>` the output directory's name
+/// without its extension.
+fn texture_name(a: &BakeArgs, plan: &Plan, stem: &str) -> String {
+    let ext = plan.container.extension();
+    if plan.container == Container::Ktx {
+        let dir = a
+            .out
+            .file_stem()
+            .map(|d| d.to_string_lossy().into_owned())
+            .filter(|d| !d.is_empty() && d != "." && d != "..")
+            .unwrap_or_else(|| "envmap".to_owned());
+        format!("{dir}_{stem}.{ext}")
+    } else {
+        format!("{stem}.{ext}")
+    }
+}
+
+/// Where level `k` of the chain is, for the manifest.
+fn level_file(a: &BakeArgs, plan: &Plan, k: usize) -> String {
+    if plan.container == Container::Exr {
+        file_name(a, &format!("specular_{k}"))
+    } else {
+        format!("{} (level {k})", texture_name(a, plan, plan.specular))
+    }
+}
+
+/// Filament's pre-scaled SH (E/π, y up) of the bake, windowed as the plan
+/// says, in the cube files' axes: cmgen's mirroring negates x, flipping the
+/// three terms odd in x (L11, L2-2, L21).
+fn filament_sh(b: &Bake, plan: &Plan) -> [[f64; 3]; 9] {
+    let sh = match plan.sh_window {
+        Some(w) => b.sh.windowed(w),
+        None => b.sh,
+    };
+    let mut f = sh.filament_shader_form();
+    if plan.mirrored {
+        for i in [3, 4, 7] {
+            f[i] = f[i].map(|v| -v);
+        }
+    }
+    f
+}
+
+/// C's `%g` (6 significant digits), as cmgen prints floats into its `sh` key.
+fn format_g(v: f32) -> String {
+    if v == 0.0 {
+        return if v.is_sign_negative() { "-0" } else { "0" }.to_owned();
+    }
+    let e = f64::from(v).abs().log10().floor() as i32;
+    // Rounding to 6 digits can carry into the next power of ten.
+    let sci = format!("{:.5e}", v);
+    let exp: i32 = sci
+        .split('e')
+        .nth(1)
+        .and_then(|x| x.parse().ok())
+        .unwrap_or(e);
+    let trim = |s: String| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_owned()
+        } else {
+            s
+        }
+    };
+    if !(-4..6).contains(&exp) {
+        let (m, _) = sci.split_once('e').unwrap_or((&sci, ""));
+        format!(
+            "{}e{}{:02}",
+            trim(m.to_owned()),
+            if exp < 0 { '-' } else { '+' },
+            exp.abs()
+        )
+    } else {
+        trim(format!("{:.*}", (5 - exp).max(0) as usize, v))
+    }
+}
+
+/// The `sh` key of cmgen's KTX 1 files: nine lines `r g b`, L00 … L22, `%g`
+/// of the f32 values, each line ended by `\n`.
+fn filament_sh_text(b: &Bake, plan: &Plan) -> String {
+    filament_sh(b, plan)
+        .iter()
+        .map(|c| {
+            format!(
+                "{} {} {}\n",
+                format_g(c[0] as f32),
+                format_g(c[1] as f32),
+                format_g(c[2] as f32)
+            )
+        })
+        .collect()
+}
+
+/// cmgen's `sh.txt`: `(r, g, b); // L00, irradiance, pre-scaled base` per
+/// line, `%18.15f`.
+fn filament_sh_txt(b: &Bake, plan: &Plan) -> String {
+    filament_sh(b, plan)
+        .iter()
+        .zip(NAMES)
+        .map(|(c, n)| {
+            format!(
+                "({:18.15}, {:18.15}, {:18.15}); // {n}, irradiance, pre-scaled base\n",
+                c[0], c[1], c[2]
+            )
+        })
+        .collect()
 }
 
 /// A file's name in the output directory (`{face}` for six files).
@@ -479,9 +862,9 @@ fn named(c: &[[f64; 3]; 9]) -> serde_json::Value {
 }
 
 /// `sh.json`: the coefficients, their basis, frame and kind.
-fn sh_json(a: &BakeArgs, b: &Bake, axes: FileAxes) -> String {
+fn sh_json(plan: &Plan, b: &Bake, axes: FileAxes) -> String {
     let frame = axes.frame(AnyMapping::Cube);
-    let windowed = match a.sh_window.0 {
+    let windowed = match plan.sh_window {
         Some(w) => b.sh.windowed(w),
         None => b.sh,
     };
@@ -492,7 +875,7 @@ fn sh_json(a: &BakeArgs, b: &Bake, axes: FileAxes) -> String {
         "axes": axes.describe(AnyMapping::Cube),
         "frame_rows": frame_rows(frame),
         "frame_note": "coefficients are in the axes of the cube files (x, y, z as the files' face names say); canonical: envmap's z-up right-handed axes",
-        "window": match a.sh_window.0 {
+        "window": match plan.sh_window {
             None => serde_json::json!("none"),
             Some(_) => match b.sh_cutoff {
                 Some(cutoff) => serde_json::json!({
@@ -527,6 +910,7 @@ fn sh_json(a: &BakeArgs, b: &Bake, axes: FileAxes) -> String {
 /// The manifest: the input, the conventions, the rule, every level.
 fn manifest(
     a: &BakeArgs,
+    plan: &Plan,
     name: &str,
     b: &Bake,
     opts: &BakeOptions,
@@ -541,7 +925,7 @@ fn manifest(
             .map(|(k, r)| {
                 serde_json::json!({
                     "level": k,
-                    "file": file_name(a, &format!("specular_{k}")),
+                    "file": level_file(a, plan, k),
                     "size": r.size,
                     "perceptual_roughness": r.roughness,
                     "alpha": r.roughness * r.roughness,
@@ -587,11 +971,16 @@ fn manifest(
         "envmap": crate::image::metadata::software(),
         "input": name,
         "axes": opts.axes.describe(AnyMapping::Cube),
-        "layout": a.layout.name(),
+        "layout": if plan.container == Container::Exr { a.layout.name() } else { "one texture file per map: faces +X, -X, +Y, -Y, +Z, -Z, first texel top-left (KTX orientation rd), levels largest first" },
+        "container": plan.container.extension(),
+        "target": a.target.map(|t| format!("{t:?}").to_ascii_lowercase()),
+        "texel_format": (plan.container != Container::Exr).then(|| plan.texture.format.vk_name()),
+        "zstd_level": plan.texture.zstd,
+        "mirrored": plan.mirrored.then_some("x negated, as cmgen's default (Filament's shaders expect it)"),
         "seconds": { "load": load, "bake": work },
         "specular": specular,
         "irradiance": b.irradiance.as_ref().map(|i| serde_json::json!({
-            "file": file_name(a, "irradiance"),
+            "file": if plan.container == Container::Exr { file_name(a, "irradiance") } else { texture_name(a, plan, plan.irradiance) },
             "size": i.image.cell_size().0,
             "value": opts.irradiance_scale.name(),
             "value_note": "E/pi is the outgoing radiance of a white Lambertian surface (what engines expect); E = pi × that",
@@ -601,7 +990,7 @@ fn manifest(
         })),
         "sh": {
             "file": "sh.json",
-            "window": a.sh_window.0.map(|_| b.sh_cutoff),
+            "window": plan.sh_window.map(|_| b.sh_cutoff),
         },
         "dfg": b.dfg.as_ref().map(|t| serde_json::json!({
             "files": {

@@ -10,9 +10,11 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli::args::{
     load_error, output_size, parse_convention, parse_face_names, parse_face_transforms,
-    parse_layout, parse_mapping, parse_rotation, parse_world, warn_replaced, CliResult,
+    parse_layout, parse_mapping, parse_rotation, parse_world, warn_clamped, warn_replaced,
+    CliResult, TextureFlags,
 };
 use crate::filter::convert::{auto_samples, convert, ConvertOptions};
+use crate::filter::pyramid::Pyramid;
 use crate::filter::sample::Filter;
 use crate::image::convention::{Convention, FileAxes, World};
 use crate::image::face_ops::FaceTransforms;
@@ -20,15 +22,17 @@ use crate::image::io::FaceNames;
 use crate::image::io::{
     load_detailed, save, ExrPrecision, LoadOptions, Loaded, NonFinite, SaveOptions,
 };
+use crate::image::io::{FileFormat, Outputs};
 use crate::image::layout::Layout;
 use crate::image::metadata;
+use crate::image::Texture;
 use crate::image::{EnvImage, Representation, TextureOptions};
 
 #[derive(Args)]
 pub(crate) struct ConvertArgs {
-    /// Input file (.png, .jpg, .hdr, .exr; a six-file cube by one face's name).
+    /// Input file (.png, .jpg, .hdr, .exr, .ktx2, .dds: level 0; a six-file cube by one face's name).
     pub(crate) input: PathBuf,
-    /// Output file (.png, .hdr, .exr); `{face}` in the name, or --layout faces, writes six files.
+    /// Output file (.png, .jpg, .hdr, .exr, .ktx2, .dds, .ktx); `{face}` in the name, or --layout faces, writes six files.
     pub(crate) output: PathBuf,
     /// Output mapping: latlong, cube, sphere, sphere-gl, paraboloid, tennisball, octahedral, octahedral-equal-area, angular (light-probe).
     #[arg(long, value_parser = parse_mapping)]
@@ -88,6 +92,11 @@ pub(crate) struct ConvertArgs {
     /// Write OpenEXR as 16-bit half floats.
     #[arg(long)]
     pub(crate) half: bool,
+    #[command(flatten)]
+    pub(crate) texture: TextureFlags,
+    /// For .ktx2, .dds and .ktx outputs: add the mip chain, each level the solid-angle-weighted 2×2 box filter of the one above (the bake's pyramid), down to 1×1 for a cube (a 2D chain stops where a level's size leaves the ⌊W/2ᵖ⌋ × ⌊H/2ᵖ⌋ rule).
+    #[arg(long)]
+    pub(crate) mips: bool,
     /// Allow the output to replace the input file.
     #[arg(long)]
     pub(crate) overwrite_input: bool,
@@ -180,6 +189,14 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
     if a.samples == Some(0) || a.samples.is_some_and(|s| s > 16) {
         return Err("--samples must be between 1 and 16".into());
     }
+    let is_texture = FileFormat::from_path(&a.output).is_ok_and(FileFormat::is_texture);
+    if !is_texture && (a.mips || a.texture.format.is_some() || a.texture.zstd.is_some()) {
+        return Err(format!(
+            "{}: --mips, --format and --zstd are for .ktx2, .dds and .ktx outputs",
+            a.output.display()
+        ));
+    }
+    let mut texture_summary = None;
     let stage = |what: String| {
         if a.verbose {
             eprintln!("envmap: {what}");
@@ -271,12 +288,41 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         face_names: a.face_names,
         face_transforms: a.face_transform.unwrap_or_default(),
         content: None,
-        texture: TextureOptions::default(),
+        texture: a.texture.over(TextureOptions::default()),
         cancel: Some(stop),
     };
     stage(format!("saving {}", a.output.display()));
     let t2 = Instant::now();
-    let written = save(&out, &a.output, &sopts).map_err(|e| e.to_string())?;
+    let written = if is_texture {
+        let levels = if a.mips {
+            Pyramid::new(out, 1)
+                .map_err(|e| e.to_string())?
+                .levels()
+                .to_vec()
+        } else {
+            vec![out]
+        };
+        let tex = Texture::from_env(&levels).map_err(|e| e.in_file(&a.output).to_string())?;
+        let mut run = Outputs::new(&sopts);
+        let clamped = run
+            .stage_texture(&tex, &a.output, sopts.texture)
+            .map_err(|e| e.to_string())?;
+        warn_clamped(&a.output, sopts.texture.format, clamped);
+        texture_summary = Some(format!(
+            "{} level{}, {}{}",
+            tex.level_count(),
+            if tex.level_count() == 1 { "" } else { "s" },
+            sopts.texture.format.name(),
+            sopts
+                .texture
+                .zstd
+                .map(|l| format!(", zstd {l}"))
+                .unwrap_or_default()
+        ));
+        run.commit().map_err(|e| e.to_string())?
+    } else {
+        save(&out, &a.output, &sopts).map_err(|e| e.to_string())?
+    };
     let t_save = t2.elapsed();
     if !a.quiet {
         eprintln!(
@@ -301,6 +347,9 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
             t_convert.as_secs_f64() * 1e3,
             t_save.as_secs_f64() * 1e3,
         );
+        if let Some(t) = &texture_summary {
+            eprintln!("  texture: {t}");
+        }
         eprintln!("  input axes:  {}", src_axes.describe(src_mapping));
         eprintln!("  output axes: {}", output_axes(a).describe(repr.mapping));
     }

@@ -13,9 +13,10 @@ use crate::cli::args::{
 };
 use crate::image::convention::{Convention, FileAxes, World};
 use crate::image::face_ops::FaceTransforms;
-use crate::image::io::{load_detailed, LoadOptions};
+use crate::image::io::{load_detailed, FileFormat, LoadOptions};
 use crate::image::layout::Layout;
 use crate::image::metadata;
+use crate::image::texture::{level_size, TextureFile, TextureKind};
 use crate::image::EnvImage;
 
 #[derive(Args)]
@@ -59,6 +60,14 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
         ..LoadOptions::default()
     };
     let loaded = load_detailed(&a.file, &opts).map_err(|e| load_error(&e))?;
+    // A GPU texture's levels, format and metadata (the rest below is of level 0).
+    let texture = match FileFormat::from_path(&a.file) {
+        Ok(f) if f.is_texture() => Some(
+            crate::image::texture::read(&a.file, opts.max_texels, Some(stop))
+                .map_err(|e| load_error(&e))?,
+        ),
+        _ => None,
+    };
     let img = &loaded.image;
     let repr = img.representation();
     let s = img.stats();
@@ -81,6 +90,9 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
             "pixel format",
             format!("{:?}, {}", loaded.source.format, loaded.source.pixel_format),
         )?;
+        if let Some(t) = &texture {
+            texture_lines(&mut out, t)?;
+        }
         p(&mut out, "mapping", repr.mapping.to_string())?;
         let (cw, ch) = img.cell_size();
         p(
@@ -194,4 +206,63 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
         Ok(())
     })();
     r.map_err(|e| format!("<stdout>: {e}"))
+}
+
+/// The lines about a texture file: container, format, orientation, writer,
+/// key/value entries, and each level's size and bytes.
+fn texture_lines(out: &mut dyn Write, t: &TextureFile) -> std::io::Result<()> {
+    let i = &t.info;
+    let p = |out: &mut dyn Write, k: &str, v: String| writeln!(out, "{k:<16} {v}");
+    p(out, "texture", i.summary())?;
+    p(
+        out,
+        "texel format",
+        format!(
+            "{} ({}; vkFormat {}{}), largest value {}",
+            i.format.name(),
+            i.format.vk_name(),
+            i.format.vk_format(),
+            i.format
+                .dxgi_format()
+                .map(|d| format!(", DXGI {d}"))
+                .unwrap_or_default(),
+            i.format.max_value()
+        ),
+    )?;
+    p(
+        out,
+        "orientation",
+        match (&i.orientation, i.kind) {
+            (Some(o), _) => format!("{o} (as the file says)"),
+            (None, TextureKind::Cube) => {
+                "rd: faces +X, -X, +Y, -Y, +Z, -Z as GL selects them, first texel top-left (the format's rule)".to_owned()
+            }
+            (None, TextureKind::Flat) => "rd: first texel top-left (the format's rule)".to_owned(),
+        },
+    )?;
+    p(
+        out,
+        "writer",
+        i.writer.clone().unwrap_or_else(|| "not stated".to_owned()),
+    )?;
+    for (k, v) in &i.key_values {
+        if k != "KTXorientation" && k != "KTXwriter" {
+            p(out, "key/value", format!("{k} = {v:?}"))?;
+        }
+    }
+    let (w, h) = i.size;
+    let faces = if i.kind == TextureKind::Cube {
+        " × 6 faces"
+    } else {
+        ""
+    };
+    for (level, bytes) in i.level_bytes.iter().enumerate() {
+        let (lw, lh) = level_size(w, h, level);
+        p(
+            out,
+            &format!("level {level}"),
+            format!("{lw} × {lh}{faces}, {bytes} bytes in the file"),
+        )?;
+    }
+    Ok(())
 }
