@@ -270,14 +270,14 @@ impl TexelFormat {
 
     /// The worst relative rounding error of one component within the
     /// format's normal range (half a unit in the last place of its mantissa):
-    /// 2⁻¹¹ binary16, 2⁻²⁴ binary32, 2⁻⁶ (B 2⁻⁵) the small floats, and for
+    /// 2⁻¹¹ binary16, 2⁻²⁴ binary32, 2⁻⁷ (B 2⁻⁶) the small floats, and for
     /// RGB9E5 2⁻⁹ of the texel's largest channel.
     #[must_use]
     pub fn relative_precision(self) -> f32 {
         match self {
             TexelFormat::Rgba16f | TexelFormat::Rgb16f => 2f32.powi(-11),
             TexelFormat::Rgba32f | TexelFormat::Rgb32f => 2f32.powi(-24),
-            TexelFormat::B10g11r11 => 2f32.powi(-6),
+            TexelFormat::B10g11r11 => 2f32.powi(-7),
             TexelFormat::E5b9g9r9 => 2f32.powi(-9),
         }
     }
