@@ -73,8 +73,8 @@ pub(crate) struct BakeArgs {
     /// Only the spherical harmonics (sh.json and the manifest): no chain, no maps, no table.
     #[arg(long)]
     pub(crate) sh_only: bool,
-    /// Deringing of the SH (and of the irradiance map made from it): none (the default), auto (the sinc⁴ window that keeps the irradiance non-negative), or a cutoff in bands (cmgen's default on smooth maps is 12.7675).
-    /// Default none; auto for --target filament (cmgen's default).
+    /// Deringing of the SH (and of the irradiance map made from it): none (the default), auto (the sinc⁴ window that keeps the irradiance non-negative), cmgen (cmgen's default, which windows every map: auto's cutoff, at most 12.7675), or a cutoff in bands.
+    /// Default none; cmgen for --target filament.
     #[arg(long, value_parser = parse_window)]
     pub(crate) sh_window: Option<Window>,
     /// Measure each sampled level against the exact integral on this many of its texels, and report the error (slow for the sharpest levels: the exact sums run over the fine pyramid levels).
@@ -264,7 +264,7 @@ fn plan(a: &BakeArgs) -> Result<Plan, String> {
             rule: RoughnessRule::Filament,
             min_size: Some(16),
             irradiance_size: 0,
-            sh_window: Some(ShWindow::Auto),
+            sh_window: Some(ShWindow::Cmgen),
             dfg_size: 0,
             container: Container::Ktx,
             texture: TextureOptions {
@@ -315,10 +315,11 @@ fn parse_window(s: &str) -> Result<Window, String> {
     match s.to_ascii_lowercase().as_str() {
         "none" | "no" | "off" => Ok(Window(None)),
         "auto" => Ok(Window(Some(ShWindow::Auto))),
+        "cmgen" => Ok(Window(Some(ShWindow::Cmgen))),
         v => match v.parse::<f64>() {
             Ok(c) if c.is_finite() && c > 0.0 => Ok(Window(Some(ShWindow::Sinc4 { cutoff: c }))),
             _ => Err(format!(
-                "{s}: expected none, auto, or a positive cutoff in bands"
+                "{s}: expected none, auto, cmgen, or a positive cutoff in bands"
             )),
         },
     }
@@ -1012,4 +1013,31 @@ fn manifest(
 /// (`docs/lighting.md`): 0 for the resampled and exact levels.
 fn estimated_error(r: &crate::filter::bake::LevelReport) -> Option<f64> {
     (r.method == "sampled").then(|| crate::filter::bake::estimated_error(r.roughness, r.samples))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::format_g;
+
+    /// `%g` as C prints it (cmgen's `sh` key), on the values of a cmgen file.
+    #[test]
+    fn format_g_prints_as_c_does() {
+        for (v, want) in [
+            (1.00391_f32, "1.00391"),
+            (0.503_906, "0.503906"),
+            (-1.003_54e-7, "-1.00354e-07"),
+            (8.364_38e-11, "8.36438e-11"),
+            (0.0, "0"),
+            (-0.0, "-0"),
+            (0.028_810_7, "0.0288107"),
+            (123_456.0, "123456"),
+            (1_234_567.0, "1.23457e+06"),
+            (999_999.5, "1e+06"),
+            (0.000_1, "0.0001"),
+            (0.000_012_5, "1.25e-05"),
+            (2.5, "2.5"),
+        ] {
+            assert_eq!(format_g(v), want, "{v}");
+        }
+    }
 }

@@ -650,10 +650,7 @@ pub fn bake(
     let (windowed, sh_cutoff) = match opts.sh_window {
         None => (sh, None),
         Some(w) => {
-            let cutoff = match w {
-                ShWindow::Sinc4 { cutoff } => Some(cutoff),
-                ShWindow::Auto => sh.auto_cutoff(),
-            };
+            let cutoff = w.cutoff(&sh);
             (sh.windowed(w), cutoff)
         }
     };

@@ -481,11 +481,7 @@ impl Sh9 {
     /// [`Sh9::auto_cutoff`] and changes nothing when none is needed.
     #[must_use]
     pub fn windowed(&self, window: ShWindow) -> Sh9 {
-        let cutoff = match window {
-            ShWindow::Sinc4 { cutoff } => Some(cutoff),
-            ShWindow::Auto => self.auto_cutoff(),
-        };
-        let Some(w) = cutoff else {
+        let Some(w) = window.cutoff(self) else {
             return *self;
         };
         let f = [0, 1, 2].map(|l| sinc4_window(l, w));
@@ -639,6 +635,31 @@ pub enum ShWindow {
     /// The sinc⁴ window whose cutoff [`Sh9::auto_cutoff`] finds (none if
     /// the irradiance is non-negative already).
     Auto,
+    /// cmgen's default (`--sh-window=auto`), which windows every map: the
+    /// cutoff [`Sh9::auto_cutoff`] finds, at most [`CMGEN_SMOOTH_CUTOFF`]
+    /// (the cutoff cmgen applies to maps that need none; see the
+    /// [module docs](self)).
+    Cmgen,
+}
+
+/// The sinc⁴ cutoff cmgen 1.9.25 applies by default to maps whose
+/// irradiance needs no window: measured from its band ratios (band 1 ×
+/// 0.96036, band 2 × 0.84978).
+pub const CMGEN_SMOOTH_CUTOFF: f64 = 12.7675;
+
+impl ShWindow {
+    /// The cutoff this window applies to `sh`, or `None` for none.
+    #[must_use]
+    pub fn cutoff(self, sh: &Sh9) -> Option<f64> {
+        match self {
+            ShWindow::Sinc4 { cutoff } => Some(cutoff),
+            ShWindow::Auto => sh.auto_cutoff(),
+            ShWindow::Cmgen => Some(
+                sh.auto_cutoff()
+                    .map_or(CMGEN_SMOOTH_CUTOFF, |c| c.min(CMGEN_SMOOTH_CUTOFF)),
+            ),
+        }
+    }
 }
 
 /// Where [`Sh9::auto_cutoff`]'s bisection starts its upper end: 13, cmgen's
@@ -2378,6 +2399,19 @@ mod tests {
         let smooth_sh = Sh9::project(&fill(r, w, h, smooth).unwrap());
         assert_eq!(smooth_sh.auto_cutoff(), None);
         assert_eq!(smooth_sh.windowed(ShWindow::Auto), smooth_sh);
+        // cmgen's default windows both: the smooth map at its measured
+        // cutoff, the sun at the auto cutoff (below that one).
+        assert_eq!(
+            ShWindow::Cmgen.cutoff(&smooth_sh),
+            Some(CMGEN_SMOOTH_CUTOFF)
+        );
+        assert!(cutoff < CMGEN_SMOOTH_CUTOFF);
+        assert_eq!(ShWindow::Cmgen.cutoff(&sh), Some(cutoff));
+        let f = smooth_sh.windowed(ShWindow::Cmgen);
+        for (i, want) in [(1, 0.96036), (6, 0.84978)] {
+            let ratio = f.coeffs[i][0] / smooth_sh.coeffs[i][0];
+            assert!((ratio - want).abs() < 2e-5, "band of {i}: {ratio}");
+        }
         // Windowing commutes with the convolution.
         let a = sh.windowed(ShWindow::Auto).irradiance();
         let b = sh.irradiance().windowed(ShWindow::Sinc4 { cutoff });
