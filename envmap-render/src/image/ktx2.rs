@@ -187,17 +187,50 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
             )));
         }
     }
-    let (raw, clamped) = tex.pack(format);
-    let raw_lens: Vec<u64> = raw.iter().map(|l| l.len() as u64).collect();
-    let stored: Vec<Vec<u8>> = match opts.zstd {
-        None => raw,
-        Some(level) => raw
-            .par_iter()
-            .map(|l| zstd::bulk::compress(l, level))
-            .collect::<std::io::Result<_>>()
-            .map_err(|e| Error::Input(format!("zstd compression failed: {e}")))?,
+    let n = tex.level_count();
+    let raw_lens: Vec<usize> = (0..n).map(|p| tex.level_len(p, format)).collect();
+    // Under zstd each level is packed, then compressed as one frame (by
+    // several workers for the large levels); without, the levels are
+    // packed straight into their place in the file.
+    let mut clamped = Clamped::default();
+    let compressed: Option<Vec<Vec<u8>>> = match opts.zstd {
+        None => None,
+        Some(level) => {
+            // Each level packed and compressed as one frame; level 0 (three
+            // quarters of the bytes) by zstd's own workers, the others on
+            // the pool meanwhile.
+            let one = |p: usize| {
+                let mut raw = vec![0u8; raw_lens[p]];
+                let c = tex.pack_level_into(p, format, &mut raw);
+                compress(&raw, level).map(|z| (z, c))
+            };
+            let (first, rest) = rayon::join(
+                || one(0),
+                || {
+                    (1..n)
+                        .into_par_iter()
+                        .map(one)
+                        .collect::<std::io::Result<Vec<_>>>()
+                },
+            );
+            let all = std::iter::once(first)
+                .chain(rest.map_or_else(|e| vec![Err(e)], |v| v.into_iter().map(Ok).collect()))
+                .collect::<std::io::Result<Vec<_>>>()
+                .map_err(|e| Error::Input(format!("zstd compression failed: {e}")))?;
+            Some(
+                all.into_iter()
+                    .map(|(z, c)| {
+                        clamped.add(c);
+                        z
+                    })
+                    .collect(),
+            )
+        }
     };
-    let n = stored.len();
+    let stored_lens: Vec<usize> = match &compressed {
+        Some(c) => c.iter().map(Vec::len).collect(),
+        None => raw_lens.clone(),
+    };
     let (w, h) = tex.size();
     let faces = tex.kind().faces() as u32;
     let dfd = dfd(format);
@@ -216,10 +249,12 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
     for p in (0..n).rev() {
         at = at.next_multiple_of(align);
         offsets[p] = at;
-        at += stored[p].len();
+        at += stored_lens[p];
     }
-    let mut out = Vec::with_capacity(at);
-    out.extend_from_slice(&IDENTIFIER);
+    // Zeroed: the padding between sections must be zeros.
+    let mut out = vec![0u8; at];
+    let mut head = Vec::with_capacity(dfd_offset);
+    head.extend_from_slice(&IDENTIFIER);
     let scheme = u32::from(opts.zstd.is_some()) * 2;
     for v in [
         format.vk_format(),
@@ -232,25 +267,42 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
         n as u32,
         scheme,
     ] {
-        out.extend_from_slice(&v.to_le_bytes());
+        head.extend_from_slice(&v.to_le_bytes());
     }
     for v in [dfd_offset, dfd.len(), kvd_offset, kvd.len()] {
-        out.extend_from_slice(&(v as u32).to_le_bytes());
+        head.extend_from_slice(&(v as u32).to_le_bytes());
     }
-    out.extend_from_slice(&[0; 16]); // sgdByteOffset, sgdByteLength
+    head.extend_from_slice(&[0; 16]); // sgdByteOffset, sgdByteLength
     for p in 0..n {
-        for v in [offsets[p] as u64, stored[p].len() as u64, raw_lens[p]] {
-            out.extend_from_slice(&v.to_le_bytes());
+        for v in [offsets[p], stored_lens[p], raw_lens[p]] {
+            head.extend_from_slice(&(v as u64).to_le_bytes());
         }
     }
-    out.resize(dfd_offset, 0);
-    out.extend_from_slice(&dfd);
-    out.extend_from_slice(&kvd);
-    for p in (0..n).rev() {
-        out.resize(offsets[p], 0);
-        out.extend_from_slice(&stored[p]);
+    out[..head.len()].copy_from_slice(&head);
+    out[dfd_offset..kvd_offset].copy_from_slice(&dfd);
+    out[kvd_offset..kvd_offset + kvd.len()].copy_from_slice(&kvd);
+    for p in 0..n {
+        let dst = &mut out[offsets[p]..offsets[p] + stored_lens[p]];
+        match &compressed {
+            Some(c) => dst.copy_from_slice(&c[p]),
+            None => clamped.add(tex.pack_level_into(p, format, dst)),
+        }
     }
     Ok((out, clamped))
+}
+
+/// One level as one zstd frame at `level`; levels above 1 MiB are split
+/// among the worker threads (zstd's own multithreading: still one frame,
+/// jobs of at least 1 MiB).
+fn compress(raw: &[u8], level: i32) -> std::io::Result<Vec<u8>> {
+    use zstd::zstd_safe::CParameter;
+    let workers = rayon::current_num_threads().min(raw.len() >> 20) as u32;
+    let mut c = zstd::bulk::Compressor::new(level)?;
+    if workers > 1 {
+        c.set_parameter(CParameter::NbWorkers(workers))?;
+        c.set_parameter(CParameter::JobSize(1 << 20))?;
+    }
+    c.compress(raw)
 }
 
 fn u32_at(b: &[u8], at: usize) -> u32 {

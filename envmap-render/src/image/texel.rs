@@ -17,6 +17,7 @@
 //! (written as 0). RGBA32F stores every f32 as is.
 
 use half::f16;
+use half::slice::HalfFloatSliceExt;
 
 /// A texel format a GPU samples directly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -290,38 +291,81 @@ impl TexelFormat {
     /// Never for the writable formats; the read-only ones pack as their
     /// RGBA counterparts' RGB would (used in tests only).
     pub fn pack(self, texels: &[[f32; 3]], out: &mut Vec<u8>) -> Clamped {
+        let at = out.len();
+        out.resize(at + texels.len() * self.bytes(), 0);
+        self.pack_into(texels, &mut out[at..])
+    }
+
+    /// Packs `texels` into `out`, which holds exactly `texels.len() ×`
+    /// [`TexelFormat::bytes`] bytes, in parallel over blocks of texels;
+    /// returns what was clamped.
+    ///
+    /// # Panics
+    ///
+    /// If `out` has another length.
+    pub fn pack_into(self, texels: &[[f32; 3]], out: &mut [u8]) -> Clamped {
+        use rayon::prelude::*;
+        const BLOCK: usize = 16 * 1024;
+        assert_eq!(out.len(), texels.len() * self.bytes(), "packed length");
+        if texels.len() <= BLOCK {
+            return self.pack_block(texels, out);
+        }
+        texels
+            .par_chunks(BLOCK)
+            .zip(out.par_chunks_mut(BLOCK * self.bytes()))
+            .map(|(t, o)| self.pack_block(t, o))
+            .reduce(Clamped::default, |mut a, b| {
+                a.add(b);
+                a
+            })
+    }
+
+    /// [`TexelFormat::pack_into`] on one thread.
+    fn pack_block(self, texels: &[[f32; 3]], out: &mut [u8]) -> Clamped {
         let mut c = Clamped::default();
-        out.reserve(texels.len() * self.bytes());
+        let n = self.bytes();
         match self {
             TexelFormat::Rgba16f | TexelFormat::Rgb16f => {
-                let one = f16::ONE.to_bits().to_le_bytes();
-                for t in texels {
-                    for &v in t {
-                        out.extend_from_slice(&pack_f16(v, &mut c).to_le_bytes());
+                // Clamp a run of components, then convert the run at once
+                // (`half`'s slice conversion uses the CPU's F16C where it has it).
+                const RUN: usize = 256;
+                let ch = n / 2;
+                let mut f = [0f32; 4 * RUN];
+                let mut h = [f16::ZERO; 4 * RUN];
+                for (t, o) in texels.chunks(RUN).zip(out.chunks_mut(RUN * n)) {
+                    let k = t.len() * ch;
+                    for (i, px) in t.iter().enumerate() {
+                        for (j, &v) in px.iter().enumerate() {
+                            f[i * ch + j] = clamp_counted(v, -F16_MAX, F16_MAX, &mut c);
+                        }
+                        if ch == 4 {
+                            f[i * 4 + 3] = 1.0;
+                        }
                     }
-                    if self == TexelFormat::Rgba16f {
-                        out.extend_from_slice(&one);
+                    h[..k].convert_from_f32_slice(&f[..k]);
+                    for (b, v) in o.chunks_exact_mut(2).zip(&h[..k]) {
+                        b.copy_from_slice(&v.to_bits().to_le_bytes());
                     }
                 }
             }
             TexelFormat::Rgba32f | TexelFormat::Rgb32f => {
-                for t in texels {
-                    for &v in t {
-                        out.extend_from_slice(&v.to_le_bytes());
+                for (t, o) in texels.iter().zip(out.chunks_exact_mut(n)) {
+                    for (j, &v) in t.iter().enumerate() {
+                        o[4 * j..4 * j + 4].copy_from_slice(&v.to_le_bytes());
                     }
-                    if self == TexelFormat::Rgba32f {
-                        out.extend_from_slice(&1f32.to_le_bytes());
+                    if n == 16 {
+                        o[12..16].copy_from_slice(&1f32.to_le_bytes());
                     }
                 }
             }
             TexelFormat::B10g11r11 => {
-                for t in texels {
-                    out.extend_from_slice(&pack_b10g11r11(*t, &mut c).to_le_bytes());
+                for (t, o) in texels.iter().zip(out.chunks_exact_mut(4)) {
+                    o.copy_from_slice(&pack_b10g11r11(*t, &mut c).to_le_bytes());
                 }
             }
             TexelFormat::E5b9g9r9 => {
-                for t in texels {
-                    out.extend_from_slice(&pack_rgb9e5(*t, &mut c).to_le_bytes());
+                for (t, o) in texels.iter().zip(out.chunks_exact_mut(4)) {
+                    o.copy_from_slice(&pack_rgb9e5(*t, &mut c).to_le_bytes());
                 }
             }
         }
@@ -332,22 +376,57 @@ impl TexelFormat {
     /// alpha.
     #[must_use]
     pub fn unpack(self, bytes: &[u8]) -> Vec<[f32; 3]> {
+        use rayon::prelude::*;
+        const BLOCK: usize = 16 * 1024;
+        let n = self.bytes();
+        let mut out = vec![[0f32; 3]; bytes.len() / n];
+        if out.len() <= BLOCK {
+            self.unpack_block(bytes, &mut out);
+        } else {
+            out.par_chunks_mut(BLOCK)
+                .zip(bytes.par_chunks(BLOCK * n))
+                .for_each(|(o, b)| self.unpack_block(b, o));
+        }
+        out
+    }
+
+    /// [`TexelFormat::unpack`] of one block, on one thread.
+    fn unpack_block(self, bytes: &[u8], out: &mut [[f32; 3]]) {
         let n = self.bytes();
         let word = |b: &[u8], i: usize| u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
-        let half =
-            |b: &[u8], i: usize| f16::from_bits(u16::from_le_bytes([b[i], b[i + 1]])).to_f32();
-        let float = |b: &[u8], i: usize| f32::from_bits(word(b, i));
-        bytes
-            .chunks_exact(n)
-            .map(|b| match self {
-                TexelFormat::Rgba16f | TexelFormat::Rgb16f => [half(b, 0), half(b, 2), half(b, 4)],
-                TexelFormat::Rgba32f | TexelFormat::Rgb32f => {
-                    [float(b, 0), float(b, 4), float(b, 8)]
+        match self {
+            TexelFormat::Rgba16f | TexelFormat::Rgb16f => {
+                const RUN: usize = 256;
+                let ch = n / 2;
+                let mut h = [f16::ZERO; 4 * RUN];
+                let mut f = [0f32; 4 * RUN];
+                for (b, o) in bytes.chunks(RUN * n).zip(out.chunks_mut(RUN)) {
+                    let k = o.len() * ch;
+                    for (v, c) in h[..k].iter_mut().zip(b.chunks_exact(2)) {
+                        *v = f16::from_bits(u16::from_le_bytes([c[0], c[1]]));
+                    }
+                    h[..k].convert_to_f32_slice(&mut f[..k]);
+                    for (i, px) in o.iter_mut().enumerate() {
+                        *px = [f[i * ch], f[i * ch + 1], f[i * ch + 2]];
+                    }
                 }
-                TexelFormat::B10g11r11 => unpack_b10g11r11(word(b, 0)),
-                TexelFormat::E5b9g9r9 => unpack_rgb9e5(word(b, 0)),
-            })
-            .collect()
+            }
+            TexelFormat::Rgba32f | TexelFormat::Rgb32f => {
+                for (b, o) in bytes.chunks_exact(n).zip(out) {
+                    *o = [0, 4, 8].map(|i| f32::from_bits(word(b, i)));
+                }
+            }
+            TexelFormat::B10g11r11 => {
+                for (b, o) in bytes.chunks_exact(4).zip(out) {
+                    *o = unpack_b10g11r11(word(b, 0));
+                }
+            }
+            TexelFormat::E5b9g9r9 => {
+                for (b, o) in bytes.chunks_exact(4).zip(out) {
+                    *o = unpack_rgb9e5(word(b, 0));
+                }
+            }
+        }
     }
 }
 
@@ -401,7 +480,8 @@ pub fn pack_rgb9e5(rgb: [f32; 3], c: &mut Clamped) -> u32 {
     } else {
         0
     };
-    let scale = |e: i32| 2f64.powi(24 - e);
+    // 2^(24 − e) exactly, from its bits (e in 0..=32).
+    let scale = |e: i32| f64::from_bits(((1023 + 24 - e) as u64) << 52);
     if (f64::from(max) * scale(e) + 0.5).floor() >= 512.0 {
         e += 1;
     }
@@ -413,7 +493,8 @@ pub fn pack_rgb9e5(rgb: [f32; 3], c: &mut Clamped) -> u32 {
 /// One `E5B9G9R9_UFLOAT_PACK32` texel: each mantissa · 2^(e − 24).
 #[must_use]
 pub fn unpack_rgb9e5(w: u32) -> [f32; 3] {
-    let scale = 2f32.powi((w >> 27) as i32 - 24);
+    // 2^(e − 24) exactly, from its bits (a normal f32 for every e in 0..=31).
+    let scale = f32::from_bits(((127 + (w >> 27) as i32 - 24) as u32) << 23);
     [w & 0x1ff, (w >> 9) & 0x1ff, (w >> 18) & 0x1ff].map(|m| m as f32 * scale)
 }
 
@@ -694,6 +775,40 @@ mod tests {
                 let w = if e == 0 && m == 0 { 0 } else { w };
                 let v = unpack_rgb9e5(w);
                 assert_eq!(pack_rgb9e5(v, &mut Clamped::default()), w, "{e} {m}");
+            }
+        }
+    }
+
+    /// The parallel block paths give the bytes and counts of packing texel
+    /// by texel, and unpack back to the texel-by-texel values.
+    #[test]
+    fn blocks_in_parallel_equal_texel_by_texel() {
+        let v: Vec<f32> = values(3 * 40_001).collect();
+        let mut texels: Vec<[f32; 3]> = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        texels[7] = [-1.0, f32::NAN, 1e9];
+        for f in TexelFormat::WRITABLE {
+            let mut whole = Vec::new();
+            let c = f.pack(&texels, &mut whole);
+            let mut one = Vec::new();
+            let mut c1 = Clamped::default();
+            for t in &texels {
+                c1.add(f.pack(std::slice::from_ref(t), &mut one));
+            }
+            assert_eq!(whole, one, "{f:?}");
+            assert_eq!(c, c1, "{f:?}");
+            // RGBA32F stores every f32 as is; the others clamp 3 components.
+            assert_eq!(c.total() >= 2, f != TexelFormat::Rgba32f, "{f:?} {c:?}");
+            let back = f.unpack(&whole);
+            let back1: Vec<[f32; 3]> = one
+                .chunks_exact(f.bytes())
+                .flat_map(|b| f.unpack(b))
+                .collect();
+            assert_eq!(back.len(), texels.len());
+            for (a, b) in back.iter().zip(&back1) {
+                assert!(
+                    a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()),
+                    "{f:?}"
+                );
             }
         }
     }

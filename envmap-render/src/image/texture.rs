@@ -273,28 +273,41 @@ impl Texture {
     /// Returns the packed levels and what was clamped.
     #[must_use]
     pub fn pack(&self, format: TexelFormat) -> (Vec<Vec<u8>>, Clamped) {
-        use rayon::prelude::*;
-        let packed: Vec<(Vec<u8>, Clamped)> = self
-            .levels
-            .par_iter()
-            .map(|level| {
-                let mut out = Vec::new();
-                let mut c = Clamped::default();
-                for img in level {
-                    c.add(format.pack(&img.pixels, &mut out));
-                }
-                (out, c)
-            })
-            .collect();
         let mut clamped = Clamped::default();
-        let levels = packed
-            .into_iter()
-            .map(|(b, c)| {
-                clamped.add(c);
-                b
+        let levels = (0..self.levels.len())
+            .map(|p| {
+                let mut out = vec![0u8; self.level_len(p, format)];
+                clamped.add(self.pack_level_into(p, format, &mut out));
+                out
             })
             .collect();
         (levels, clamped)
+    }
+
+    /// The bytes of level `p` in `format` (all its faces).
+    #[must_use]
+    pub fn level_len(&self, p: usize, format: TexelFormat) -> usize {
+        self.levels.get(p).map_or(0, |l| {
+            l.iter().map(|i| i.pixels.len()).sum::<usize>() * format.bytes()
+        })
+    }
+
+    /// Packs level `p` (its faces one after the other) into `out`, which
+    /// holds exactly [`Texture::level_len`] bytes; returns what was clamped.
+    ///
+    /// # Panics
+    ///
+    /// If `out` has another length.
+    pub fn pack_level_into(&self, p: usize, format: TexelFormat, out: &mut [u8]) -> Clamped {
+        assert_eq!(out.len(), self.level_len(p, format), "level length");
+        let mut clamped = Clamped::default();
+        let mut at = 0;
+        for img in &self.levels[p] {
+            let n = img.pixels.len() * format.bytes();
+            clamped.add(format.pack_into(&img.pixels, &mut out[at..at + n]));
+            at += n;
+        }
+        clamped
     }
 }
 

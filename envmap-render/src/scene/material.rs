@@ -1,0 +1,101 @@
+//! Materials: the glTF 2.0 metallic-roughness model (glTF 2.0 spec,
+//! Appendix B "BRDF Implementation"), and the named presets of the command
+//! line.
+//!
+//! A material is a base colour (linear RGB), a metallic factor and a
+//! perceptual roughness r (GGX α = r²). Its reflectance at normal incidence
+//! is F0 = mix(0.04, base colour, metallic) (the dielectric F0 of 0.04
+//! unless given), its diffuse colour base · (1 − metallic).
+
+use crate::error::{Error, Result};
+
+/// A glTF metallic-roughness material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Base colour, linear RGB in [0, 1].
+    pub base_color: [f32; 3],
+    /// Metallic factor in [0, 1]: 0 dielectric, 1 metal.
+    pub metallic: f32,
+    /// Perceptual roughness in [0, 1] (GGX α = roughness²).
+    pub roughness: f32,
+    /// The reflectance at normal incidence of the dielectric part (0.04,
+    /// glTF's value for IOR 1.5).
+    pub dielectric_f0: f32,
+}
+
+impl Default for Material {
+    /// Glossy white plastic: base 0.8, dielectric, roughness 0.5.
+    fn default() -> Self {
+        Self {
+            base_color: [0.8; 3],
+            metallic: 0.0,
+            roughness: 0.5,
+            dielectric_f0: 0.04,
+        }
+    }
+}
+
+impl Material {
+    /// The preset names [`Material::preset`] accepts.
+    pub const PRESETS: &'static str = "mirror, chrome, gold, plastic, rubber, diffuse";
+
+    /// A named preset: `mirror` (metal, white, roughness 0), `chrome`
+    /// (metal, 0.55 grey, roughness 0.1), `gold` (metal, (1.0, 0.766,
+    /// 0.336) — the physically based value of gold's F0 in linear sRGB —
+    /// roughness 0.25), `plastic` (dielectric red 0.8/0.05/0.05, roughness
+    /// 0.4), `rubber` (dielectric 0.1 grey, roughness 0.9), `diffuse`
+    /// (dielectric white 0.8, roughness 1).
+    ///
+    /// # Errors
+    ///
+    /// An unknown name, listing the presets.
+    pub fn preset(name: &str) -> Result<Self> {
+        let m = |base_color: [f32; 3], metallic: f32, roughness: f32| Material {
+            base_color,
+            metallic,
+            roughness,
+            dielectric_f0: 0.04,
+        };
+        Ok(match name.to_ascii_lowercase().as_str() {
+            "mirror" => m([1.0; 3], 1.0, 0.0),
+            "chrome" => m([0.55; 3], 1.0, 0.1),
+            "gold" => m([1.0, 0.766, 0.336], 1.0, 0.25),
+            "plastic" => m([0.8, 0.05, 0.05], 0.0, 0.4),
+            "rubber" => m([0.1; 3], 0.0, 0.9),
+            "diffuse" => m([0.8; 3], 0.0, 1.0),
+            _ => {
+                return Err(Error::UnknownName {
+                    what: "material",
+                    name: name.to_owned(),
+                    expected: Self::PRESETS.to_owned(),
+                })
+            }
+        })
+    }
+
+    /// The reflectance at normal incidence: mix(dielectric F0, base colour,
+    /// metallic).
+    #[must_use]
+    pub fn f0(&self) -> [f32; 3] {
+        let m = self.metallic.clamp(0.0, 1.0);
+        self.base_color
+            .map(|b| self.dielectric_f0 * (1.0 - m) + b.clamp(0.0, 1.0) * m)
+    }
+
+    /// The Lambertian albedo: base colour · (1 − metallic).
+    #[must_use]
+    pub fn diffuse_color(&self) -> [f32; 3] {
+        let m = self.metallic.clamp(0.0, 1.0);
+        self.base_color.map(|b| b.clamp(0.0, 1.0) * (1.0 - m))
+    }
+
+    /// The roughness clamped to [0, 1] (NaN to 0).
+    #[must_use]
+    pub fn clamped_roughness(&self) -> f32 {
+        if self.roughness.is_nan() {
+            0.0
+        } else {
+            self.roughness.clamp(0.0, 1.0)
+        }
+    }
+}
