@@ -99,3 +99,34 @@ impl Material {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn f0_and_diffuse_follow_the_metallic_mix() {
+        let plastic = Material::preset("plastic").unwrap();
+        assert_eq!(plastic.f0(), [0.04; 3]);
+        assert_eq!(plastic.diffuse_color(), plastic.base_color);
+        let gold = Material::preset("Gold").unwrap();
+        assert_eq!(gold.f0(), gold.base_color);
+        assert_eq!(gold.diffuse_color(), [0.0; 3]);
+        let half = Material {
+            metallic: 0.5,
+            base_color: [1.0, 0.0, 0.5],
+            ..Material::default()
+        };
+        assert_eq!(half.f0(), [0.52, 0.02, 0.27]);
+        assert_eq!(half.diffuse_color(), [0.5, 0.0, 0.25]);
+        let e = Material::preset("velvet").unwrap_err().to_string();
+        assert!(
+            e.contains("mirror, chrome, gold, plastic, rubber, diffuse"),
+            "{e}"
+        );
+        for name in Material::PRESETS.split(", ") {
+            let m = Material::preset(name).unwrap();
+            assert!((0.0..=1.0).contains(&m.roughness) && (0.0..=1.0).contains(&m.metallic));
+        }
+    }
+}

@@ -4,6 +4,7 @@
 //! * [`procedural`]: environments given as a function of direction, filled
 //!   into any representation; the smooth test environment; PSNR.
 //! * [`mesh`]: the sphere, torus and Utah teapot meshes.
+//! * [`material`]: the glTF metallic-roughness model and its presets.
 //! * [`render`]: the rasterizer, per pixel (seed `000`) and per vertex
 //!   (seed `002`).
 //! * [`demo`]: `envmap demo`, every representation side by side.
@@ -13,6 +14,7 @@
 
 pub mod demo;
 pub mod environments;
+pub mod material;
 pub mod mesh;
 pub mod procedural;
 pub mod render;
