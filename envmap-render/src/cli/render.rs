@@ -17,8 +17,10 @@ use crate::image::convention::{Convention, FileAxes, World};
 use crate::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
 use crate::image::Representation;
 use crate::scene::environments::Builtin;
+use crate::scene::lit::LitEnvironment;
+use crate::scene::material::Material;
 use crate::scene::mesh::Mesh;
-use crate::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
+use crate::scene::render::{render, Camera, EnvSource, Mode, RenderOptions, Shading};
 
 #[derive(Args)]
 pub(crate) struct RenderArgs {
@@ -75,6 +77,33 @@ pub(crate) struct RenderArgs {
     /// Schlick Fresnel reflectance at normal incidence (e.g. 0.04 glass, 0.9 metal); default: perfect mirror.
     #[arg(long)]
     pub(crate) fresnel: Option<f32>,
+    /// The material: mirror (the default: today's reflection, with --fresnel), chrome, gold, plastic, rubber, diffuse (glTF metallic-roughness presets); shaded by the split sum from maps baked on the fly.
+    #[arg(long)]
+    pub(crate) material: Option<String>,
+    /// Base colour r,g,b (linear), over the material's.
+    #[arg(long, value_parser = parse_vec3)]
+    pub(crate) base_color: Option<Vec3>,
+    /// Perceptual roughness 0..1 (GGX alpha = roughness²), over the material's.
+    #[arg(long)]
+    pub(crate) roughness: Option<f32>,
+    /// Metallic 0..1, over the material's.
+    #[arg(long)]
+    pub(crate) metallic: Option<f32>,
+    /// Filament's multiscatter energy compensation on the split sum.
+    #[arg(long)]
+    pub(crate) multiscatter: bool,
+    /// Read the specular chain along R itself, not along the lobe's dominant direction mix(R, N, roughness²) (Filament's and Frostbite's default, which is closer to the reference for rough metals).
+    #[arg(long)]
+    pub(crate) no_dominant_direction: bool,
+    /// Render the ground truth instead: the rendering integral of the full GGX + Lambert BRDF by Monte Carlo per pixel (--reference-samples per lobe), the environment looked up exactly (--analytic built-ins) or in the full-resolution map.
+    #[arg(long)]
+    pub(crate) reference: bool,
+    /// Samples per pixel and per lobe of --reference.
+    #[arg(long, default_value_t = 256)]
+    pub(crate) reference_samples: u32,
+    /// Face size of the specular chain baked for a material (the irradiance map is 32², the DFG table 64²).
+    #[arg(long, default_value_t = 256)]
+    pub(crate) bake_size: u32,
     /// Exposure in stops for PNG output.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub(crate) exposure: f32,
@@ -167,6 +196,45 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     if (cam.eye - cam.target).length() < 1e-6 {
         return Err("--eye and --target must differ".into());
     }
+    let material = material(a)?;
+    // A material other than the mirror: its maps, baked from the
+    // environment (the analytic built-ins through a cube of --env-size).
+    let lit = match (&material, a.reference) {
+        (Some(_), false) => {
+            let src = match &env {
+                Some(e) => e.clone(),
+                None => {
+                    let b = builtin.ok_or("no environment")?;
+                    let repr = Representation::for_file(AnyMapping::Cube, axes);
+                    let (w, h) = output_size(&repr, a.env_size)?;
+                    b.image(repr, w, h).map_err(|e| e.to_string())?
+                }
+            };
+            let t = Instant::now();
+            let lit = bake_lit(&src, a.bake_size, stop)?;
+            eprintln!(
+                "baked {} levels ({}² … ) and a 32² irradiance map in {:.0} ms",
+                lit.levels().len(),
+                a.bake_size,
+                t.elapsed().as_secs_f64() * 1e3
+            );
+            Some(lit)
+        }
+        _ => None,
+    };
+    let shading = match (material, &lit) {
+        (Some(m), _) if a.reference => Shading::Reference {
+            material: m,
+            samples: a.reference_samples.max(1),
+        },
+        (Some(m), Some(env)) => Shading::SplitSum {
+            env,
+            material: m,
+            multiscatter: a.multiscatter,
+            dominant: !a.no_dominant_direction,
+        },
+        _ => Shading::Mirror,
+    };
     let opts = RenderOptions {
         width: a.width,
         height: a.height,
@@ -176,6 +244,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         fresnel_f0: a.fresnel,
         tint: [1.0; 3],
         background: true,
+        shading,
         cancel: Some(stop),
     };
     let t = Instant::now();
@@ -207,4 +276,69 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         elapsed.as_secs_f64() * 1e3
     );
     Ok(())
+}
+
+/// The material the flags ask for; `None` for today's mirror.
+fn material(a: &RenderArgs) -> Result<Option<Material>, String> {
+    let named = a.material.as_deref().unwrap_or("mirror");
+    let mirror = named.eq_ignore_ascii_case("mirror")
+        && a.base_color.is_none()
+        && a.roughness.is_none()
+        && a.metallic.is_none();
+    if mirror && !a.reference {
+        if a.multiscatter {
+            return Err("--multiscatter is for a --material other than mirror".into());
+        }
+        return Ok(None);
+    }
+    let mut m = Material::preset(named).map_err(|e| e.to_string())?;
+    if let Some(c) = a.base_color {
+        m.base_color = c.to_array();
+    }
+    if let Some(r) = a.roughness {
+        m.roughness = r;
+    }
+    if let Some(x) = a.metallic {
+        m.metallic = x;
+    }
+    let unit = |v: f32| (0.0..=1.0).contains(&v);
+    if !unit(m.roughness) || !unit(m.metallic) || !m.base_color.iter().all(|&c| unit(c)) {
+        return Err("--roughness, --metallic and --base-color take values between 0 and 1".into());
+    }
+    Ok(Some(m))
+}
+
+/// The maps a split-sum render reads, baked from `src` in its own axes.
+fn bake_lit(
+    src: &crate::image::EnvImage,
+    size: u32,
+    stop: &AtomicBool,
+) -> Result<LitEnvironment, String> {
+    use crate::filter::bake::{bake, BakeOptions};
+    use crate::filter::sh::IrradianceScale;
+    if !(2..=2048).contains(&size) {
+        return Err("--bake-size: between 2 and 2048".into());
+    }
+    let opts = BakeOptions {
+        size,
+        axes: FileAxes::Frame(src.representation().frame),
+        irradiance_size: 32,
+        irradiance_scale: IrradianceScale::EOverPi,
+        dfg_size: 64,
+        cancel: Some(stop),
+        ..BakeOptions::default()
+    };
+    let b = bake(src, &opts, &|_, _| {}).map_err(|e| e.to_string())?;
+    let (Some(chain), Some(irr), Some(dfg)) = (b.chain, b.irradiance, b.dfg) else {
+        return Err("the bake made no chain, irradiance map or DFG table".into());
+    };
+    let roughness = chain.reports.iter().map(|r| r.roughness).collect();
+    LitEnvironment::new(
+        chain.levels,
+        roughness,
+        irr.image,
+        IrradianceScale::EOverPi,
+        dfg,
+    )
+    .map_err(|e| e.to_string())
 }

@@ -5,6 +5,8 @@
 //!   into any representation; the smooth test environment; PSNR.
 //! * [`mesh`]: the sphere, torus and Utah teapot meshes.
 //! * [`material`]: the glTF metallic-roughness model and its presets.
+//! * [`lit`]: shading with baked maps (the split sum) and the Monte Carlo
+//!   reference it approximates.
 //! * [`render`]: the rasterizer, per pixel (seed `000`) and per vertex
 //!   (seed `002`).
 //! * [`demo`]: `envmap demo`, every representation side by side.
@@ -14,6 +16,7 @@
 
 pub mod demo;
 pub mod environments;
+pub mod lit;
 pub mod material;
 pub mod mesh;
 pub mod procedural;

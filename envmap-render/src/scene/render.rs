@@ -30,6 +30,8 @@ use crate::error::Error;
 use crate::error::Result;
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::image::{EnvImage, RgbImage};
+use crate::scene::lit::{reference, LitEnvironment, Pcg32};
+use crate::scene::material::Material;
 use crate::scene::mesh::Mesh;
 
 /// A pinhole camera.
@@ -88,6 +90,10 @@ pub struct RenderOptions<'a> {
     pub tint: [f32; 3],
     /// Show the environment behind the object (otherwise black).
     pub background: bool,
+    /// How the object's surface is shaded: a mirror (the default; with
+    /// [`RenderOptions::fresnel_f0`] and [`RenderOptions::tint`]), a
+    /// material by the split sum, or its Monte Carlo reference.
+    pub shading: Shading<'a>,
     /// Stops the render once set, at the next band of rows, with
     /// [`Error::Cancelled`]; see [`crate::cancel`].
     pub cancel: Option<&'a AtomicBool>,
@@ -104,9 +110,41 @@ impl Default for RenderOptions<'_> {
             fresnel_f0: None,
             tint: [1.0; 3],
             background: true,
+            shading: Shading::Mirror,
             cancel: None,
         }
     }
+}
+
+/// How the object is shaded; see [`crate::scene::lit`].
+#[derive(Clone, Copy, Debug, Default)]
+pub enum Shading<'a> {
+    /// A mirror: the environment looked up along R (seed `000`).
+    #[default]
+    Mirror,
+    /// A material by the split sum from baked maps, per pixel (per-vertex
+    /// mode shades per pixel too).
+    SplitSum {
+        /// The baked maps.
+        env: &'a LitEnvironment,
+        /// The material.
+        material: Material,
+        /// Filament's multiscatter energy compensation.
+        multiscatter: bool,
+        /// Read the chain along the lobe's dominant direction, mix(R, N,
+        /// α), as Filament and Frostbite do, instead of R.
+        dominant: bool,
+    },
+    /// The rendering integral of the environment given to [`render`]
+    /// against the material's full BRDF, by Monte Carlo per pixel (looked
+    /// up exactly for an analytic environment, bilinear in the map
+    /// otherwise); deterministic, seeded by the pixel.
+    Reference {
+        /// The material.
+        material: Material,
+        /// Samples per pixel and per lobe (cosine and GGX).
+        samples: u32,
+    },
 }
 
 /// The camera's orthonormal basis and projection scale.
@@ -287,6 +325,54 @@ fn render_map(
                 let v = tri.map(|i| projected[i as usize]);
                 raster(&v, t, y0, rows, w, &mut hits);
             }
+            // Lit materials: shaded here, per pixel; the lookups below then
+            // fill only the background.
+            let lit_sampler = match opts.shading {
+                Shading::SplitSum { env, .. } => Some(env.sampler()),
+                _ => None,
+            };
+            let mut lit: Vec<Option<[f32; 3]>> = vec![None; px.len()];
+            if !matches!(opts.shading, Shading::Mirror) {
+                for (k, hit) in hits.iter().enumerate() {
+                    let Some(hit) = hit else { continue };
+                    let [a, b, c] = mesh.triangles[hit.tri as usize].map(|i| i as usize);
+                    let n = (mesh.normals[a] * hit.w[0]
+                        + mesh.normals[b] * hit.w[1]
+                        + mesh.normals[c] * hit.w[2])
+                        .normalize_or(Vec3::Z);
+                    let p = mesh.positions[a] * hit.w[0]
+                        + mesh.positions[b] * hit.w[1]
+                        + mesh.positions[c] * hit.w[2];
+                    let v = (view.eye - p).normalize_or(-view.forward);
+                    lit[k] = Some(match (&lit_sampler, opts.shading) {
+                        (
+                            Some(ls),
+                            Shading::SplitSum {
+                                material,
+                                multiscatter,
+                                dominant,
+                                ..
+                            },
+                        ) => ls.shade(&material, n, v, multiscatter, dominant),
+                        (_, Shading::Reference { material, samples }) => {
+                            let pixel = u64::from(y0 + k as u32 / w) * u64::from(w)
+                                + u64::from(k as u32 % w);
+                            let mut rng = Pcg32::new(pixel);
+                            let look = |d: Vec3| -> [f32; 3] {
+                                match (analytic, sampler.as_ref()) {
+                                    (Some(f), _) => f(d),
+                                    (None, Some(s)) => mapping
+                                        .forward(to_map * d)
+                                        .map_or([0.0; 3], |c| s.sample(c, opts.filter)),
+                                    (None, None) => [0.0; 3],
+                                }
+                            };
+                            reference(&look, &material, n, v, samples, &mut rng)
+                        }
+                        _ => [0.0; 3],
+                    });
+                }
+            }
             // Directions to look up: the reflection (per pixel), or the view
             // ray for the background.
             let mut dirs = Vec::with_capacity(px.len());
@@ -323,7 +409,7 @@ fn render_map(
                     *out = match hits[k] {
                         None if !opts.background => [0.0; 3],
                         None => f(dirs[k]),
-                        Some(_) => {
+                        Some(_) => lit[k].unwrap_or_else(|| {
                             let rgb = f(dirs[k]);
                             let fr = fres[k];
                             [
@@ -331,7 +417,7 @@ fn render_map(
                                 rgb[1] * fr * opts.tint[1],
                                 rgb[2] * fr * opts.tint[2],
                             ]
-                        }
+                        }),
                     };
                 }
                 return;
@@ -371,11 +457,12 @@ fn render_map(
                 ahead.push(sampler, &q, opts.filter, at.start, at.len(), px);
             }
             ahead.drain(sampler, px);
-            for ((out, hit), f) in px.iter_mut().zip(&hits).zip(&fres) {
-                match hit {
-                    None if !opts.background => *out = [0.0; 3],
-                    None => {}
-                    Some(_) => {
+            for (((out, hit), f), l) in px.iter_mut().zip(&hits).zip(&fres).zip(&lit) {
+                match (hit, l) {
+                    (None, _) if !opts.background => *out = [0.0; 3],
+                    (None, _) => {}
+                    (Some(_), Some(l)) => *out = *l,
+                    (Some(_), None) => {
                         for (c, t) in out.iter_mut().zip(opts.tint) {
                             *c = *c * f * t;
                         }

@@ -1,0 +1,339 @@
+//! Lit renders: the split sum from baked maps against closed forms, against
+//! the mirror it must reduce to, and against the Monte Carlo reference;
+//! `envmap render --material` and `--reference`.
+
+mod common;
+
+use envmap_core::glam::Vec3;
+use envmap_core::AnyMapping;
+use envmap_render::filter::bake::{bake, BakeOptions};
+use envmap_render::filter::sh::IrradianceScale;
+use envmap_render::image::FileAxes;
+use envmap_render::procedural::{fill, psnr, smooth};
+use envmap_render::scene::lit::LitEnvironment;
+use envmap_render::scene::material::Material;
+use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions, Shading};
+use envmap_render::{EnvImage, Representation, RgbImage};
+
+/// `f` in a cube of `face`² texels (GL axes) and its bake at `size`.
+fn baked(f: impl Fn(Vec3) -> [f32; 3] + Sync, face: u32, size: u32) -> (EnvImage, LitEnvironment) {
+    baked_to(f, face, size, None)
+}
+
+/// As [`baked`], the chain stopping at `min_size`.
+fn baked_to(
+    f: impl Fn(Vec3) -> [f32; 3] + Sync,
+    face: u32,
+    size: u32,
+    min_size: Option<u32>,
+) -> (EnvImage, LitEnvironment) {
+    let repr = Representation::default_for(AnyMapping::Cube);
+    let (w, h) = repr.atlas.image_size_for_cell_width(face).unwrap();
+    let env = fill(repr, w, h, f).unwrap();
+    let opts = BakeOptions {
+        size,
+        min_size,
+        axes: FileAxes::Frame(env.representation().frame),
+        irradiance_size: 32,
+        dfg_size: 64,
+        ..BakeOptions::default()
+    };
+    let b = bake(&env, &opts, &|_, _| {}).unwrap();
+    let chain = b.chain.unwrap();
+    let roughness = chain.reports.iter().map(|r| r.roughness).collect();
+    let lit = LitEnvironment::new(
+        chain.levels,
+        roughness,
+        b.irradiance.unwrap().image,
+        IrradianceScale::EOverPi,
+        b.dfg.unwrap(),
+    )
+    .unwrap();
+    (env, lit)
+}
+
+fn mat(base: f32, metallic: f32, roughness: f32) -> Material {
+    Material {
+        base_color: [base; 3],
+        metallic,
+        roughness,
+        dielectric_f0: 0.04,
+    }
+}
+
+fn sphere() -> Mesh {
+    let mut m = Mesh::sphere(1.5, 96, 48);
+    for p in &mut m.positions {
+        *p += Vec3::new(0.0, 0.0, 1.4);
+    }
+    m
+}
+
+fn cam() -> Camera {
+    Camera {
+        eye: Vec3::new(0.0, -7.0, 1.4),
+        target: Vec3::new(0.0, 0.0, 1.4),
+        up: Vec3::Z,
+        fov_y_deg: 30.0,
+    }
+}
+
+fn draw(env: EnvSource<'_>, shading: Shading<'_>, size: u32) -> RgbImage {
+    let opts = RenderOptions {
+        width: size,
+        height: size,
+        samples: 1,
+        background: false,
+        shading,
+        ..RenderOptions::default()
+    };
+    render(&sphere(), env, &cam(), &opts).unwrap()
+}
+
+/// A white Lambertian sphere in a constant environment L reflects L
+/// everywhere: the diffuse term (white minus black, the specular terms being
+/// equal) is L at every pixel, which checks that the map holds E/π and that
+/// it is used as such.
+#[test]
+fn a_white_diffuse_sphere_in_a_constant_sky_is_that_sky() {
+    let l = 0.7f32;
+    let (env, lit) = baked(|_| [l; 3], 32, 32);
+    let s = lit.sampler();
+    for d in [
+        Vec3::X,
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::new(0.3, -0.5, 0.8).normalize(),
+    ] {
+        let e = s.irradiance_over_pi(d);
+        assert!(e.iter().all(|&x| (x - l).abs() < 1e-4 * l), "{d}: {e:?}");
+    }
+    let white = draw(
+        EnvSource::Map(&env),
+        Shading::SplitSum {
+            env: &lit,
+            material: mat(1.0, 0.0, 1.0),
+            multiscatter: false,
+            dominant: true,
+        },
+        48,
+    );
+    let black = draw(
+        EnvSource::Map(&env),
+        Shading::SplitSum {
+            env: &lit,
+            material: mat(0.0, 0.0, 1.0),
+            multiscatter: false,
+            dominant: true,
+        },
+        48,
+    );
+    let mut hits = 0;
+    for (a, b) in white.pixels.iter().zip(&black.pixels) {
+        if a == &[0.0; 3] {
+            continue;
+        }
+        hits += 1;
+        for c in 0..3 {
+            assert!((a[c] - b[c] - l).abs() < 1e-4, "{a:?} {b:?}");
+        }
+    }
+    assert!(hits > 900, "{hits}");
+}
+
+/// Under the upper-hemisphere step (L = 1 for z > 0, else 0) a white
+/// Lambertian surface at angle θ from +z reflects E/π = (1 + cos θ)/2.
+#[test]
+fn the_hemisphere_step_gives_the_closed_form_along_a_meridian() {
+    let (_, lit) = baked(|d| [if d.z > 0.0 { 1.0 } else { 0.0 }; 3], 64, 16);
+    let s = lit.sampler();
+    let mut worst = 0f32;
+    for k in 0..=36 {
+        let t = (k as f32 * 5.0).to_radians();
+        let n = Vec3::new(t.sin(), 0.0, t.cos());
+        let got = s.irradiance_over_pi(n)[0];
+        let want = (1.0 + t.cos()) / 2.0;
+        worst = worst.max((got - want).abs());
+    }
+    // The map is 32² texels, bilinear, of an SH9 irradiance (exact for
+    // this band-limited E) over a 64² source.
+    assert!(worst < 4e-3, "worst {worst}");
+}
+
+/// At roughness 1, GGX with N = V = R has a constant D, so the prefiltered
+/// radiance is the cosine-weighted average of the environment: E/π.
+#[test]
+fn roughness_one_is_the_cosine_weighted_average() {
+    // Down to 8² faces: bilinear on the 2² faces of a full chain cannot
+    // hold even a smooth function between its four texel centres.
+    let (_, lit) = baked_to(smooth, 64, 32, Some(8));
+    let s = lit.sampler();
+    // At the last level's texel centres (no interpolation in the level).
+    let last = lit.levels().last().unwrap();
+    let frame = last.representation().frame;
+    let (w, _) = last.cell_size();
+    let mut worst = 0f32;
+    for face in 0..6 {
+        for j in 0..w {
+            for i in 0..w {
+                let c = envmap_core::ChartUv::new(
+                    face,
+                    (i as f32 + 0.5) / w as f32,
+                    (j as f32 + 0.5) / w as f32,
+                );
+                let d = frame.to_canonical(AnyMapping::Cube.inverse(c).unwrap());
+                let a = s.specular(d, 1.0);
+                let b = s.irradiance_over_pi(d);
+                for c in 0..3 {
+                    worst = worst.max((a[c] - b[c]).abs() / b[c]);
+                }
+            }
+        }
+    }
+    println!("roughness 1 vs E/pi: worst relative difference {worst:.5}");
+    // The chain's last level is sampled (its error ≤ 0.5 %) and the
+    // irradiance is SH9 (0.14 % truncation on this map).
+    assert!(worst < 0.012, "worst relative difference {worst}");
+}
+
+/// A white metal at roughness 0 by the split sum is the mirror render (F0 =
+/// 1, the DFG's scale + bias 1, the chain's level 0 the map resampled).
+#[test]
+fn the_split_sum_at_roughness_zero_is_the_mirror() {
+    let (env, lit) = baked(smooth, 64, 64);
+    let mirror = draw(EnvSource::Map(&env), Shading::Mirror, 64);
+    let split = draw(
+        EnvSource::Map(&env),
+        Shading::SplitSum {
+            env: &lit,
+            material: mat(1.0, 1.0, 0.0),
+            multiscatter: false,
+            dominant: true,
+        },
+        64,
+    );
+    let p = psnr(
+        &mirror.pixels,
+        &split.pixels,
+        |k| mirror.pixels[k] != [0.0; 3],
+        1.0,
+    );
+    println!("mirror vs split sum at roughness 0: {p:.1} dB");
+    assert!(p > 45.0, "{p}");
+}
+
+/// The split sum against the Monte Carlo reference, per roughness and
+/// material, on a smooth environment: the PSNR (peak 1) of each, and a
+/// floor each must stay above. The reference has 4096 samples per lobe;
+/// its noise is printed from a 512-sample render (PSNR of that against it;
+/// 4096 samples are about 9 dB less noisy again).
+#[test]
+fn the_split_sum_is_close_to_the_reference() {
+    let (_, lit) = baked(smooth, 64, 64);
+    let exact = smooth;
+    for (name, metallic, base, floor) in [("plastic", 0.0, 0.8, 47.0), ("metal", 1.0, 0.9, 34.0)] {
+        for r in [0.25f32, 0.5, 0.75, 1.0] {
+            let m = mat(base, metallic, r);
+            let split_at = |dominant| {
+                draw(
+                    EnvSource::Analytic(&exact),
+                    Shading::SplitSum {
+                        env: &lit,
+                        material: m,
+                        multiscatter: false,
+                        dominant,
+                    },
+                    40,
+                )
+            };
+            let (split, along_r) = (split_at(true), split_at(false));
+            let reference = draw(
+                EnvSource::Analytic(&exact),
+                Shading::Reference {
+                    material: m,
+                    samples: 512,
+                },
+                40,
+            );
+            let finer = draw(
+                EnvSource::Analytic(&exact),
+                Shading::Reference {
+                    material: m,
+                    samples: 4096,
+                },
+                40,
+            );
+            let hit = |k: usize| reference.pixels[k] != [0.0; 3];
+            let p = psnr(&finer.pixels, &split.pixels, hit, 1.0);
+            let noise = psnr(&finer.pixels, &reference.pixels, hit, 1.0);
+            let p_r = psnr(&finer.pixels, &along_r.pixels, hit, 1.0);
+            println!(
+                "{name} roughness {r}: split sum vs reference {p:.1} dB ({p_r:.1} dB along R; reference noise at 512 samples: {noise:.1} dB)"
+            );
+            assert!(p > floor, "{name} {r}: {p:.1} dB");
+        }
+    }
+}
+
+#[test]
+fn render_takes_materials_and_the_reference_from_the_command_line() {
+    use common::{envmap, text};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let small = [
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--env-size",
+        "32",
+        "--bake-size",
+        "16",
+    ];
+    let mut args = vec![
+        "render",
+        "gold.png",
+        "--material",
+        "gold",
+        "--roughness",
+        "0.4",
+    ];
+    args.extend(small);
+    let o = envmap(&args, d);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("baked"), "{}", text(&o.stderr));
+    let mut args = vec![
+        "render",
+        "ref.png",
+        "--material",
+        "plastic",
+        "--reference",
+        "--analytic",
+        "--reference-samples",
+        "4",
+    ];
+    args.extend(small);
+    let o = envmap(&args, d);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(d.join("gold.png").exists() && d.join("ref.png").exists());
+    for (flag, value, says) in [
+        ("--material", "velvet", "mirror, chrome, gold"),
+        ("--roughness", "2", "between 0 and 1"),
+    ] {
+        let o = envmap(
+            &[
+                "render", "x.png", flag, value, "--width", "8", "--height", "8",
+            ],
+            d,
+        );
+        assert!(!o.status.success());
+        assert!(text(&o.stderr).contains(says), "{}", text(&o.stderr));
+    }
+    let o = envmap(&["render", "x.png", "--multiscatter"], d);
+    assert!(
+        text(&o.stderr).contains("--multiscatter is for"),
+        "{}",
+        text(&o.stderr)
+    );
+}
