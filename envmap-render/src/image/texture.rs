@@ -1,6 +1,6 @@
 //! GPU textures with mip levels: what KTX2, DDS and KTX 1 files hold, in
 //! memory ([`Texture`]), and the one place those files are written and read
-//! ([`stage_texture`](crate::image::io::Outputs::stage_texture), [`load`]).
+//! ([`stage_texture`](crate::image::io::Outputs::stage_texture), [`read`]).
 //!
 //! A texture is a 2D image or a cube (six faces in GL order +X, −X, +Y,
 //! −Y, +Z, −Z, each with its first texel top-left, exactly as GL and Vulkan
