@@ -1,7 +1,9 @@
 //! Render speed: a mirror teapot, per pixel and per vertex, in the built-in
 //! sky stored as a 6×1024² cube map, 1920×1080, bilinear, one sample per
 //! pixel, per pixel on one and two threads and per vertex on two, beside a
-//! plain copy of the output image's bytes.
+//! plain copy of the output image's bytes; and lit: glossy plastic at
+//! roughness 0.5 by the split sum from that sky's 512² baked chain and 32²
+//! irradiance map (baked once, outside the timing), on two threads.
 //!
 //! ```text
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench render
@@ -54,6 +56,46 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    // Lit: the split sum from the sky's bake.
+    let lit = {
+        use envmap_render::filter::bake::{bake, BakeOptions};
+        use envmap_render::filter::sh::IrradianceScale;
+        use envmap_render::scene::lit::LitEnvironment;
+        let b = bake(&env, &BakeOptions::default(), &|_, _| {}).expect("bake");
+        let chain = b.chain.expect("chain");
+        let roughness = chain.reports.iter().map(|r| r.roughness).collect();
+        LitEnvironment::new(
+            chain.levels,
+            roughness,
+            b.irradiance.expect("irradiance").image,
+            IrradianceScale::EOverPi,
+            b.dfg.expect("dfg"),
+        )
+        .expect("lit")
+    };
+    let pool = common::pool(2);
+    let opts = RenderOptions {
+        width,
+        height,
+        samples: 1,
+        shading: envmap_render::render::Shading::SplitSum {
+            env: &lit,
+            material: envmap_render::scene::material::Material {
+                roughness: 0.5,
+                ..envmap_render::scene::material::Material::default()
+            },
+            multiscatter: false,
+            dominant: true,
+        },
+        ..RenderOptions::default()
+    };
+    g.bench_function("plastic-r0.5-split-sum/2-threads", |b| {
+        b.iter(|| {
+            pool.install(|| {
+                render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts).expect("render")
+            })
+        })
+    });
     g.finish();
 }
 

@@ -3,7 +3,7 @@
 //!
 //! [`LitEnvironment`] holds what `envmap bake` makes: the GGX-prefiltered
 //! specular chain (with each level's perceptual roughness), the irradiance
-//! cube and the DFG table. [`LitEnvironment::shade`] evaluates, for a
+//! cube and the DFG table. [`LitSampler::shade`] evaluates, for a
 //! [`Material`] at normal N seen along V (both unit, world axes, V towards
 //! the eye):
 //!
@@ -20,7 +20,7 @@
 //! split sum ("Real Shading in Unreal Engine 4", 2013): the prefiltered
 //! radiance assumes N = V = R.
 //!
-//! [`reference`] is the integral the split sum stands for, per pixel:
+//! [`reference()`] is the integral the split sum stands for, per pixel:
 //! L_o = ∫ L(l) (c_diff/π + D·Vis·F) (N·l)⁺ dl with GGX D, the
 //! height-correlated Smith visibility and Schlick's Fresnel (glTF 2.0
 //! Appendix B), estimated by importance sampling: cosine-weighted
@@ -28,7 +28,7 @@
 //! the specular one, from a deterministic per-pixel sequence.
 
 use envmap_core::glam::{Mat3, Vec3};
-use envmap_core::{reflect_view, AnyMapping};
+use envmap_core::{reflect_view, AnyMapping, ChartUv};
 
 use crate::error::{Error, Result};
 use crate::filter::dfg::DfgTable;
@@ -144,11 +144,16 @@ impl LitSampler<'_> {
     /// roughness `roughness` (see the [module docs](self)).
     #[must_use]
     pub fn specular(&self, r: Vec3, roughness: f32) -> [f32; 3] {
+        match self.mapping.forward(self.to_map * r) {
+            Some(c) => self.specular_at(c, roughness),
+            None => [0.0; 3],
+        }
+    }
+
+    /// The prefiltered radiance at chart point `c` of the chain.
+    #[must_use]
+    pub fn specular_at(&self, c: ChartUv, roughness: f32) -> [f32; 3] {
         let rs = &self.env.roughness;
-        let d = self.to_map * r;
-        let Some(c) = self.mapping.forward(d) else {
-            return [0.0; 3];
-        };
         let k = rs.partition_point(|&x| x <= roughness).saturating_sub(1);
         let a = self.levels[k].sample(c, Filter::Bilinear);
         if k + 1 >= rs.len() || roughness <= rs[k] {
@@ -162,14 +167,46 @@ impl LitSampler<'_> {
     /// E(n)/π towards world normal `n`.
     #[must_use]
     pub fn irradiance_over_pi(&self, n: Vec3) -> [f32; 3] {
-        let Some(c) = self.irr_mapping.forward(self.to_map * n) else {
-            return [0.0; 3];
-        };
+        match self.irr_mapping.forward(self.to_map * n) {
+            Some(c) => self.irradiance_at(c),
+            None => [0.0; 3],
+        }
+    }
+
+    /// E/π at chart point `c` of the irradiance map.
+    #[must_use]
+    pub fn irradiance_at(&self, c: ChartUv) -> [f32; 3] {
         let e = self.irradiance.sample(c, Filter::Bilinear);
         match self.env.scale {
             IrradianceScale::EOverPi => e,
             IrradianceScale::E => e.map(|v| v / core::f32::consts::PI),
         }
+    }
+
+    /// Where [`LitSampler::shade`] looks: the chart points of the specular
+    /// direction (R, or the dominant direction mix(R, N, α)) in the chain
+    /// and of `n` in the irradiance map. Per-vertex shading computes these
+    /// at the vertices and interpolates them (seed `002`).
+    #[must_use]
+    pub fn lookup_points(
+        &self,
+        m: &Material,
+        n: Vec3,
+        v: Vec3,
+        dominant: bool,
+    ) -> (ChartUv, ChartUv) {
+        let r = m.clamped_roughness();
+        let refl = reflect_view(n, v);
+        let dir = if dominant {
+            refl.lerp(n, r * r).normalize_or(refl)
+        } else {
+            refl
+        };
+        let bad = ChartUv::new(u32::MAX, f32::NAN, f32::NAN);
+        (
+            self.mapping.forward(self.to_map * dir).unwrap_or(bad),
+            self.irr_mapping.forward(self.to_map * n).unwrap_or(bad),
+        )
     }
 
     /// The split-sum radiance leaving a surface of material `m` at unit
@@ -187,18 +224,27 @@ impl LitSampler<'_> {
         multiscatter: bool,
         dominant: bool,
     ) -> [f32; 3] {
+        let (s, e) = self.lookup_points(m, n, v, dominant);
+        self.shade_at(m, n.dot(v), s, e, multiscatter)
+    }
+
+    /// [`LitSampler::shade`] from given lookup points ([`LitSampler::lookup_points`]):
+    /// `nv` is N·V, `spec` the chain's point, `irr` the irradiance map's.
+    #[must_use]
+    pub fn shade_at(
+        &self,
+        m: &Material,
+        nv: f32,
+        spec: ChartUv,
+        irr: ChartUv,
+        multiscatter: bool,
+    ) -> [f32; 3] {
         let r = m.clamped_roughness();
-        let nv = n.dot(v).clamp(1e-4, 1.0);
+        let nv = nv.clamp(1e-4, 1.0);
         let [a, b] = self.env.dfg.sample_single_scatter(nv, r);
         let f0 = m.f0();
-        let refl = reflect_view(n, v);
-        let dir = if dominant {
-            refl.lerp(n, r * r).normalize_or(refl)
-        } else {
-            refl
-        };
-        let ld = self.specular(dir, r);
-        let e = self.irradiance_over_pi(n);
+        let ld = self.specular_at(spec, r);
+        let e = self.irradiance_at(irr);
         let diff = m.diffuse_color();
         [0, 1, 2].map(|i| {
             let mut s = f0[i] * a + b;

@@ -122,8 +122,9 @@ pub enum Shading<'a> {
     /// A mirror: the environment looked up along R (seed `000`).
     #[default]
     Mirror,
-    /// A material by the split sum from baked maps, per pixel (per-vertex
-    /// mode shades per pixel too).
+    /// A material by the split sum from baked maps, per pixel, or in
+    /// per-vertex mode from the maps' lookup points computed at the
+    /// vertices and interpolated across each triangle (seed `002`).
     SplitSum {
         /// The baked maps.
         env: &'a LitEnvironment,
@@ -285,6 +286,37 @@ fn render_map(
         Vec::new()
     };
 
+    // Lit by the split sum: one sampler over the baked maps; per vertex,
+    // the lookup points at every vertex (seed `002`: interpolated across
+    // each triangle in its first vertex's chart, seams and all).
+    let lit_sampler = match opts.shading {
+        Shading::SplitSum { env, .. } => Some(env.sampler()),
+        _ => None,
+    };
+    let per_vertex_lit = opts.mode == Mode::PerVertex && lit_sampler.is_some();
+    let vertex_lit: Vec<(ChartUv, ChartUv)> = match (&lit_sampler, opts.shading) {
+        (
+            Some(ls),
+            Shading::SplitSum {
+                material, dominant, ..
+            },
+        ) if per_vertex_lit => mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .map(|(p, n)| {
+                let n = n.normalize_or(Vec3::Z);
+                ls.lookup_points(
+                    &material,
+                    n,
+                    (view.eye - *p).normalize_or(Vec3::Z),
+                    dominant,
+                )
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+
     // Bin triangles by the bands of rows they touch.
     let bands = h.div_ceil(BAND) as usize;
     let mut bins: Vec<Vec<u32>> = vec![Vec::new(); bands];
@@ -325,12 +357,9 @@ fn render_map(
                 let v = tri.map(|i| projected[i as usize]);
                 raster(&v, t, y0, rows, w, &mut hits);
             }
-            // Lit materials: shaded here, per pixel; the lookups below then
-            // fill only the background.
-            let lit_sampler = match opts.shading {
-                Shading::SplitSum { env, .. } => Some(env.sampler()),
-                _ => None,
-            };
+            // Lit materials: shaded here, per pixel (per vertex: from lookup
+            // points interpolated across the triangle); the lookups below
+            // then fill only the background.
             let mut lit: Vec<Option<[f32; 3]>> = vec![None; px.len()];
             if !matches!(opts.shading, Shading::Mirror) {
                 for (k, hit) in hits.iter().enumerate() {
@@ -345,6 +374,26 @@ fn render_map(
                         + mesh.positions[c] * hit.w[2];
                     let v = (view.eye - p).normalize_or(-view.forward);
                     lit[k] = Some(match (&lit_sampler, opts.shading) {
+                        (
+                            Some(ls),
+                            Shading::SplitSum {
+                                material,
+                                multiscatter,
+                                ..
+                            },
+                        ) if per_vertex_lit => {
+                            let tri = mesh.triangles[hit.tri as usize];
+                            let lerp = |pick: fn(&(ChartUv, ChartUv)) -> ChartUv| {
+                                let [p, q, r] = tri.map(|i| pick(&vertex_lit[i as usize]));
+                                ChartUv::new(
+                                    p.chart,
+                                    p.u * hit.w[0] + q.u * hit.w[1] + r.u * hit.w[2],
+                                    p.v * hit.w[0] + q.v * hit.w[1] + r.v * hit.w[2],
+                                )
+                            };
+                            let (sp, ir) = (lerp(|x| x.0), lerp(|x| x.1));
+                            ls.shade_at(&material, n.dot(v), sp, ir, multiscatter)
+                        }
                         (
                             Some(ls),
                             Shading::SplitSum {
