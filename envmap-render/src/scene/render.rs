@@ -364,15 +364,7 @@ fn render_map(
             if !matches!(opts.shading, Shading::Mirror) {
                 for (k, hit) in hits.iter().enumerate() {
                     let Some(hit) = hit else { continue };
-                    let [a, b, c] = mesh.triangles[hit.tri as usize].map(|i| i as usize);
-                    let n = (mesh.normals[a] * hit.w[0]
-                        + mesh.normals[b] * hit.w[1]
-                        + mesh.normals[c] * hit.w[2])
-                        .normalize_or(Vec3::Z);
-                    let p = mesh.positions[a] * hit.w[0]
-                        + mesh.positions[b] * hit.w[1]
-                        + mesh.positions[c] * hit.w[2];
-                    let v = (view.eye - p).normalize_or(-view.forward);
+                    let (n, v) = surface(mesh, hit, &view);
                     lit[k] = Some(match (&lit_sampler, opts.shading) {
                         (
                             Some(ls),
@@ -434,15 +426,7 @@ fn render_map(
                 let d = match hit {
                     None => view.ray(x, y),
                     Some(hit) => {
-                        let [a, b, c] = mesh.triangles[hit.tri as usize].map(|i| i as usize);
-                        let n = (mesh.normals[a] * hit.w[0]
-                            + mesh.normals[b] * hit.w[1]
-                            + mesh.normals[c] * hit.w[2])
-                            .normalize_or(Vec3::Z);
-                        let p = mesh.positions[a] * hit.w[0]
-                            + mesh.positions[b] * hit.w[1]
-                            + mesh.positions[c] * hit.w[2];
-                        let vv = (view.eye - p).normalize_or(-view.forward);
+                        let (n, vv) = surface(mesh, hit, &view);
                         if let Some(f0) = opts.fresnel_f0 {
                             let c = n.dot(vv).clamp(0.0, 1.0);
                             fres[k] = f0 + (1.0 - f0) * (1.0 - c).powi(5);
@@ -521,6 +505,17 @@ fn render_map(
         });
     cancel::check(opts.cancel)?;
     Ok(downsample(hi, w, h, s))
+}
+
+/// The interpolated unit normal at a hit and the unit vector from it to
+/// the eye.
+fn surface(mesh: &Mesh, hit: &Hit, view: &View) -> (Vec3, Vec3) {
+    let [a, b, c] = mesh.triangles[hit.tri as usize].map(|i| i as usize);
+    let n = (mesh.normals[a] * hit.w[0] + mesh.normals[b] * hit.w[1] + mesh.normals[c] * hit.w[2])
+        .normalize_or(Vec3::Z);
+    let p =
+        mesh.positions[a] * hit.w[0] + mesh.positions[b] * hit.w[1] + mesh.positions[c] * hit.w[2];
+    (n, (view.eye - p).normalize_or(-view.forward))
 }
 
 /// Rasterizes one projected triangle into the band starting at row `y0`,
