@@ -1160,6 +1160,25 @@ fn ktx2_huge_header_fails_the_size_limit_before_reading_levels() {
     }
 }
 
+/// Headers of the largest sizes a u32 holds (2³¹ and 2³² − 1 texels a side,
+/// as a cube and as 2D, one level and the full chain) fail the size limit
+/// too: the texel count saturates instead of overflowing (a fuzzed 2³¹
+/// cube once overflowed the sum in debug builds).
+#[test]
+fn ktx2_and_dds_headers_at_u32_sizes_fail_the_size_limit() {
+    for size in [1u32 << 31, u32::MAX] {
+        for (faces, levels) in [(6u32, 1u32), (6, 32), (1, 1), (1, 32)] {
+            let mut b = envktx2::IDENTIFIER.to_vec();
+            for v in [97, 2, size, size, 0, 0, faces, levels, 0] {
+                b.extend_from_slice(&u32::to_le_bytes(v));
+            }
+            b.resize(80, 0);
+            let e = ktx2_error(&b, &format!("{size}² × {faces}, {levels} levels"));
+            assert_mentions(&e, &["above the limit"], "u32-sized header");
+        }
+    }
+}
+
 /// Unsupported features are refused with a message naming them: vkFormat 0
 /// with BasisLZ (Basis), BC6H (vkFormat 143, BCn), layerCount 2 (array),
 /// pixelDepth 4 (3D), ZLIB (scheme 3), and a typeSize other than the

@@ -344,7 +344,8 @@ pub fn check_texels(
     let mut total = 0u64;
     for p in 0..levels {
         let (lw, lh) = level_size(w, h, p);
-        total = total.saturating_add(u64::from(lw) * u64::from(lh) * kind.faces() as u64);
+        let texels = u64::from(lw).saturating_mul(u64::from(lh));
+        total = total.saturating_add(texels.saturating_mul(kind.faces() as u64));
     }
     if total > max_texels {
         return Err(Error::TooLarge {
