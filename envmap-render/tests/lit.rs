@@ -377,3 +377,78 @@ fn per_vertex_lit_interpolates_the_lookups() {
         }
     }
 }
+
+/// `envmap render --env DIR` reads the maps `envmap bake` wrote into DIR
+/// (OpenEXR files, or KTX2 chains) and renders what the maps baked on the
+/// fly render; a KTX2 chain alone is read by the linear rule; a directory
+/// that is not a bake, or a bake without a chain, is refused by name.
+#[test]
+fn render_reads_the_maps_bake_wrote() {
+    use common::{envmap, text};
+    use envmap_render::image::io::read_rgb;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let small = ["--width", "64", "--height", "48", "--material", "plastic"];
+    let run = |args: &[&str]| {
+        let o = envmap(args, d);
+        assert!(o.status.success(), "{args:?}: {}", text(&o.stderr));
+        text(&o.stderr)
+    };
+    for (out, extra) in [("exr", &[][..]), ("gltf", &["--target", "gltf"][..])] {
+        let mut args = vec![
+            "bake",
+            "sky",
+            "--env-size",
+            "32",
+            "--size",
+            "32",
+            "--out",
+            out,
+        ];
+        args.extend(extra);
+        run(&args);
+    }
+    let mut fly = vec!["render", "fly.exr", "--env-size", "32", "--bake-size", "32"];
+    fly.extend(small);
+    assert!(run(&fly).contains("baked"));
+    let fly = read_rgb(&d.join("fly.exr"), u64::MAX, None).unwrap().0;
+    let got = |out: &str, env: &str, extra: &[&str]| {
+        let mut args = vec!["render", out, "--env", env];
+        args.extend(small);
+        args.extend(extra);
+        let said = run(&args);
+        let img = read_rgb(&d.join(out), u64::MAX, None).unwrap().0;
+        let db = psnr(&img.pixels, &fly.pixels, |_| true, 1.0);
+        println!("{env}: {db:.1} dB against the maps baked on the fly");
+        (said, db)
+    };
+    // OpenEXR levels are half floats: ~11 bits.
+    let (said, db) = got("exr.exr", "exr", &[]);
+    assert!(said.contains("manifest.json: 5 specular levels"), "{said}");
+    assert!(db > 60.0, "{db}");
+    // RGBA16F KTX2 in the glTF axes the manifest states.
+    let (said, db) = got("gltf.exr", "gltf", &[]);
+    assert!(said.contains("diffuse.ktx2"), "{said}");
+    assert!(db > 60.0, "{db}");
+    // The chain file alone: the linear rule (glTF's own) and its axes as
+    // given; irradiance from level 0's SH9 instead of the source's.
+    std::fs::copy(d.join("gltf/specular.ktx2"), d.join("alone.ktx2")).unwrap();
+    let (said, db) = got("alone.exr", "alone.ktx2", &["--convention", "gltf"]);
+    assert!(said.contains("the linear rule"), "{said}");
+    assert!(db > 60.0, "{db}");
+    // The chain in the bake's directory is read through its manifest.
+    let (said, _) = got("in_dir.exr", "gltf/specular.ktx2", &[]);
+    assert!(said.contains("manifest.json"), "{said}");
+
+    std::fs::create_dir(d.join("empty")).unwrap();
+    run(&["bake", "sky", "--env-size", "8", "--sh-only", "--out", "sh"]);
+    for (env, says) in [
+        ("empty", "not a directory `envmap bake` wrote"),
+        ("sh", "no specular levels"),
+    ] {
+        let o = envmap(&["render", "x.png", "--env", env, "--material", "gold"], d);
+        assert!(!o.status.success());
+        assert!(text(&o.stderr).contains(says), "{}", text(&o.stderr));
+        assert!(!d.join("x.png").exists());
+    }
+}

@@ -972,6 +972,8 @@ fn manifest(
         "envmap": crate::image::metadata::software(),
         "input": name,
         "axes": opts.axes.describe(AnyMapping::Cube),
+        "frame_to_canonical": frame_columns(opts.axes.frame(AnyMapping::Cube)),
+        "frame_to_canonical_note": "the cube files' x, y and z axes as columns in envmap's canonical axes (z up, right-handed); what `envmap render --env DIR` reads",
         "layout": if plan.container == Container::Exr { a.layout.name() } else { "one texture file per map: faces +X, -X, +Y, -Y, +Z, -Z, first texel top-left (KTX orientation rd), levels largest first" },
         "container": plan.container.extension(),
         "target": a.target.map(|t| format!("{t:?}").to_ascii_lowercase()),
@@ -1007,6 +1009,16 @@ fn manifest(
         "stages_seconds": b.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
     });
     serde_json::to_string_pretty(&m).unwrap_or_default()
+}
+
+/// A frame's matrix as three columns (the file axes in canonical ones).
+fn frame_columns(f: envmap_core::Frame) -> [[f32; 3]; 3] {
+    let m = f.matrix();
+    [
+        m.x_axis.to_array(),
+        m.y_axis.to_array(),
+        m.z_axis.to_array(),
+    ]
 }
 
 /// The relative RMS error a level's method is measured to have

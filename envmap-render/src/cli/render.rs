@@ -18,6 +18,7 @@ use crate::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
 use crate::image::Representation;
 use crate::scene::environments::Builtin;
 use crate::scene::lit::LitEnvironment;
+use crate::scene::lit_files;
 use crate::scene::material::Material;
 use crate::scene::mesh::Mesh;
 use crate::scene::render::{render, Camera, EnvSource, Mode, RenderOptions, Shading};
@@ -26,7 +27,7 @@ use crate::scene::render::{render, Camera, EnvSource, Mode, RenderOptions, Shadi
 pub(crate) struct RenderArgs {
     /// Output image (.png, .exr, .hdr).
     pub(crate) output: PathBuf,
-    /// The environment: a file, or a built-in: sky, room.
+    /// The environment: a file, a built-in (sky, room), or what `envmap bake` wrote: its directory (manifest.json beside the maps) or its KTX2 / DDS specular chain, read as the lit maps of a --material instead of baking them.
     #[arg(long, default_value = "sky")]
     pub(crate) env: String,
     /// For a built-in environment: the representation to store it in (default cube).
@@ -133,7 +134,26 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     });
     let axes = given.unwrap_or_default();
     let builtin = a.env.parse::<Builtin>().ok();
+    // A bake's directory or chain: the lit maps as baked; level 0 (the
+    // sharpest) is the environment seen behind the object and in a mirror.
+    let baked = match builtin {
+        None if lit_files::is_candidate(Path::new(&a.env)) => lit_files::open(
+            Path::new(&a.env),
+            given,
+            a.max_megatexels.saturating_mul(1_000_000),
+            Some(stop),
+        )
+        .map_err(|e| load_error(&e))?,
+        _ => None,
+    };
+    if let Some(b) = &baked {
+        eprintln!("{}", b.description);
+        if a.analytic {
+            return Err("--analytic needs a built-in environment (sky, room), not a bake".into());
+        }
+    }
     let env = match builtin {
+        _ if baked.is_some() => baked.as_ref().map(|b| b.env.levels()[0].clone()),
         Some(b) if !a.analytic => {
             let mapping = a.mapping.unwrap_or(AnyMapping::Cube);
             let repr = Representation::for_file(mapping, axes);
@@ -200,6 +220,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     // A material other than the mirror: its maps, baked from the
     // environment (the analytic built-ins through a cube of --env-size).
     let lit = match (&material, a.reference) {
+        (Some(_), false) if baked.is_some() => baked.map(|b| b.env),
         (Some(_), false) => {
             let src = match &env {
                 Some(e) => e.clone(),

@@ -7,6 +7,7 @@
 //! * [`material`]: the glTF metallic-roughness model and its presets.
 //! * [`lit`]: shading with baked maps (the split sum) and the Monte Carlo
 //!   reference it approximates.
+//! * [`lit_files`]: those maps from the files `envmap bake` wrote.
 //! * [`render`]: the rasterizer, per pixel (seed `000`) and per vertex
 //!   (seed `002`).
 //! * [`demo`]: `envmap demo`, every representation side by side.
@@ -17,6 +18,7 @@
 pub mod demo;
 pub mod environments;
 pub mod lit;
+pub mod lit_files;
 pub mod material;
 pub mod mesh;
 pub mod procedural;
