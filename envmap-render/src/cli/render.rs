@@ -247,6 +247,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         (Some(m), _) if a.reference => Shading::Reference {
             material: m,
             samples: a.reference_samples.max(1),
+            light_sampling: true,
         },
         (Some(m), Some(env)) => Shading::SplitSum {
             env,
