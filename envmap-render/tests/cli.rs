@@ -389,6 +389,8 @@ fn demo_runs_end_to_end() {
             "48",
             "--samples",
             "1",
+            "--reference-samples",
+            "8",
             "-q",
         ],
         d,
@@ -416,14 +418,44 @@ fn demo_runs_end_to_end() {
         "{report}"
     );
     // Every PSNR is a finite number well above noise.
-    for line in report
-        .lines()
-        .filter(|l| l.starts_with("| ") && !l.contains("representation") && !l.contains("---"))
-    {
-        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+    let (mappings, lit) = report.split_once("## Lit").expect("the lit section");
+    let rows = |table: &str, header: &str| -> Vec<Vec<String>> {
+        table
+            .lines()
+            .filter(|l| l.starts_with("| ") && !l.contains(header) && !l.contains("---"))
+            .map(|l| l.split('|').map(|c| c.trim().to_owned()).collect())
+            .collect()
+    };
+    for cells in rows(mappings, "representation") {
         let p: f64 = cells[5].parse().unwrap();
-        assert!(p.is_finite() && p > 15.0, "{line}");
+        assert!(p.is_finite() && p > 15.0, "{cells:?}");
     }
+    // The lit section: ten spheres in each environment and three teapots,
+    // the split sum's PSNR against the reference finite and above 15 dB.
+    let lit_rows = rows(lit, "scene");
+    assert_eq!(lit_rows.len(), 23, "{lit}");
+    for cells in &lit_rows {
+        let p: f64 = cells[4].parse().unwrap();
+        assert!(p.is_finite() && p > 15.0, "{cells:?}");
+    }
+    for name in [
+        "spheres_sky.png",
+        "spheres_sky_reference.png",
+        "error_spheres_sky.png",
+        "spheres_room.png",
+        "spheres_room_reference.png",
+        "error_spheres_room.png",
+        "teapots_lit.png",
+        "teapots_lit_reference.png",
+        "error_teapots_lit.png",
+        "seed002_lit_teapots.png",
+    ] {
+        assert!(d.join("demo").join(name).exists(), "{name}");
+    }
+    assert!(
+        table.contains("| sphere, room | gold (metal) | 1.00 |"),
+        "{table}"
+    );
 }
 
 #[test]

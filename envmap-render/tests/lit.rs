@@ -259,7 +259,8 @@ fn the_split_sum_is_close_to_the_reference() {
                 Shading::Reference {
                     material: m,
                     samples: 512,
-                    light_sampling: false,
+                    light: None,
+                    seed: 0,
                 },
                 40,
             );
@@ -268,7 +269,8 @@ fn the_split_sum_is_close_to_the_reference() {
                 Shading::Reference {
                     material: m,
                     samples: 4096,
-                    light_sampling: false,
+                    light: None,
+                    seed: 0,
                 },
                 40,
             );

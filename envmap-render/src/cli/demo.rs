@@ -23,6 +23,12 @@ pub(crate) struct DemoArgs {
     /// Supersampling of the renders (N×N).
     #[arg(long, default_value_t = 2)]
     pub(crate) samples: u32,
+    /// Samples per pixel and per strategy of the lit section's Monte Carlo references.
+    #[arg(long, default_value_t = 64)]
+    pub(crate) reference_samples: u32,
+    /// Leave out the lit section (materials by the split sum against the reference).
+    #[arg(long)]
+    pub(crate) no_lit: bool,
     /// No progress bar.
     #[arg(long, short)]
     pub(crate) quiet: bool,
@@ -35,14 +41,21 @@ pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
         || a.width > 8192
         || a.samples == 0
         || a.samples > 8
+        || a.reference_samples == 0
+        || a.reference_samples > 65_536
     {
-        return Err("--ktexels 1..100000, --width 16..8192, --samples 1..8".into());
+        return Err(
+            "--ktexels 1..100000, --width 16..8192, --samples 1..8, --reference-samples 1..65536"
+                .into(),
+        );
     }
     let opts = crate::scene::demo::DemoOptions {
         out: a.out.clone(),
         texels: a.ktexels * 1000,
         width: a.width,
         samples: a.samples,
+        lit: !a.no_lit,
+        reference_samples: a.reference_samples,
         cancel: Some(stop),
         ..crate::scene::demo::DemoOptions::default()
     };
@@ -58,18 +71,21 @@ pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
         b
     };
     let t = Instant::now();
-    let rows = crate::scene::demo::run(&opts, &|done, total, what| {
+    let report = crate::scene::demo::run(&opts, &|done, total, what| {
         bar.set_length(u64::from(total));
         bar.set_position(u64::from(done));
         bar.set_message(what.to_owned());
     })
     .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
-    print!("{}", crate::scene::demo::report_table(&rows));
+    print!("{}", crate::scene::demo::report_table(&report.rows));
+    if !report.lit.is_empty() {
+        print!("\n{}", crate::scene::demo_lit::lit_table(&report.lit));
+    }
     println!(
         "\nwrote {} ({} images and report.md) in {:.1} s",
         a.out.display(),
-        1 + 5 * rows.len(),
+        report.images,
         t.elapsed().as_secs_f64()
     );
     Ok(())

@@ -21,7 +21,7 @@ use crate::scene::lit::LitEnvironment;
 use crate::scene::lit_files;
 use crate::scene::material::Material;
 use crate::scene::mesh::Mesh;
-use crate::scene::render::{render, Camera, EnvSource, Mode, RenderOptions, Shading};
+use crate::scene::render::{light_table, render, Camera, EnvSource, Mode, RenderOptions, Shading};
 
 #[derive(Args)]
 pub(crate) struct RenderArgs {
@@ -243,11 +243,18 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         }
         _ => None,
     };
+    let analytic_fn = |d: Vec3| builtin.map_or([0.0; 3], |b| b.radiance(d));
+    let source = match &env {
+        Some(e) => EnvSource::Map(e),
+        None => EnvSource::Analytic(&analytic_fn),
+    };
+    let light = (material.is_some() && a.reference).then(|| light_table(source, a.filter));
     let shading = match (material, &lit) {
         (Some(m), _) if a.reference => Shading::Reference {
             material: m,
             samples: a.reference_samples.max(1),
-            light_sampling: true,
+            light: light.as_ref(),
+            seed: 0,
         },
         (Some(m), Some(env)) => Shading::SplitSum {
             env,
@@ -270,12 +277,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         cancel: Some(stop),
     };
     let t = Instant::now();
-    let analytic_fn = |d: Vec3| builtin.map_or([0.0; 3], |b| b.radiance(d));
-    let img = match &env {
-        Some(e) => render(&mesh, EnvSource::Map(e), &cam, &opts),
-        None => render(&mesh, EnvSource::Analytic(&analytic_fn), &cam, &opts),
-    }
-    .map_err(|e| e.to_string())?;
+    let img = render(&mesh, source, &cam, &opts).map_err(|e| e.to_string())?;
     let elapsed = t.elapsed();
     let sopts = SaveOptions {
         exposure: a.exposure,
@@ -336,31 +338,8 @@ fn bake_lit(
     size: u32,
     stop: &AtomicBool,
 ) -> Result<LitEnvironment, String> {
-    use crate::filter::bake::{bake, BakeOptions};
-    use crate::filter::sh::IrradianceScale;
     if !(2..=2048).contains(&size) {
         return Err("--bake-size: between 2 and 2048".into());
     }
-    let opts = BakeOptions {
-        size,
-        axes: FileAxes::Frame(src.representation().frame),
-        irradiance_size: 32,
-        irradiance_scale: IrradianceScale::EOverPi,
-        dfg_size: 64,
-        cancel: Some(stop),
-        ..BakeOptions::default()
-    };
-    let b = bake(src, &opts, &|_, _| {}).map_err(|e| e.to_string())?;
-    let (Some(chain), Some(irr), Some(dfg)) = (b.chain, b.irradiance, b.dfg) else {
-        return Err("the bake made no chain, irradiance map or DFG table".into());
-    };
-    let roughness = chain.reports.iter().map(|r| r.roughness).collect();
-    LitEnvironment::new(
-        chain.levels,
-        roughness,
-        irr.image,
-        IrradianceScale::EOverPi,
-        dfg,
-    )
-    .map_err(|e| e.to_string())
+    LitEnvironment::bake(src, size, Some(stop)).map_err(|e| e.to_string())
 }

@@ -31,6 +31,14 @@ pub struct DemoOptions<'a> {
     pub samples: u32,
     /// Exposure in stops of the PNGs.
     pub exposure: f32,
+    /// Render the lit section ([`crate::scene::demo_lit`]).
+    pub lit: bool,
+    /// Samples per pixel and per strategy of the lit section's references.
+    pub reference_samples: u32,
+    /// Face size of the cubes the lit section bakes from.
+    pub lit_env_size: u32,
+    /// Face size of the lit section's specular chains.
+    pub lit_bake_size: u32,
     /// Stops the demo once set ([`Error::Cancelled`]): nothing of this run
     /// is written; see [`crate::cancel`].
     pub cancel: Option<&'a AtomicBool>,
@@ -44,6 +52,10 @@ impl Default for DemoOptions<'_> {
             width: 480,
             samples: 2,
             exposure: -1.0,
+            lit: true,
+            reference_samples: 64,
+            lit_env_size: 256,
+            lit_bake_size: 128,
             cancel: None,
         }
     }
@@ -70,7 +82,7 @@ pub struct DemoRow {
 }
 
 /// The atlas size for `mapping` closest to `texels` texels.
-fn size_for_budget(mapping: AnyMapping, texels: u64) -> (u32, u32) {
+pub(crate) fn size_for_budget(mapping: AnyMapping, texels: u64) -> (u32, u32) {
     let a = mapping.atlas();
     let (aw, ah) = (
         f64::from(a.cols * a.cell_aspect_w),
@@ -124,7 +136,7 @@ fn texel_stats(mapping: AnyMapping, w: u32, h: u32) -> (u64, f64) {
 }
 
 /// Display values: exposure, clamp, sRGB.
-fn displayed(img: &RgbImage, exposure: f32) -> Vec<[f32; 3]> {
+pub(crate) fn displayed(img: &RgbImage, exposure: f32) -> Vec<[f32; 3]> {
     let k = 2f32.powf(exposure);
     img.pixels
         .iter()
@@ -132,12 +144,12 @@ fn displayed(img: &RgbImage, exposure: f32) -> Vec<[f32; 3]> {
         .collect()
 }
 
-fn psnr_displayed(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool]) -> f64 {
+pub(crate) fn psnr_displayed(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool]) -> f64 {
     crate::scene::procedural::psnr(a, b, |k| mask[k], 1.0)
 }
 
 /// A heat map of |a − b| on displayed values: black (0) to red, yellow, white (≥ 0.25).
-fn heat_map(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool], w: u32, h: u32) -> RgbImage {
+pub(crate) fn heat_map(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool], w: u32, h: u32) -> RgbImage {
     let pixels = a
         .iter()
         .zip(b)
@@ -164,7 +176,12 @@ fn heat_map(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool], w: u32, h: u32) -> Rg
     }
 }
 
-fn save_png(run: &mut Outputs<'_>, img: &RgbImage, path: &Path, exposure: f32) -> Result<()> {
+pub(crate) fn save_png(
+    run: &mut Outputs<'_>,
+    img: &RgbImage,
+    path: &Path,
+    exposure: f32,
+) -> Result<()> {
     let opts = SaveOptions {
         exposure,
         ..SaveOptions::default()
@@ -172,12 +189,23 @@ fn save_png(run: &mut Outputs<'_>, img: &RgbImage, path: &Path, exposure: f32) -
     run.stage_rgb(img, path, &opts)
 }
 
+/// What the demo measured: the report's tables.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DemoReport {
+    /// One row per representation.
+    pub rows: Vec<DemoRow>,
+    /// The lit section's rows (empty without [`DemoOptions::lit`]).
+    pub lit: Vec<crate::scene::demo_lit::LitRow>,
+    /// The number of images written.
+    pub images: usize,
+}
+
 /// Runs the demo; `progress(done, total, what)` is called as it goes.
-/// Returns the report rows; writes the images and `report.md` into
+/// Returns the report's tables; writes the images and `report.md` into
 /// `opts.out` (created if missing), all of them renamed into place together
 /// at the end ([`Outputs`]): after an error or a cancellation none of them
 /// is, and a directory the run created is removed again.
-pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<DemoRow>> {
+pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoReport> {
     let created = !opts.out.exists();
     std::fs::create_dir_all(&opts.out).map_err(|source| Error::Write {
         path: opts.out.clone(),
@@ -191,9 +219,11 @@ pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<
     result
 }
 
-fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<DemoRow>> {
+fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoReport> {
     let mut run = Outputs::with(&[], false, opts.cancel);
-    let total = AnyMapping::ALL.len() as u32 + 1;
+    // The representations, then the lit section's steps.
+    let lit_steps = if opts.lit { 5 } else { 0 };
+    let total = AnyMapping::ALL.len() as u32 + 1 + lit_steps;
     let mesh = Mesh::teapot(10);
     let cam = Camera::default();
     let (w, h) = (opts.width.max(16), (opts.width.max(16) * 3 / 4).max(12));
@@ -294,11 +324,24 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<Vec<D
             seconds,
         });
     }
+    let lit = if opts.lit {
+        let step = std::cell::Cell::new(AnyMapping::ALL.len() as u32 + 1);
+        crate::scene::demo_lit::run(opts, &mut run, &|what| {
+            progress(step.get(), total, what);
+            step.set(step.get() + 1);
+        })?
+    } else {
+        Vec::new()
+    };
     progress(total, total, "report");
-    let report = report_markdown(opts, &rows, w, h);
+    let mut report = report_markdown(opts, &rows, w, h);
+    if opts.lit {
+        report.push_str(&crate::scene::demo_lit::lit_markdown(opts, &lit));
+    }
     run.stage_bytes(opts.out.join("report.md"), report.as_bytes())?;
+    let images = run.targets().count().saturating_sub(1);
     run.commit()?;
-    Ok(rows)
+    Ok(DemoReport { rows, lit, images })
 }
 
 /// The report table as Markdown.

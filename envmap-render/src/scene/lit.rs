@@ -99,10 +99,67 @@ impl LitEnvironment {
         })
     }
 
+    /// What a split-sum render reads, baked from `src` in its own axes as
+    /// `envmap bake` would: the GGX chain from `size`² down to 2² by the
+    /// linear rule, a 32² irradiance cube of E/π from the SH9, a 64² DFG
+    /// table.
+    ///
+    /// # Errors
+    ///
+    /// As [`crate::filter::bake::bake`]; [`Error::Cancelled`].
+    pub fn bake(
+        src: &EnvImage,
+        size: u32,
+        cancel: Option<&std::sync::atomic::AtomicBool>,
+    ) -> Result<Self> {
+        use crate::filter::bake::{bake, BakeOptions};
+        let opts = BakeOptions {
+            size,
+            axes: crate::image::FileAxes::Frame(src.representation().frame),
+            irradiance_size: 32,
+            irradiance_scale: IrradianceScale::EOverPi,
+            dfg_size: 64,
+            cancel,
+            ..BakeOptions::default()
+        };
+        let b = bake(src, &opts, &|_, _| {})?;
+        let (Some(chain), Some(irr), Some(dfg)) = (b.chain, b.irradiance, b.dfg) else {
+            return Err(Error::Input(
+                "the bake made no chain, irradiance map or DFG table".into(),
+            ));
+        };
+        let roughness = chain.reports.iter().map(|r| r.roughness).collect();
+        Self::new(
+            chain.levels,
+            roughness,
+            irr.image,
+            IrradianceScale::EOverPi,
+            dfg,
+        )
+    }
+
     /// The levels, largest first.
     #[must_use]
     pub fn levels(&self) -> &[EnvImage] {
         &self.levels
+    }
+
+    /// The irradiance map.
+    #[must_use]
+    pub fn irradiance(&self) -> &EnvImage {
+        &self.irradiance
+    }
+
+    /// Whether the irradiance map holds E or E/π.
+    #[must_use]
+    pub fn irradiance_scale(&self) -> IrradianceScale {
+        self.scale
+    }
+
+    /// The DFG table.
+    #[must_use]
+    pub fn dfg(&self) -> &DfgTable {
+        &self.dfg
     }
 
     /// Each level's perceptual roughness.

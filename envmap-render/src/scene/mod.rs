@@ -10,12 +10,14 @@
 //! * [`lit_files`]: those maps from the files `envmap bake` wrote.
 //! * [`render`]: the rasterizer, per pixel (seed `000`) and per vertex
 //!   (seed `002`).
-//! * [`demo`]: `envmap demo`, every representation side by side.
+//! * [`demo`]: `envmap demo`, every representation side by side; [`demo_lit`]:
+//!   its lit section (materials by the split sum against the reference).
 //!
 //! This folder uses [`crate::image`] and [`crate::filter`]; nothing from
 //! `cli`.
 
 pub mod demo;
+pub mod demo_lit;
 pub mod environments;
 pub mod lit;
 pub mod lit_files;

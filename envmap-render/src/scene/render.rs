@@ -147,10 +147,14 @@ pub enum Shading<'a> {
         material: Material,
         /// Samples per pixel and per strategy (cosine, GGX, light).
         samples: u32,
-        /// Light sampling by the environment's luminance (a table made once
-        /// per render, [`EnvSampling`]): what finds a small bright sun; a
-        /// smooth environment needs only the other two strategies.
-        light_sampling: bool,
+        /// Light sampling by the environment's luminance: the table of the
+        /// environment given to [`render`] ([`light_table`], made once and
+        /// shared by every render in it); what finds a small bright sun. A
+        /// smooth environment needs only the other two strategies (`None`).
+        light: Option<&'a EnvSampling>,
+        /// Mixed into every pixel's seed: renders with different seeds are
+        /// independent estimates (their difference measures the noise).
+        seed: u64,
     },
 }
 
@@ -216,9 +220,7 @@ struct Hit {
 }
 
 const NEAR: f32 = 1e-3;
-/// The width of the reference's light-sampling table ([`EnvSampling`]): a
-/// 1024 × 512 latitude-longitude grid, cells of 0.35°, fine enough for the
-/// built-in sky's 1.2° sun.
+/// The width of [`light_table`]'s grid.
 const LIGHT_TABLE_WIDTH: u32 = 1024;
 const BAND: u32 = 16;
 
@@ -327,25 +329,8 @@ fn render_map(
         _ => Vec::new(),
     };
 
-    // The reference: the environment exactly (analytic) or through the
-    // map, and its luminance table for light sampling, made once.
-    let look = |d: Vec3| -> [f32; 3] {
-        match (analytic, sampler.as_ref()) {
-            (Some(f), _) => f(d),
-            (None, Some(s)) => mapping
-                .forward(to_map * d)
-                .map_or([0.0; 3], |c| s.sample(c, opts.filter)),
-            (None, None) => [0.0; 3],
-        }
-    };
-    let light = matches!(
-        opts.shading,
-        Shading::Reference {
-            light_sampling: true,
-            ..
-        }
-    )
-    .then(|| EnvSampling::new(&look, LIGHT_TABLE_WIDTH));
+    // The reference: the environment exactly (analytic) or through the map.
+    let look = |d: Vec3| radiance(analytic, sampler.as_ref(), mapping, to_map, opts.filter, d);
 
     // Bin triangles by the bands of rows they touch.
     let bands = h.div_ceil(BAND) as usize;
@@ -428,13 +413,16 @@ fn render_map(
                         (
                             _,
                             Shading::Reference {
-                                material, samples, ..
+                                material,
+                                samples,
+                                light,
+                                seed,
                             },
                         ) => {
                             let pixel = u64::from(y0 + k as u32 / w) * u64::from(w)
                                 + u64::from(k as u32 % w);
-                            let mut rng = Pcg32::new(pixel);
-                            reference(&look, light.as_ref(), &material, n, v, samples, &mut rng)
+                            let mut rng = Pcg32::new(pixel ^ seed.rotate_left(40));
+                            reference(&look, light, &material, n, v, samples, &mut rng)
                         }
                         _ => [0.0; 3],
                     });
@@ -531,6 +519,46 @@ fn render_map(
         });
     cancel::check(opts.cancel)?;
     Ok(downsample(hi, w, h, s))
+}
+
+/// The radiance towards world direction `d`: the analytic environment
+/// exactly, or the map through its mapping (in its axes) and `filter`.
+fn radiance(
+    analytic: Option<&(dyn Fn(Vec3) -> [f32; 3] + Sync)>,
+    sampler: Option<&Sampler<'_>>,
+    mapping: AnyMapping,
+    to_map: Mat3,
+    filter: Filter,
+    d: Vec3,
+) -> [f32; 3] {
+    match (analytic, sampler) {
+        (Some(f), _) => f(d),
+        (None, Some(s)) => mapping
+            .forward(to_map * d)
+            .map_or([0.0; 3], |c| s.sample(c, filter)),
+        (None, None) => [0.0; 3],
+    }
+}
+
+/// The light-sampling table of `env` for [`Shading::Reference`]: its
+/// luminance, as the reference sees it (through `filter` for a map), on a
+/// 1024 × 512 latitude-longitude grid ([`EnvSampling`]: cells of 0.35°, fine
+/// enough for the built-in sky's 1.2° sun). About a second for the
+/// built-in sky on two cores; make it once per environment.
+#[must_use]
+pub fn light_table(env: EnvSource<'_>, filter: Filter) -> EnvSampling {
+    match env {
+        EnvSource::Analytic(f) => EnvSampling::new(f, LIGHT_TABLE_WIDTH),
+        EnvSource::Map(img) => {
+            let s = Sampler::new(img);
+            let to_map = img.representation().frame.matrix().transpose();
+            let m = img.mapping();
+            EnvSampling::new(
+                &|d| radiance(None, Some(&s), m, to_map, filter, d),
+                LIGHT_TABLE_WIDTH,
+            )
+        }
+    }
 }
 
 /// The interpolated unit normal at a hit and the unit vector from it to
