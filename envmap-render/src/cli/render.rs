@@ -75,6 +75,9 @@ pub(crate) struct RenderArgs {
     /// Texture filter: nearest or bilinear.
     #[arg(long, default_value = "bilinear")]
     pub(crate) filter: Filter,
+    /// Plain bilinear lookups in the map itself, as seed 000 does: no mip level chosen from each reflected ray's footprint (the default reads a mip pyramid of the map trilinearly there, per pixel with the bilinear filter).
+    #[arg(long)]
+    pub(crate) no_mip: bool,
     /// Schlick Fresnel reflectance at normal incidence (e.g. 0.04 glass, 0.9 metal); default: perfect mirror.
     #[arg(long)]
     pub(crate) fresnel: Option<f32>,
@@ -275,6 +278,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         background: true,
         shading,
         cancel: Some(stop),
+        mip: !a.no_mip,
     };
     let t = Instant::now();
     let img = render(&mesh, source, &cam, &opts).map_err(|e| e.to_string())?;

@@ -471,6 +471,24 @@ impl<'a> Trilinear<'a> {
         }
     }
 
+    /// A sampler whose level 0 is `base`, read in place through its plain
+    /// bilinear [`Sampler`] (no copy), and whose levels 1, 2, … are `below`'s
+    /// levels, `below` being the pyramid of `base` one level down
+    /// (`Pyramid::new(downsample(base, …)?, …)`). It saves the renderer a
+    /// copy of the full-size map per render: the base, three quarters of a
+    /// pyramid's texels, is neither cloned into a [`Pyramid`] nor copied with
+    /// a border. The plain sampler keeps the same edge rule, so it reads
+    /// what [`Trilinear::new`] reads there to f32 rounding (not bit for
+    /// bit: the blends are not grouped alike).
+    #[must_use]
+    pub fn over(base: &'a EnvImage, below: &'a Pyramid) -> Self {
+        let full = Self::new(below);
+        let mut levels = Vec::with_capacity(full.levels.len() + 1);
+        levels.push(Level::Plain(Sampler::new(base)));
+        levels.extend(full.levels);
+        Self { levels, first: 0 }
+    }
+
     /// The number of levels.
     #[must_use]
     pub fn levels(&self) -> usize {
@@ -626,6 +644,35 @@ mod tests {
                 // Finer than its first level: read at the first.
                 let (a, b) = (full.sample(c, 2.0), from2.sample(c, 0.5));
                 assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "{c:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_sampler_over_a_base_and_the_pyramid_below_reads_as_the_full_one() {
+        for m in [AnyMapping::Cube, AnyMapping::LatLong, AnyMapping::SphereMap] {
+            let repr = Representation::default_for(m);
+            let (w, h) = repr
+                .atlas
+                .image_size_for_cell_width(32 * repr.atlas.cell_aspect_w)
+                .unwrap();
+            let base = fill(repr, w, h, smooth).unwrap();
+            let (cw, ch) = base.cell_size();
+            let below = downsample(&base, &TexelWeights::new(m, cw, ch)).unwrap();
+            let below = Pyramid::new(below, 1).unwrap();
+            let p = Pyramid::new(base.clone(), 1).unwrap();
+            let (full, over) = (Trilinear::new(&p), Trilinear::over(&base, &below));
+            assert_eq!(full.levels(), over.levels(), "{m}");
+            for chart in 0..m.chart_count() {
+                for k in 0..9 {
+                    let c = ChartUv::new(chart, (k as f32 + 0.3) / 9.0, (k as f32 * 0.61) % 1.0);
+                    for lod in [0.0, 0.4, 1.0, 2.5, 9.0] {
+                        let (a, b) = (full.sample(c, lod), over.sample(c, lod));
+                        for i in 0..3 {
+                            assert!((a[i] - b[i]).abs() < 1e-5, "{m} {c:?} {lod}: {a:?} {b:?}");
+                        }
+                    }
+                }
             }
         }
     }
