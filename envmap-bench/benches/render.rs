@@ -1,7 +1,10 @@
 //! Render speed: a mirror teapot, per pixel and per vertex, in the built-in
 //! sky stored as a 6×1024² cube map, 1920×1080, bilinear, one sample per
 //! pixel, per pixel on one and two threads and per vertex on two, beside a
-//! plain copy of the output image's bytes; and lit: glossy plastic at
+//! plain copy of the output image's bytes; per pixel with mip-aware lookups
+//! on two threads (`per-pixel-mip`: the map's pyramid built inside each
+//! render, as `envmap render` does, and read trilinearly at each
+//! reflection's footprint); and lit: glossy plastic at
 //! roughness 0.5 by the split sum from that sky's 512² baked chain and 32²
 //! irradiance map (baked once, outside the timing), on two threads.
 //!
@@ -35,10 +38,11 @@ fn bench(c: &mut Criterion) {
     g.bench_function("copy-output", |b| {
         b.iter(|| copy.copy_from_slice(black_box(&pixels)))
     });
-    for (name, mode, threads) in [
-        ("per-pixel", Mode::PerPixel, 1),
-        ("per-pixel", Mode::PerPixel, 2),
-        ("per-vertex", Mode::PerVertex, 2),
+    for (name, mode, threads, mip) in [
+        ("per-pixel", Mode::PerPixel, 1, false),
+        ("per-pixel", Mode::PerPixel, 2, false),
+        ("per-pixel-mip", Mode::PerPixel, 2, true),
+        ("per-vertex", Mode::PerVertex, 2, false),
     ] {
         let pool = common::pool(threads);
         let opts = RenderOptions {
@@ -46,6 +50,7 @@ fn bench(c: &mut Criterion) {
             height,
             mode,
             samples: 1,
+            mip,
             ..RenderOptions::default()
         };
         g.bench_function(format!("{name}/{threads}-threads"), |b| {
