@@ -67,10 +67,13 @@
 //! 30.1 dB. What is left is mostly the silhouette's geometric aliasing,
 //! which no texture filter touches.
 //!
-//! The pyramid is built for each render from the map (every level down to
-//! 1², about a third of the map's texels more, and each level but a disk
-//! map's copied once with a one-texel border by [`Trilinear`]); the cost is
-//! measured beside the plain render in the render bench (`envmap-bench`).
+//! The pyramid is built for each render: the map itself is read in place
+//! as level 0 ([`Trilinear::over`]); the levels below it (every level down
+//! to 1², about a third of the map's texels) are made from it, and each but
+//! a disk map's copied once with a one-texel border. That is the option's
+//! main cost, measured beside the plain render in the render bench
+//! (`envmap-bench`, `per-pixel-mip`; `docs/performance.md`): several times
+//! a 1920 × 1080 render's own time in a 6 × 1024² cube.
 //! Per-vertex mode keeps seed `002`'s lookups (their artifacts are its
 //! point), [`Filter::Nearest`] stays nearest, and an analytic environment
 //! has no map to filter.
