@@ -175,6 +175,8 @@ fn mip_leaves_a_smooth_mirror_close_and_materials_alone() {
             shading: Shading::Reference {
                 material: Material::default(),
                 samples: 2,
+                light: None,
+                seed: 0,
             },
             ..RenderOptions::default()
         };
