@@ -457,3 +457,42 @@ fn render_reads_the_maps_bake_wrote() {
         assert!(!d.join("x.png").exists());
     }
 }
+
+/// Eight at a time, the split sum is the one-at-a-time split sum (the
+/// batched mappings round differently: within 10⁻⁵ relative).
+#[test]
+fn shade8_is_shade_lane_by_lane() {
+    let (_, lit) = baked(smooth, 32, 32);
+    let ls = lit.sampler();
+    let mut seed = 1u32;
+    let mut rnd = || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f32 / 16_777_216.0 * 2.0 - 1.0
+    };
+    let mut worst = 0.0f32;
+    for r in [0.0f32, 0.3, 0.55, 1.0] {
+        for (metallic, multiscatter, dominant) in [(0.0, false, true), (1.0, true, false)] {
+            let m = mat(0.7, metallic, r);
+            for lanes in [1usize, 5, 8] {
+                let n: Vec<Vec3> = (0..lanes)
+                    .map(|_| Vec3::new(rnd(), rnd(), rnd()).normalize_or(Vec3::Z))
+                    .collect();
+                let v: Vec<Vec3> = n
+                    .iter()
+                    .map(|n| (*n + 0.8 * Vec3::new(rnd(), rnd(), rnd())).normalize_or(*n))
+                    .collect();
+                let mut out = [[0.0f32; 3]; 8];
+                ls.shade8(&m, &n, &v, multiscatter, dominant, &mut out);
+                for k in 0..lanes {
+                    let one = ls.shade(&m, n[k], v[k], multiscatter, dominant);
+                    for c in 0..3 {
+                        let e = (out[k][c] - one[c]).abs() / one[c].abs().max(1e-3);
+                        worst = worst.max(e);
+                    }
+                }
+            }
+        }
+    }
+    println!("shade8 vs shade: worst relative difference {worst:e}");
+    assert!(worst < 1e-5, "{worst}");
+}

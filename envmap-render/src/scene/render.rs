@@ -469,8 +469,47 @@ fn render_map(
             // points interpolated across the triangle); the lookups below
             // then fill only the background.
             let mut lit: Vec<Option<[f32; 3]>> = vec![None; px.len()];
+            if let (
+                Some(ls),
+                Shading::SplitSum {
+                    material,
+                    multiscatter,
+                    dominant,
+                    ..
+                },
+            ) = (&lit_sampler, opts.shading)
+            {
+                if !per_vertex_lit {
+                    // Per pixel: eight at a time.
+                    let at: Vec<usize> = (0..px.len()).filter(|&k| hits[k].is_some()).collect();
+                    for chunk in at.chunks(LANES) {
+                        let (mut ns, mut vs) = ([Vec3::Z; LANES], [Vec3::Z; LANES]);
+                        for (j, &k) in chunk.iter().enumerate() {
+                            if let Some(hit) = &hits[k] {
+                                (ns[j], vs[j]) = surface(mesh, hit, &view);
+                            }
+                        }
+                        let mut out = [[0.0f32; 3]; LANES];
+                        let n = chunk.len();
+                        ls.shade8(
+                            &material,
+                            &ns[..n],
+                            &vs[..n],
+                            multiscatter,
+                            dominant,
+                            &mut out,
+                        );
+                        for (j, &k) in chunk.iter().enumerate() {
+                            lit[k] = Some(out[j]);
+                        }
+                    }
+                }
+            }
             if !matches!(opts.shading, Shading::Mirror) {
                 for (k, hit) in hits.iter().enumerate() {
+                    if lit[k].is_some() {
+                        continue;
+                    }
                     let Some(hit) = hit else { continue };
                     let (n, v) = surface(mesh, hit, &view);
                     lit[k] = Some(match (&lit_sampler, opts.shading) {
@@ -525,10 +564,19 @@ fn render_map(
             // ray for the background.
             // With mip-aware lookups, also each direction's footprint: the
             // angle it turns through from one pixel to the next.
-            let mut dirs = Vec::with_capacity(px.len());
-            let mut spread = vec![0.0f32; if trilinear.is_some() { px.len() } else { 0 }];
-            let mut fres = vec![1.0f32; px.len()];
-            for (k, hit) in hits.iter().enumerate() {
+            // Only the pixels that need them: the background (when shown)
+            // and mirror hits; `need[j]` is the pixel of lookup `j`.
+            let need: Vec<usize> = (0..px.len())
+                .filter(|&k| match hits[k] {
+                    None => opts.background,
+                    Some(_) => lit[k].is_none(),
+                })
+                .collect();
+            let mut dirs = Vec::with_capacity(need.len());
+            let mut spread = vec![0.0f32; if trilinear.is_some() { need.len() } else { 0 }];
+            let mut fres = vec![1.0f32; need.len()];
+            for (j, &k) in need.iter().enumerate() {
+                let hit = &hits[k];
                 let (x, y) = (
                     (k as u32 % w) as f32 + 0.5,
                     (y0 + k as u32 / w) as f32 + 0.5,
@@ -539,96 +587,115 @@ fn render_map(
                         let (n, vv) = surface(mesh, hit, &view);
                         if let Some(f0) = opts.fresnel_f0 {
                             let c = n.dot(vv).clamp(0.0, 1.0);
-                            fres[k] = f0 + (1.0 - f0) * (1.0 - c).powi(5);
+                            fres[j] = f0 + (1.0 - f0) * (1.0 - c).powi(5);
                         }
                         reflect_view(n, vv)
                     }
                 };
-                if let Some(s) = spread.get_mut(k) {
+                if let Some(s) = spread.get_mut(j) {
                     *s = footprint(mesh, &projected, hit.as_ref(), &view, x, y, d);
                 }
                 dirs.push(d);
             }
-            let (Some(sampler), None) = (sampler.as_ref(), analytic) else {
-                let f = analytic.unwrap_or(&|_| [0.0; 3]);
-                for (k, out) in px.iter_mut().enumerate() {
-                    *out = match hits[k] {
-                        None if !opts.background => [0.0; 3],
-                        None => f(dirs[k]),
-                        Some(_) => lit[k].unwrap_or_else(|| {
-                            let rgb = f(dirs[k]);
-                            let fr = fres[k];
-                            [
-                                rgb[0] * fr * opts.tint[0],
-                                rgb[1] * fr * opts.tint[1],
-                                rgb[2] * fr * opts.tint[2],
-                            ]
-                        }),
-                    };
-                }
-                return;
-            };
-            for d in &mut dirs {
-                *d = to_map * *d;
-            }
-            // Per pixel, reflections go straight from directions to chart
-            // points to colours, eight at a time; per vertex, the pixels
-            // hit take texture coordinates interpolated across the triangle.
-            let mut coords = Vec::new();
-            if per_vertex {
-                coords.resize(dirs.len(), ChartUv::default());
-                forward_slice::<_, Fine>(&mapping, &dirs, &mut coords);
-                for (c, hit) in coords.iter_mut().zip(&hits) {
-                    if let Some(hit) = hit {
-                        let [a, b, cc] =
-                            mesh.triangles[hit.tri as usize].map(|i| vertex_uv[i as usize]);
-                        *c = ChartUv::new(
-                            a.chart,
-                            a.u * hit.w[0] + b.u * hit.w[1] + cc.u * hit.w[2],
-                            a.v * hit.w[0] + b.v * hit.w[1] + cc.v * hit.w[2],
-                        );
-                    }
-                }
-            }
-            // Eight lookups at a time, queued so that their texels load
-            // ahead of filtering (see `Ahead`), or mip-aware, trilinear at
-            // each footprint's level; then shading per pixel.
-            if let (Some(tri), Some(texels)) = (&trilinear, texels) {
-                for start in (0..px.len()).step_by(LANES) {
-                    let at = start..(start + LANES).min(px.len());
-                    let q = mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at.clone()]));
-                    let lod = lod8(texels, &q, &spread[at.clone()]);
-                    let rgb = tri.sample8(&q, lod);
-                    px[at.clone()].copy_from_slice(&rgb[..at.len()]);
-                }
+            // The looked-up values, `vals[j]` for pixel `need[j]`.
+            let mut vals = vec![[0.0f32; 3]; need.len()];
+            if let (Some(sampler), None) = (sampler.as_ref(), analytic) {
+                lookups(
+                    sampler,
+                    &mapping,
+                    per_vertex,
+                    trilinear.as_ref().zip(texels),
+                    mesh,
+                    &hits,
+                    &need,
+                    &mut dirs,
+                    &spread,
+                    &vertex_uv,
+                    to_map,
+                    opts.filter,
+                    &mut vals,
+                );
             } else {
-                let mut ahead = Ahead::default();
-                for start in (0..px.len()).step_by(LANES) {
-                    let at = start..(start + LANES).min(px.len());
-                    let q = if per_vertex {
-                        Uv8::from_partial(&coords[at.clone()])
-                    } else {
-                        mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at.clone()]))
-                    };
-                    ahead.push(sampler, &q, opts.filter, at.start, at.len(), px);
+                let f = analytic.unwrap_or(&|_| [0.0; 3]);
+                for (v, d) in vals.iter_mut().zip(&dirs) {
+                    *v = f(*d);
                 }
-                ahead.drain(sampler, px);
             }
-            for (((out, hit), f), l) in px.iter_mut().zip(&hits).zip(&fres).zip(&lit) {
-                match (hit, l) {
-                    (None, _) if !opts.background => *out = [0.0; 3],
-                    (None, _) => {}
-                    (Some(_), Some(l)) => *out = *l,
-                    (Some(_), None) => {
-                        for (c, t) in out.iter_mut().zip(opts.tint) {
-                            *c = *c * f * t;
-                        }
-                    }
-                }
+            for (out, l) in px.iter_mut().zip(&lit) {
+                *out = l.unwrap_or([0.0; 3]);
+            }
+            for ((&k, v), f) in need.iter().zip(&vals).zip(&fres) {
+                px[k] = match hits[k] {
+                    None => *v,
+                    Some(_) => [0, 1, 2].map(|c| v[c] * f * opts.tint[c]),
+                };
             }
         });
     cancel::check(opts.cancel)?;
     Ok(downsample(hi, w, h, s))
+}
+
+/// The map lookups of one band: directions `dirs` (world axes, turned into
+/// the map's here) of the pixels `need`, into `vals`. Per pixel, straight
+/// from directions to chart points to colours, eight at a time, queued so
+/// that their texels load ahead of filtering (see `Ahead`), or mip-aware
+/// (trilinear at each footprint's level, `spread`); per vertex, the pixels
+/// hit take texture coordinates interpolated across the triangle.
+#[allow(clippy::too_many_arguments)]
+fn lookups(
+    sampler: &Sampler<'_>,
+    mapping: &AnyMapping,
+    per_vertex: bool,
+    mip: Option<(&Trilinear<'_>, &TexelWeights)>,
+    mesh: &Mesh,
+    hits: &[Option<Hit>],
+    need: &[usize],
+    dirs: &mut [Vec3],
+    spread: &[f32],
+    vertex_uv: &[ChartUv],
+    to_map: Mat3,
+    filter: Filter,
+    vals: &mut [[f32; 3]],
+) {
+    for d in dirs.iter_mut() {
+        *d = to_map * *d;
+    }
+    let mut coords = Vec::new();
+    if per_vertex {
+        coords.resize(dirs.len(), ChartUv::default());
+        forward_slice::<_, Fine>(mapping, dirs, &mut coords);
+        for (c, &k) in coords.iter_mut().zip(need) {
+            if let Some(hit) = &hits[k] {
+                let [a, b, cc] = mesh.triangles[hit.tri as usize].map(|i| vertex_uv[i as usize]);
+                *c = ChartUv::new(
+                    a.chart,
+                    a.u * hit.w[0] + b.u * hit.w[1] + cc.u * hit.w[2],
+                    a.v * hit.w[0] + b.v * hit.w[1] + cc.v * hit.w[2],
+                );
+            }
+        }
+    }
+    if let Some((tri, texels)) = mip {
+        for start in (0..vals.len()).step_by(LANES) {
+            let at = start..(start + LANES).min(vals.len());
+            let q = mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at.clone()]));
+            let lod = lod8(texels, &q, &spread[at.clone()]);
+            let rgb = tri.sample8(&q, lod);
+            vals[at.clone()].copy_from_slice(&rgb[..at.len()]);
+        }
+    } else {
+        let mut ahead = Ahead::default();
+        for start in (0..vals.len()).step_by(LANES) {
+            let at = start..(start + LANES).min(vals.len());
+            let q = if per_vertex {
+                Uv8::from_partial(&coords[at.clone()])
+            } else {
+                mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at.clone()]))
+            };
+            ahead.push(sampler, &q, filter, at.start, at.len(), vals);
+        }
+        ahead.drain(sampler, vals);
+    }
 }
 
 /// The radiance towards world direction `d`: the analytic environment
