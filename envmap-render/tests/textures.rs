@@ -967,11 +967,15 @@ fn save_and_load_detailed_round_trip_a_cube_through_ktx2_and_dds() {
 const BAD_KTX2: &str = "bad/sample.ktx2";
 const BAD_DDS: &str = "bad/sample.dds";
 
-/// Decodes `bytes` as KTX2 named [`BAD_KTX2`]; it must fail, without
+/// A texture decoder: `ktx2::decode` or `dds::decode`.
+type Decode =
+    fn(&Path, &[u8], u64) -> envmap_render::Result<envmap_render::image::texture::TextureFile>;
+
+/// Decodes `bytes` with `decode` as the file `name`; it must fail, without
 /// panicking, with a message naming the file. Returns the error.
-fn ktx2_error(bytes: &[u8], what: &str) -> Error {
+fn decode_error(decode: Decode, name: &str, bytes: &[u8], what: &str) -> Error {
     let r = catch_unwind(AssertUnwindSafe(|| {
-        envktx2::decode(Path::new(BAD_KTX2), bytes, DEFAULT_MAX_TEXELS)
+        decode(Path::new(name), bytes, DEFAULT_MAX_TEXELS)
     }))
     .unwrap_or_else(|_| panic!("{what}: decode panicked"));
     let e = match r {
@@ -980,27 +984,20 @@ fn ktx2_error(bytes: &[u8], what: &str) -> Error {
     };
     let m = e.to_string();
     assert!(
-        m.starts_with(BAD_KTX2),
+        m.starts_with(name),
         "{what}: message does not name the file: {m}"
     );
     e
 }
 
+/// [`decode_error`] for KTX2 bytes, named [`BAD_KTX2`].
+fn ktx2_error(bytes: &[u8], what: &str) -> Error {
+    decode_error(envktx2::decode, BAD_KTX2, bytes, what)
+}
+
+/// [`decode_error`] for DDS bytes, named [`BAD_DDS`].
 fn dds_error(bytes: &[u8], what: &str) -> Error {
-    let r = catch_unwind(AssertUnwindSafe(|| {
-        dds::decode(Path::new(BAD_DDS), bytes, DEFAULT_MAX_TEXELS)
-    }))
-    .unwrap_or_else(|_| panic!("{what}: decode panicked"));
-    let e = match r {
-        Ok(_) => panic!("{what}: decoded without an error"),
-        Err(e) => e,
-    };
-    let m = e.to_string();
-    assert!(
-        m.starts_with(BAD_DDS),
-        "{what}: message does not name the file: {m}"
-    );
-    e
+    decode_error(dds::decode, BAD_DDS, bytes, what)
 }
 
 fn assert_mentions(e: &Error, words: &[&str], what: &str) {

@@ -187,3 +187,17 @@ pub(crate) fn warn_clamped(
         );
     }
 }
+
+/// `--threads N`: the global worker pool's size (default: one per core).
+pub(crate) fn set_threads(threads: Option<usize>) -> Result<(), String> {
+    if let Some(n) = threads {
+        if n == 0 {
+            return Err("--threads must be at least 1".into());
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| format!("--threads {n}: {e}"))?;
+    }
+    Ok(())
+}

@@ -11,8 +11,8 @@ use envmap_core::{AnyMapping, Frame};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli::args::{
-    load_error, parse_convention, parse_layout, parse_mapping, parse_world, warn_clamped,
-    warn_replaced, CliResult, TextureFlags,
+    load_error, parse_convention, parse_layout, parse_mapping, parse_world, set_threads,
+    warn_clamped, warn_replaced, CliResult, TextureFlags,
 };
 use crate::filter::bake::{bake, chain_sizes, Bake, BakeOptions, Quality};
 use crate::filter::sh::{IrradianceScale, ShWindow, NAMES};
@@ -377,15 +377,7 @@ fn source(a: &BakeArgs, stop: &AtomicBool) -> Result<(EnvImage, String, Vec<Path
 }
 
 pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
-    if let Some(n) = a.threads {
-        if n == 0 {
-            return Err("--threads must be at least 1".into());
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .map_err(|e| format!("--threads {n}: {e}"))?;
-    }
+    set_threads(a.threads)?;
     if a.samples == Some(0) {
         return Err("--samples must be at least 1".into());
     }

@@ -10,8 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli::args::{
     load_error, output_size, parse_convention, parse_face_names, parse_face_transforms,
-    parse_layout, parse_mapping, parse_rotation, parse_world, warn_clamped, warn_replaced,
-    CliResult, TextureFlags,
+    parse_layout, parse_mapping, parse_rotation, parse_world, set_threads, warn_clamped,
+    warn_replaced, CliResult, TextureFlags,
 };
 use crate::filter::convert::{auto_samples, convert, ConvertOptions};
 use crate::filter::pyramid::Pyramid;
@@ -177,15 +177,7 @@ fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), Stri
 }
 
 pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
-    if let Some(n) = a.threads {
-        if n == 0 {
-            return Err("--threads must be at least 1".into());
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .map_err(|e| format!("--threads {n}: {e}"))?;
-    }
+    set_threads(a.threads)?;
     if a.samples == Some(0) || a.samples.is_some_and(|s| s > 16) {
         return Err("--samples must be between 1 and 16".into());
     }
