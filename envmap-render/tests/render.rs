@@ -176,3 +176,35 @@ fn per_vertex_differs_at_the_latlong_seam_only() {
         "per-vertex differs away from the seam: {other_err}"
     );
 }
+
+/// The progress callback is called once per band of rows, ending at the
+/// total, and the render is the same with it as without.
+#[test]
+fn progress_counts_every_band() {
+    use std::sync::Mutex;
+    let (mesh, cam) = sphere_scene();
+    let sky = |d: Vec3| direction_colour(d);
+    let seen = Mutex::new(Vec::new());
+    let tick = |done: u32, total: u32| seen.lock().unwrap().push((done, total));
+    let opts = RenderOptions {
+        width: 40,
+        height: 70,
+        ..RenderOptions::default()
+    };
+    let with = render(
+        &mesh,
+        EnvSource::Analytic(&sky),
+        &cam,
+        &RenderOptions {
+            progress: Some(envmap_render::render::Progress(&tick)),
+            ..opts
+        },
+    )
+    .unwrap();
+    let without = render(&mesh, EnvSource::Analytic(&sky), &cam, &opts).unwrap();
+    assert_eq!(with.pixels, without.pixels);
+    let mut seen = seen.into_inner().unwrap();
+    seen.sort_unstable();
+    // 70 rows in bands of 16: 5 bands, each reported once.
+    assert_eq!(seen, (1..=5).map(|k| (k, 5)).collect::<Vec<_>>());
+}

@@ -21,7 +21,9 @@ use crate::scene::lit::LitEnvironment;
 use crate::scene::lit_files;
 use crate::scene::material::Material;
 use crate::scene::mesh::Mesh;
-use crate::scene::render::{light_table, render, Camera, EnvSource, Mode, RenderOptions, Shading};
+use crate::scene::render::{
+    light_table, render, Camera, EnvSource, Mode, Progress, RenderOptions, Shading,
+};
 
 #[derive(Args)]
 pub(crate) struct RenderArgs {
@@ -279,9 +281,34 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         shading,
         cancel: Some(stop),
         mip: !a.no_mip,
+        progress: None,
+    };
+    // The reference takes seconds to minutes: a progress bar (drawn only
+    // when standard error is a terminal).
+    let bar = if a.reference {
+        let b = indicatif::ProgressBar::new(1);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "reference [{bar:40}] {pos}/{len} bands of rows ({eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let tick = |done: u32, total: u32| {
+        bar.set_length(u64::from(total));
+        bar.set_position(u64::from(done));
+    };
+    let opts = RenderOptions {
+        progress: a.reference.then_some(Progress(&tick)),
+        ..opts
     };
     let t = Instant::now();
     let img = render(&mesh, source, &cam, &opts).map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
     let elapsed = t.elapsed();
     let sopts = SaveOptions {
         exposure: a.exposure,

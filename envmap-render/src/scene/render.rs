@@ -174,6 +174,19 @@ pub struct RenderOptions<'a> {
     /// environment are unaffected. `envmap render` turns it on unless
     /// given `--no-mip`.
     pub mip: bool,
+    /// Called from the workers as bands of rows finish, with the bands done
+    /// and their number (for a progress bar on long renders: the reference).
+    pub progress: Option<Progress<'a>>,
+}
+
+/// A progress callback: `(done, total)`; see [`RenderOptions::progress`].
+#[derive(Clone, Copy)]
+pub struct Progress<'a>(pub &'a (dyn Fn(u32, u32) + Sync));
+
+impl core::fmt::Debug for Progress<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("Progress")
+    }
 }
 
 impl Default for RenderOptions<'_> {
@@ -190,6 +203,7 @@ impl Default for RenderOptions<'_> {
             shading: Shading::Mirror,
             cancel: None,
             mip: false,
+            progress: None,
         }
     }
 }
@@ -450,6 +464,8 @@ fn render_map(
     }
 
     let mut hi = vec![[0.0f32; 3]; (w * h) as usize];
+    let bands_done = std::sync::atomic::AtomicU32::new(0);
+    let total_bands = bins.len() as u32;
     hi.par_chunks_mut((w * BAND) as usize)
         .zip(bins.par_iter())
         .enumerate()
@@ -629,6 +645,10 @@ fn render_map(
                     None => *v,
                     Some(_) => [0, 1, 2].map(|c| v[c] * f * opts.tint[c]),
                 };
+            }
+            if let Some(Progress(tick)) = opts.progress {
+                let done = bands_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                tick(done, total_bands);
             }
         });
     cancel::check(opts.cancel)?;
