@@ -38,11 +38,15 @@ fn bench(c: &mut Criterion) {
     g.bench_function("copy-output", |b| {
         b.iter(|| copy.copy_from_slice(black_box(&pixels)))
     });
-    for (name, mode, threads, mip) in [
-        ("per-pixel", Mode::PerPixel, 1, false),
-        ("per-pixel", Mode::PerPixel, 2, false),
-        ("per-pixel-mip", Mode::PerPixel, 2, true),
-        ("per-vertex", Mode::PerVertex, 2, false),
+    // The mip levels made once, as a program rendering one map many times
+    // would (the `per-pixel-mip` case builds them in every render).
+    let levels = envmap_render::render::MipLevels::new(&env).expect("mip levels");
+    for (name, mode, threads, mip, prebuilt) in [
+        ("per-pixel", Mode::PerPixel, 1, false, false),
+        ("per-pixel", Mode::PerPixel, 2, false, false),
+        ("per-pixel-mip", Mode::PerPixel, 2, true, false),
+        ("per-pixel-mip-prebuilt", Mode::PerPixel, 2, true, true),
+        ("per-vertex", Mode::PerVertex, 2, false, false),
     ] {
         let pool = common::pool(threads);
         let opts = RenderOptions {
@@ -51,6 +55,7 @@ fn bench(c: &mut Criterion) {
             mode,
             samples: 1,
             mip,
+            mip_levels: prebuilt.then_some(&levels),
             ..RenderOptions::default()
         };
         g.bench_function(format!("{name}/{threads}-threads"), |b| {

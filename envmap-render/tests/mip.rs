@@ -223,3 +223,35 @@ fn the_no_mip_flag_parses_and_changes_the_picture() {
     assert_ne!(mip, plain);
     assert_eq!(plain, run("plain2.exr", &["--no-mip"]));
 }
+
+/// Levels made beforehand render exactly what the render would build; a
+/// set made from another map's size is not used (the render builds its own).
+#[test]
+fn prebuilt_mip_levels_render_the_same() {
+    use envmap_render::render::MipLevels;
+    let env = cube(Builtin::Sky, 64);
+    let other = cube(Builtin::Sky, 32);
+    let (own, wrong) = (
+        MipLevels::new(&env).unwrap(),
+        MipLevels::new(&other).unwrap(),
+    );
+    assert!(own.fits(&env) && !wrong.fits(&env));
+    let draw = |levels: Option<&MipLevels>| {
+        render(
+            &Mesh::teapot(6),
+            EnvSource::Map(&env),
+            &Camera::default(),
+            &RenderOptions {
+                width: 80,
+                height: 60,
+                mip: true,
+                mip_levels: levels,
+                ..RenderOptions::default()
+            },
+        )
+        .unwrap()
+    };
+    let built = draw(None);
+    assert_eq!(draw(Some(&own)).pixels, built.pixels);
+    assert_eq!(draw(Some(&wrong)).pixels, built.pixels);
+}

@@ -281,6 +281,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         shading,
         cancel: Some(stop),
         mip: !a.no_mip,
+        mip_levels: None,
         progress: None,
     };
     // The reference takes seconds to minutes: a progress bar (drawn only

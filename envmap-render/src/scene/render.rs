@@ -67,7 +67,8 @@
 //! 30.1 dB. What is left is mostly the silhouette's geometric aliasing,
 //! which no texture filter touches.
 //!
-//! The pyramid is built for each render: the map itself is read in place
+//! The pyramid is built for each render unless made beforehand
+//! ([`MipLevels`], [`RenderOptions::mip_levels`]): the map itself is read in place
 //! as level 0 ([`Trilinear::over`]); the levels below it (every level down
 //! to 1², about a third of the map's texels) are made from it, and each but
 //! a disk map's copied once with a one-texel border. That is the option's
@@ -174,9 +175,52 @@ pub struct RenderOptions<'a> {
     /// environment are unaffected. `envmap render` turns it on unless
     /// given `--no-mip`.
     pub mip: bool,
+    /// For [`RenderOptions::mip`]: the map's levels made beforehand
+    /// ([`MipLevels::new`]), so that many renders of one map build them
+    /// once; ignored unless made from a map of the environment's mapping
+    /// and size (then they are built for the render, as when `None`).
+    pub mip_levels: Option<&'a MipLevels>,
     /// Called from the workers as bands of rows finish, with the bands done
     /// and their number (for a progress bar on long renders: the reference).
     pub progress: Option<Progress<'a>>,
+}
+
+/// What a mip-aware render reads below an environment map (the map itself
+/// is level 0, read in place): its solid-angle-weighted pyramid from half
+/// its size down to 1², and its texels' solid angles; see
+/// [Mip-aware lookups](self#mip-aware-lookups).
+#[derive(Clone, Debug)]
+pub struct MipLevels {
+    below: Pyramid,
+    texels: TexelWeights,
+    mapping: AnyMapping,
+    cell: (u32, u32),
+}
+
+impl MipLevels {
+    /// The levels below `map`.
+    ///
+    /// # Errors
+    ///
+    /// Only if a level cannot be made (see [`Pyramid::new`]).
+    pub fn new(map: &EnvImage) -> Result<Self> {
+        let (cw, ch) = map.cell_size();
+        let mapping = map.mapping();
+        let texels = TexelWeights::new(mapping, cw, ch);
+        let below = Pyramid::new(downsample_level(map, &texels)?, 1)?;
+        Ok(Self {
+            below,
+            texels,
+            mapping,
+            cell: (cw, ch),
+        })
+    }
+
+    /// Whether these are levels of a map of `map`'s mapping and size.
+    #[must_use]
+    pub fn fits(&self, map: &EnvImage) -> bool {
+        map.mapping() == self.mapping && map.cell_size() == self.cell
+    }
 }
 
 /// A progress callback: `(done, total)`; see [`RenderOptions::progress`].
@@ -203,6 +247,7 @@ impl Default for RenderOptions<'_> {
             shading: Shading::Mirror,
             cancel: None,
             mip: false,
+            mip_levels: None,
             progress: None,
         }
     }
@@ -376,19 +421,21 @@ fn render_map(
     // Mip-aware lookups: the map's levels below its own (the map is read in
     // place as level 0), built for this render, and the base's texel solid
     // angles (the texel's angular size where a lookup lands).
+    let built;
     let mip = match env {
         Some(e) if opts.mip && opts.filter == Filter::Bilinear && !per_vertex => {
-            let (cw, ch) = e.cell_size();
-            let texels = TexelWeights::new(mapping, cw, ch);
-            let below = Pyramid::new(downsample_level(e, &texels)?, 1)?;
-            Some((e, below, texels))
+            match opts.mip_levels.filter(|l| l.fits(e)) {
+                Some(l) => Some((e, l)),
+                None => {
+                    built = MipLevels::new(e)?;
+                    Some((e, &built))
+                }
+            }
         }
         _ => None,
     };
-    let trilinear = mip
-        .as_ref()
-        .map(|(base, below, _)| Trilinear::over(base, below));
-    let texels = mip.as_ref().map(|m| &m.2);
+    let trilinear = mip.map(|(base, l)| Trilinear::over(base, &l.below));
+    let texels = mip.map(|(_, l)| &l.texels);
     // Project every vertex once; per-vertex mode also maps R at each vertex.
     let projected: Vec<(f32, f32, f32)> = mesh.positions.iter().map(|p| view.project(*p)).collect();
     let vertex_uv: Vec<ChartUv> = if per_vertex {
@@ -613,8 +660,16 @@ fn render_map(
                 }
                 dirs.push(d);
             }
-            // The looked-up values, `vals[j]` for pixel `need[j]`.
-            let mut vals = vec![[0.0f32; 3]; need.len()];
+            // The looked-up values, `vals[j]` for pixel `need[j]`: straight
+            // into the band when every pixel is looked up (a mirror with its
+            // background), else into a buffer scattered afterwards.
+            let every = need.len() == px.len();
+            let mut buffer = if every {
+                Vec::new()
+            } else {
+                vec![[0.0f32; 3]; need.len()]
+            };
+            let vals: &mut [[f32; 3]] = if every { &mut *px } else { &mut buffer };
             if let (Some(sampler), None) = (sampler.as_ref(), analytic) {
                 lookups(
                     sampler,
@@ -629,7 +684,7 @@ fn render_map(
                     &vertex_uv,
                     to_map,
                     opts.filter,
-                    &mut vals,
+                    vals,
                 );
             } else {
                 let f = analytic.unwrap_or(&|_| [0.0; 3]);
@@ -637,14 +692,23 @@ fn render_map(
                     *v = f(*d);
                 }
             }
-            for (out, l) in px.iter_mut().zip(&lit) {
-                *out = l.unwrap_or([0.0; 3]);
-            }
-            for ((&k, v), f) in need.iter().zip(&vals).zip(&fres) {
-                px[k] = match hits[k] {
-                    None => *v,
-                    Some(_) => [0, 1, 2].map(|c| v[c] * f * opts.tint[c]),
-                };
+            let tinted = |v: [f32; 3], f: f32| [0, 1, 2].map(|c| v[c] * f * opts.tint[c]);
+            if every {
+                for ((out, hit), f) in px.iter_mut().zip(&hits).zip(&fres) {
+                    if hit.is_some() {
+                        *out = tinted(*out, *f);
+                    }
+                }
+            } else {
+                for (out, l) in px.iter_mut().zip(&lit) {
+                    *out = l.unwrap_or([0.0; 3]);
+                }
+                for ((&k, v), f) in need.iter().zip(&buffer).zip(&fres) {
+                    px[k] = match hits[k] {
+                        None => *v,
+                        Some(_) => tinted(*v, *f),
+                    };
+                }
             }
             if let Some(Progress(tick)) = opts.progress {
                 let done = bands_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
