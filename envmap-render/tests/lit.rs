@@ -447,9 +447,36 @@ fn render_reads_the_maps_bake_wrote() {
 
     std::fs::create_dir(d.join("empty")).unwrap();
     run(&["bake", "sky", "--env-size", "8", "--sh-only", "--out", "sh"]);
+    // Broken manifests: not JSON, a level's file missing, an absurd DFG size.
+    let manifest = std::fs::read_to_string(d.join("exr/manifest.json")).unwrap();
+    for (dir, text) in [
+        ("notjson", "{ not json".to_owned()),
+        (
+            "missing",
+            manifest.replace("specular_2.exr", "specular_9.exr"),
+        ),
+        ("hugedfg", {
+            let mut m: serde_json::Value = serde_json::from_str(&manifest).unwrap();
+            m["dfg"]["size"] = serde_json::json!(4_000_000_000u64);
+            m.to_string()
+        }),
+    ] {
+        std::fs::create_dir(d.join(dir)).unwrap();
+        for f in std::fs::read_dir(d.join("exr")).unwrap() {
+            let f = f.unwrap().path();
+            std::fs::copy(&f, d.join(dir).join(f.file_name().unwrap())).unwrap();
+        }
+        std::fs::write(d.join(dir).join("manifest.json"), text).unwrap();
+    }
     for (env, says) in [
         ("empty", "not a directory `envmap bake` wrote"),
         ("sh", "no specular levels"),
+        (
+            "notjson",
+            "notjson/manifest.json: cannot decode envmap bake manifest",
+        ),
+        ("missing", "specular_9.exr"),
+        ("hugedfg", "dfg size 4000000000"),
     ] {
         let o = envmap(&["render", "x.png", "--env", env, "--material", "gold"], d);
         assert!(!o.status.success());

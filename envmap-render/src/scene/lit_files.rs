@@ -266,7 +266,10 @@ fn from_manifest(
         .as_u64()
         .and_then(|s| u32::try_from(s).ok())
         .unwrap_or(DEFAULT_DFG_SIZE);
-    let dfg = DfgTable::new_cancellable(dfg_size, cancel)?;
+    let dfg = DfgTable::new_cancellable(dfg_size, cancel).map_err(|e| match e {
+        Error::Cancelled => e,
+        e => bad(manifest, format!("dfg size {dfg_size}: {e}")),
+    })?;
     let description = format!(
         "{}: {} specular levels ({}² … {}², roughness {} … {}), irradiance {} ({}), DFG {}²",
         manifest.display(),
