@@ -54,12 +54,7 @@ fn baked_to(
 }
 
 fn mat(base: f32, metallic: f32, roughness: f32) -> Material {
-    Material {
-        base_color: [base; 3],
-        metallic,
-        roughness,
-        dielectric_f0: 0.04,
-    }
+    Material::new([base; 3], metallic, roughness)
 }
 
 fn sphere() -> Mesh {

@@ -658,7 +658,7 @@ fn level_file(a: &BakeArgs, plan: &Plan, k: usize) -> String {
     if plan.container == Container::Exr {
         file_name(a, &format!("specular_{k}"))
     } else {
-        format!("{} (level {k})", texture_name(a, plan, plan.specular))
+        crate::scene::lit_files::level_entry(&texture_name(a, plan, plan.specular), k)
     }
 }
 

@@ -64,15 +64,10 @@ pub struct LitRow {
 
 /// A material for the grid's rows.
 fn grid_material(metal: bool, roughness: f32) -> Material {
-    Material {
-        base_color: if metal {
-            [1.0, 0.766, 0.336]
-        } else {
-            [0.8, 0.05, 0.05]
-        },
-        metallic: if metal { 1.0 } else { 0.0 },
-        roughness,
-        dielectric_f0: 0.04,
+    if metal {
+        Material::new([1.0, 0.766, 0.336], 1.0, roughness)
+    } else {
+        Material::new([0.8, 0.05, 0.05], 0.0, roughness)
     }
 }
 
@@ -362,18 +357,8 @@ pub(crate) fn run(
     progress("seed 002's lit teapots");
     let seed_materials = [
         Material::preset("diffuse")?,
-        Material {
-            base_color: [0.9; 3],
-            metallic: 1.0,
-            roughness: 0.25,
-            dielectric_f0: 0.04,
-        },
-        Material {
-            base_color: [0.8, 0.55, 0.25],
-            metallic: 0.0,
-            roughness: 0.3,
-            dielectric_f0: 0.04,
-        },
+        Material::new([0.9; 3], 1.0, 0.25),
+        Material::new([0.8, 0.55, 0.25], 0.0, 0.3),
     ];
     let mut seed = Vec::new();
     for mapping in [AnyMapping::LatLong, AnyMapping::SphereMapGl] {

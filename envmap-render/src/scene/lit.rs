@@ -192,6 +192,23 @@ pub struct LitSampler<'a> {
     irr_mapping: AnyMapping,
 }
 
+/// Where the chain is read for unit normal `n` seen along unit `v` at
+/// perceptual roughness `r`: R = 2(N·V)N − V, or with `dominant` the lobe's
+/// dominant direction mix(R, N, r²) (Lagarde & de Rousiers 2014, §4.9.3).
+fn specular_direction(n: Vec3, v: Vec3, r: f32, dominant: bool) -> Vec3 {
+    let refl = reflect_view(n, v);
+    if dominant {
+        refl.lerp(n, r * r).normalize_or(refl)
+    } else {
+        refl
+    }
+}
+
+/// `a + (b − a)·t` per channel.
+fn lerp3(a: [f32; 3], b: [f32; 3], t: f32) -> [f32; 3] {
+    [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * t)
+}
+
 /// Schlick's Fresnel with reflectance `f0` at normal incidence.
 fn schlick(f0: [f32; 3], cos: f32) -> [f32; 3] {
     let k = (1.0 - cos.clamp(0.0, 1.0)).powi(5);
@@ -212,15 +229,54 @@ impl LitSampler<'_> {
     /// The prefiltered radiance at chart point `c` of the chain.
     #[must_use]
     pub fn specular_at(&self, c: ChartUv, roughness: f32) -> [f32; 3] {
+        let (k, blend) = self.levels_of(roughness);
+        let a = self.levels[k].sample(c, Filter::Bilinear);
+        match blend {
+            None => a,
+            Some(t) => lerp3(a, self.levels[k + 1].sample(c, Filter::Bilinear), t),
+        }
+    }
+
+    /// The level whose roughness is the largest at most `roughness`, and
+    /// the blend towards the next one when `roughness` lies between them.
+    fn levels_of(&self, roughness: f32) -> (usize, Option<f32>) {
         let rs = &self.env.roughness;
         let k = rs.partition_point(|&x| x <= roughness).saturating_sub(1);
-        let a = self.levels[k].sample(c, Filter::Bilinear);
         if k + 1 >= rs.len() || roughness <= rs[k] {
-            return a;
+            return (k, None);
         }
         let t = ((roughness - rs[k]) / (rs[k + 1] - rs[k])).clamp(0.0, 1.0);
-        let b = self.levels[k + 1].sample(c, Filter::Bilinear);
-        [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * t)
+        (k, Some(t))
+    }
+
+    /// The irradiance map's value `e` as E/π.
+    fn as_e_over_pi(&self, e: [f32; 3]) -> [f32; 3] {
+        match self.env.scale {
+            IrradianceScale::EOverPi => e,
+            IrradianceScale::E => e.map(|v| v / core::f32::consts::PI),
+        }
+    }
+
+    /// The split sum's sum (see the [module docs](self)) from the chain's
+    /// value `ld`, E/π `e`, and N·V.
+    fn combine(
+        &self,
+        m: &Material,
+        nv: f32,
+        ld: [f32; 3],
+        e: [f32; 3],
+        multiscatter: bool,
+    ) -> [f32; 3] {
+        let r = m.clamped_roughness();
+        let [a, b] = self.env.dfg.sample_single_scatter(nv.clamp(1e-4, 1.0), r);
+        let (f0, diff) = (m.f0(), m.diffuse_color());
+        [0, 1, 2].map(|i| {
+            let mut s = f0[i] * a + b;
+            if multiscatter && a + b > 0.0 {
+                s *= 1.0 + f0[i] * (1.0 / (a + b) - 1.0);
+            }
+            diff[i] * e[i] + ld[i] * s
+        })
     }
 
     /// E(n)/π towards world normal `n`.
@@ -235,11 +291,7 @@ impl LitSampler<'_> {
     /// E/π at chart point `c` of the irradiance map.
     #[must_use]
     pub fn irradiance_at(&self, c: ChartUv) -> [f32; 3] {
-        let e = self.irradiance.sample(c, Filter::Bilinear);
-        match self.env.scale {
-            IrradianceScale::EOverPi => e,
-            IrradianceScale::E => e.map(|v| v / core::f32::consts::PI),
-        }
+        self.as_e_over_pi(self.irradiance.sample(c, Filter::Bilinear))
     }
 
     /// Where [`LitSampler::shade`] looks: the chart points of the specular
@@ -254,13 +306,7 @@ impl LitSampler<'_> {
         v: Vec3,
         dominant: bool,
     ) -> (ChartUv, ChartUv) {
-        let r = m.clamped_roughness();
-        let refl = reflect_view(n, v);
-        let dir = if dominant {
-            refl.lerp(n, r * r).normalize_or(refl)
-        } else {
-            refl
-        };
+        let dir = specular_direction(n, v, m.clamped_roughness(), dominant);
         let bad = ChartUv::new(u32::MAX, f32::NAN, f32::NAN);
         (
             self.mapping.forward(self.to_map * dir).unwrap_or(bad),
@@ -309,44 +355,24 @@ impl LitSampler<'_> {
         let mut irr = [Vec3::Z; LANES];
         let mut nv = [1.0f32; LANES];
         for k in 0..lanes {
-            let refl = reflect_view(n[k], v[k]);
-            let dir = if dominant {
-                refl.lerp(n[k], r * r).normalize_or(refl)
-            } else {
-                refl
-            };
-            spec[k] = self.to_map * dir;
+            spec[k] = self.to_map * specular_direction(n[k], v[k], r, dominant);
             irr[k] = self.to_map * n[k];
-            nv[k] = n[k].dot(v[k]).clamp(1e-4, 1.0);
+            nv[k] = n[k].dot(v[k]);
         }
         let qs = self.mapping.forward8::<Fine>(Dir8::from_partial(&spec));
         let qi = self.irr_mapping.forward8::<Fine>(Dir8::from_partial(&irr));
         // One roughness for all lanes: the same two levels and blend.
-        let rs = &self.env.roughness;
-        let level = rs.partition_point(|&x| x <= r).saturating_sub(1);
+        let (level, blend) = self.levels_of(r);
         let mut ld = self.levels[level].sample8(&qs, Filter::Bilinear);
-        if level + 1 < rs.len() && r > rs[level] {
-            let t = ((r - rs[level]) / (rs[level + 1] - rs[level])).clamp(0.0, 1.0);
+        if let Some(t) = blend {
             let b = self.levels[level + 1].sample8(&qs, Filter::Bilinear);
             for (a, b) in ld.iter_mut().zip(&b) {
-                *a = [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * t);
+                *a = lerp3(*a, *b, t);
             }
         }
         let e = self.irradiance.sample8(&qi, Filter::Bilinear);
-        let to_e_over_pi = match self.env.scale {
-            IrradianceScale::EOverPi => 1.0,
-            IrradianceScale::E => 1.0 / core::f32::consts::PI,
-        };
-        let (f0, diff) = (m.f0(), m.diffuse_color());
         for k in 0..lanes {
-            let [a, b] = self.env.dfg.sample_single_scatter(nv[k], r);
-            out[k] = [0, 1, 2].map(|i| {
-                let mut s = f0[i] * a + b;
-                if multiscatter && a + b > 0.0 {
-                    s *= 1.0 + f0[i] * (1.0 / (a + b) - 1.0);
-                }
-                diff[i] * (e[k][i] * to_e_over_pi) + ld[k][i] * s
-            });
+            out[k] = self.combine(m, nv[k], ld[k], self.as_e_over_pi(e[k]), multiscatter);
         }
     }
 
@@ -361,20 +387,8 @@ impl LitSampler<'_> {
         irr: ChartUv,
         multiscatter: bool,
     ) -> [f32; 3] {
-        let r = m.clamped_roughness();
-        let nv = nv.clamp(1e-4, 1.0);
-        let [a, b] = self.env.dfg.sample_single_scatter(nv, r);
-        let f0 = m.f0();
-        let ld = self.specular_at(spec, r);
-        let e = self.irradiance_at(irr);
-        let diff = m.diffuse_color();
-        [0, 1, 2].map(|i| {
-            let mut s = f0[i] * a + b;
-            if multiscatter && a + b > 0.0 {
-                s *= 1.0 + f0[i] * (1.0 / (a + b) - 1.0);
-            }
-            diff[i] * e[i] + ld[i] * s
-        })
+        let ld = self.specular_at(spec, m.clamped_roughness());
+        self.combine(m, nv, ld, self.irradiance_at(irr), multiscatter)
     }
 }
 
@@ -457,6 +471,8 @@ pub struct EnvSampling {
     alias: Vec<(f32, u32)>,
     /// Each cell's probability.
     prob: Vec<f32>,
+    /// W · H / (2π²): a cell's probability over its extent in (φ, θ).
+    per_steradian: f64,
 }
 
 impl EnvSampling {
@@ -550,6 +566,8 @@ impl EnvSampling {
             height,
             alias,
             prob,
+            per_steradian: (width * height) as f64
+                / (2.0 * core::f64::consts::PI * core::f64::consts::PI),
         }
     }
 
@@ -576,9 +594,7 @@ impl EnvSampling {
             (theta.sin() * phi.sin()) as f32,
             theta.cos() as f32,
         );
-        let p = f64::from(self.prob[cell]) * self.alias.len() as f64
-            / (2.0 * core::f64::consts::PI * core::f64::consts::PI * theta.sin());
-        (d, p as f32)
+        (d, self.density(cell, theta.sin()))
     }
 
     /// The density (per steradian) of drawing unit direction `d`.
@@ -596,9 +612,14 @@ impl EnvSampling {
         let i = ((phi / core::f64::consts::TAU * self.width as f64) as usize).min(self.width - 1);
         let j =
             ((theta / core::f64::consts::PI * self.height as f64) as usize).min(self.height - 1);
-        let p = f64::from(self.prob[j * self.width + i]);
-        (p * (self.width * self.height) as f64
-            / (2.0 * core::f64::consts::PI * core::f64::consts::PI * sin)) as f32
+        self.density(j * self.width + i, sin)
+    }
+
+    /// Cell `cell`'s probability as a density per steradian at sin θ:
+    /// P · W · H / (2π² sin θ), the Jacobian of (φ, θ) → direction.
+    #[inline]
+    fn density(&self, cell: usize, sin: f64) -> f32 {
+        (f64::from(self.prob[cell]) * self.per_steradian / sin) as f32
     }
 }
 
@@ -722,12 +743,7 @@ mod tests {
     use super::*;
 
     fn mat(base: f32, metallic: f32, roughness: f32) -> Material {
-        Material {
-            base_color: [base; 3],
-            metallic,
-            roughness,
-            dielectric_f0: 0.04,
-        }
+        Material::new([base; 3], metallic, roughness)
     }
 
     /// A white Lambertian surface under a constant sky L reflects L; a

@@ -68,9 +68,21 @@ fn manifest_for(path: &Path) -> Option<PathBuf> {
     (chain_file(first).0 == name).then_some(m)
 }
 
-/// A manifest level's `file`: `"specular_3.exr"`, or `"specular.ktx2 (level 3)"`.
+/// How a manifest names level `k` held inside texture file `file`:
+/// `"specular.ktx2 (level 3)"` (what `envmap bake` writes, and
+/// [`chain_file`] reads back).
+#[must_use]
+pub fn level_entry(file: &str, k: usize) -> String {
+    format!("{file}{LEVEL_SEP}{k})")
+}
+
+/// Between a texture file's name and its level number in a manifest entry.
+const LEVEL_SEP: &str = " (level ";
+
+/// A manifest level's `file`: `"specular_3.exr"`, or [`level_entry`]'s
+/// `"specular.ktx2 (level 3)"`.
 fn chain_file(s: &str) -> (&str, Option<usize>) {
-    if let Some((file, rest)) = s.split_once(" (level ") {
+    if let Some((file, rest)) = s.split_once(LEVEL_SEP) {
         if let Some(k) = rest.strip_suffix(')').and_then(|k| k.parse().ok()) {
             return (file, Some(k));
         }
@@ -346,4 +358,19 @@ fn alone(
     );
     let env = LitEnvironment::new(images, roughness, irradiance, IrradianceScale::EOverPi, dfg)?;
     Ok(Some(OpenedLit { env, description }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn level_entries_read_back() {
+        assert_eq!(
+            chain_file(&level_entry("specular.ktx2", 3)),
+            ("specular.ktx2", Some(3))
+        );
+        assert_eq!(chain_file("specular_3.exr"), ("specular_3.exr", None));
+        assert_eq!(chain_file("odd (level x)"), ("odd (level x)", None));
+    }
 }

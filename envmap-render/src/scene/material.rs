@@ -26,16 +26,23 @@ pub struct Material {
 impl Default for Material {
     /// Glossy white plastic: base 0.8, dielectric, roughness 0.5.
     fn default() -> Self {
-        Self {
-            base_color: [0.8; 3],
-            metallic: 0.0,
-            roughness: 0.5,
-            dielectric_f0: 0.04,
-        }
+        Self::new([0.8; 3], 0.0, 0.5)
     }
 }
 
 impl Material {
+    /// A material of base colour (linear), metallic and perceptual
+    /// roughness, its dielectric part at the usual F0 of 0.04.
+    #[must_use]
+    pub const fn new(base_color: [f32; 3], metallic: f32, roughness: f32) -> Self {
+        Self {
+            base_color,
+            metallic,
+            roughness,
+            dielectric_f0: 0.04,
+        }
+    }
+
     /// The preset names [`Material::preset`] accepts.
     pub const PRESETS: &'static str = "mirror, chrome, gold, plastic, rubber, diffuse";
 
@@ -50,12 +57,7 @@ impl Material {
     ///
     /// An unknown name, listing the presets.
     pub fn preset(name: &str) -> Result<Self> {
-        let m = |base_color: [f32; 3], metallic: f32, roughness: f32| Material {
-            base_color,
-            metallic,
-            roughness,
-            dielectric_f0: 0.04,
-        };
+        let m = Material::new;
         Ok(match name.to_ascii_lowercase().as_str() {
             "mirror" => m([1.0; 3], 1.0, 0.0),
             "chrome" => m([0.55; 3], 1.0, 0.1),

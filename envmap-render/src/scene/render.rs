@@ -568,6 +568,7 @@ fn render_map(
                     }
                 }
             }
+            // Per vertex and the reference: one at a time.
             if !matches!(opts.shading, Shading::Mirror) {
                 for (k, hit) in hits.iter().enumerate() {
                     if lit[k].is_some() {
@@ -596,15 +597,6 @@ fn render_map(
                             let (sp, ir) = (lerp(|x| x.0), lerp(|x| x.1));
                             ls.shade_at(&material, n.dot(v), sp, ir, multiscatter)
                         }
-                        (
-                            Some(ls),
-                            Shading::SplitSum {
-                                material,
-                                multiscatter,
-                                dominant,
-                                ..
-                            },
-                        ) => ls.shade(&material, n, v, multiscatter, dominant),
                         (
                             _,
                             Shading::Reference {
