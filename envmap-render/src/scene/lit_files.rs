@@ -70,7 +70,7 @@ fn manifest_for(path: &Path) -> Option<PathBuf> {
 
 /// How a manifest names level `k` held inside texture file `file`:
 /// `"specular.ktx2 (level 3)"` (what `envmap bake` writes, and
-/// [`chain_file`] reads back).
+/// what the manifest reader reads back).
 #[must_use]
 pub fn level_entry(file: &str, k: usize) -> String {
     format!("{file}{LEVEL_SEP}{k})")
