@@ -49,7 +49,7 @@ fn main() {
     .unwrap();
     let mut base_img =
         convert(&src, cube, 6 * base, base, &ConvertOptions::default(), None).unwrap();
-    let bright = split_bright(&mut base_img, 4096).unwrap();
+    let bright = split_bright(&mut base_img, 4096, f64::INFINITY).unwrap();
     println!(
         "{env}: base 6×{base}², bright texels {} ({:.2} % of the energy, threshold {:.1})",
         bright.report.texels,

@@ -185,6 +185,24 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
                 )
             },
         )?;
+        if s.negative > 0 {
+            let e = crate::filter::weights::channel_energy(img);
+            let share: Vec<String> = (0..3)
+                .map(|c| {
+                    let pos = e.total[c] - e.negative[c];
+                    let v = if pos > 0.0 { -e.negative[c] / pos } else { 0.0 };
+                    format!("{:.4} %", 100.0 * v)
+                })
+                .collect();
+            p(
+                &mut out,
+                "negative energy",
+                format!(
+                    "R {} G {} B {} (Σ Ω·L of the negative values over that of the positive ones, per channel)",
+                    share[0], share[1], share[2]
+                ),
+            )?;
+        }
         let mib = |b: u64| b as f64 / f64::from(1u32 << 20);
         let held = EnvImage::memory_bytes_for(img.width(), img.height());
         p(

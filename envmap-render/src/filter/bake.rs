@@ -22,19 +22,24 @@ use std::time::Instant;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Atlas, ChartUv, Mapping};
 
+use rayon::prelude::*;
+
 use crate::cancel;
 use crate::error::{Error, Result};
 use crate::filter::convert::{convert, ConvertOptions};
 use crate::filter::dfg::{self, DfgTable};
+use crate::filter::oracle::Oracle;
 use crate::filter::pyramid::{Pyramid, Trilinear};
+use crate::filter::sample::Filter;
 use crate::filter::sh::{
     irradiance_map, irradiance_map_exact, ExactLevel, IrradianceScale, Sh9, ShWindow,
     DEFAULT_IRRADIANCE_SIZE,
 };
 use crate::filter::specular::{
-    exact_at, exact_level, finest_sampled_level, prefilter_level, split_bright, Bright,
-    BrightReport, LevelJob, Method, RoughnessRule,
+    exact_level, finest_sampled_level, lobe_width, prefilter_level, split_bright, BrightReport,
+    LevelJob, Method, RoughnessRule, CLUSTER,
 };
+use crate::filter::weights::channel_energy;
 use crate::image::{luminance, EnvImage, FileAxes, Representation};
 
 /// How many samples the importance-sampled levels take.
@@ -75,6 +80,21 @@ impl Quality {
         }
     }
 
+    /// Samples per texel at `roughness` for a level of `texels` texels:
+    /// [`Quality::samples`], raised so that the level takes at least
+    /// [`SAMPLE_BUDGET`] samples in all (scaled as the quality scales its
+    /// counts), at most 4096 per texel.
+    #[must_use]
+    pub fn samples_for(self, roughness: f32, texels: u64) -> u32 {
+        let budget = match self {
+            Quality::Draft => SAMPLE_BUDGET / 4,
+            Quality::Default => SAMPLE_BUDGET,
+            Quality::High => 4 * SAMPLE_BUDGET,
+        };
+        let floor = (budget / texels.max(1)).min(4096) as u32;
+        self.samples(roughness).max(floor)
+    }
+
     /// The name on the command line.
     #[must_use]
     pub fn name(self) -> &'static str {
@@ -101,6 +121,23 @@ impl std::str::FromStr for Quality {
         }
     }
 }
+
+/// A level is summed exactly when its source level has at most this many
+/// texels per sample it would otherwise take (measured: an exact sum over
+/// a source texel, eight output texels at a time, costs about a sixteenth
+/// of a sample's mapping and trilinear read).
+pub const EXACT_PER_SAMPLE: u64 = 16;
+
+/// A level is also summed exactly when the whole sum takes at most this
+/// many (output texel, source texel) pairs (2²⁸: about 0.1 s on two
+/// cores), whatever its sample count: the rough, small levels.
+pub const EXACT_BUDGET: u64 = 1 << 28;
+
+/// Samples a sampled level takes at least in all, at the default quality
+/// (2²³): a small level takes more per texel than the default counts, at
+/// the cost of a large level's few samples per texel (a quarter for
+/// draft, four times for high).
+pub const SAMPLE_BUDGET: u64 = 1 << 23;
 
 /// What to bake.
 #[derive(Clone, Debug)]
@@ -211,18 +248,18 @@ pub struct LevelError {
     pub seconds: f64,
 }
 
-/// Measures `level` (a cube in the axes of `rest`, made at `roughness`)
-/// against the exact integral (the sum over pyramid level
-/// [`exact_level`] of `rest`, plus the split texels, clamped at zero as
-/// the outputs are) at `texels` of its texels picked by a fixed hash
-/// (`seed` varies the pick).
+/// Measures `level` (a cube, in its own axes) made at `roughness` against
+/// the oracle of the input ([`Oracle::prefiltered`]: the input as given,
+/// piecewise constant over its own texels, independent of the base cube and
+/// the pyramid the bake made) at `texels` of its texels picked by a fixed
+/// hash (`seed` varies the pick). The oracle's values are clamped at zero as
+/// the outputs are.
 ///
 /// # Errors
 ///
 /// `level` is not a cube.
 pub fn measure_level(
-    rest: &Pyramid,
-    bright: &Bright,
+    oracle: &Oracle,
     roughness: f32,
     level: &EnvImage,
     texels: u32,
@@ -235,42 +272,112 @@ pub fn measure_level(
     }
     let t = Instant::now();
     let s = level.cell_size().0;
-    let n = 6 * s * s;
-    let mut coords = Vec::new();
-    let mut h = 0x9e37_79b9u32 ^ seed.wrapping_mul(0x85eb_ca77);
-    for _ in 0..texels.min(n) {
-        h ^= h << 13;
-        h ^= h >> 17;
-        h ^= h << 5;
-        let k = h % n;
-        coords.push((k / (s * s), k % s, (k / s) % s));
-    }
-    let dirs: Vec<_> = coords
+    let coords = hashed_texels(6, s, s, texels, seed);
+    let frame = level.representation().frame;
+    let (dirs, coords): (Vec<_>, Vec<_>) = coords
         .iter()
         .filter_map(|&(c, i, j)| {
-            AnyMapping::Cube.inverse(ChartUv::new(c, texel_center(i, s), texel_center(j, s)))
+            AnyMapping::Cube
+                .inverse(ChartUv::new(c, texel_center(i, s), texel_center(j, s)))
+                .map(|d| (frame.to_canonical(d), (c, i, j)))
         })
-        .collect();
-    let exact = exact_at(rest, bright, roughness, exact_level(rest, roughness), &dirs);
-    let (mut se, mut ss, mut sd, mut sm) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for (&(c, i, j), e) in coords.iter().zip(&exact) {
-        let a = level.chart_texel(c, i, j).unwrap_or_default();
-        for (x, y) in a.iter().zip(e) {
-            let y = f64::from(y.max(0.0));
-            let d = f64::from(*x) - y;
+        .unzip();
+    let exact = if roughness > 0.0 {
+        oracle.prefiltered(roughness, &dirs)
+    } else {
+        // Roughness 0: the input itself at each direction is not an
+        // integral; the level is a resampling, measured by conversion tests.
+        return Err(Error::Input(
+            "measure_level: roughness 0 is a resampling, not an integral".to_owned(),
+        ));
+    };
+    let pairs = coords.iter().zip(&exact).map(|(&(c, i, j), e)| {
+        (
+            level
+                .chart_texel(c, i, j)
+                .unwrap_or_default()
+                .map(f64::from),
+            e.map(|v| v.max(0.0)),
+        )
+    });
+    let mut m = compare(pairs);
+    m.seconds = t.elapsed().as_secs_f64();
+    Ok(m)
+}
+
+/// `count` texels of a `charts × w × h` grid picked by a fixed xorshift
+/// hash of `seed` (repeats possible), as (chart, i, j).
+fn hashed_texels(charts: u32, w: u32, h: u32, count: u32, seed: u32) -> Vec<(u32, u32, u32)> {
+    let n = charts * w * h;
+    let mut h32 = 0x9e37_79b9u32 ^ seed.wrapping_mul(0x85eb_ca77);
+    (0..count.min(n))
+        .map(|_| {
+            h32 ^= h32 << 13;
+            h32 ^= h32 >> 17;
+            h32 ^= h32 << 5;
+            let k = h32 % n;
+            (k / (w * h), k % w, (k / w) % h)
+        })
+        .collect()
+}
+
+/// Relative RMS √(Σ(a − b)²/Σb²) and bias Σ(a − b)/Σb of (measured,
+/// exact) pairs over every channel.
+fn compare(pairs: impl Iterator<Item = ([f64; 3], [f64; 3])>) -> LevelError {
+    let (mut se, mut ss, mut sd, mut sm, mut n) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0u32);
+    for (a, e) in pairs {
+        for (x, y) in a.iter().zip(&e) {
+            let d = x - y;
             se += d * d;
             ss += y * y;
             sd += d;
             sm += y;
         }
+        n += 1;
     }
     let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
-    Ok(LevelError {
-        texels: exact.len() as u32,
+    LevelError {
+        texels: n,
         relative_rms: ratio(se, ss).sqrt(),
         bias: ratio(sd, sm),
-        seconds: t.elapsed().as_secs_f64(),
-    })
+        seconds: 0.0,
+    }
+}
+
+/// Measures an irradiance map (any representation, in its own axes; E or
+/// E/π as `scale` says) against the oracle's E ([`Oracle::irradiance`]),
+/// clamped at zero as the map is, at `texels` texels picked as in
+/// [`measure_level`].
+#[must_use]
+pub fn measure_irradiance(
+    oracle: &Oracle,
+    map: &EnvImage,
+    scale: IrradianceScale,
+    texels: u32,
+    seed: u32,
+) -> LevelError {
+    let t = Instant::now();
+    let mapping = map.mapping();
+    let (w, h) = map.cell_size();
+    let frame = map.representation().frame;
+    let (dirs, coords): (Vec<_>, Vec<_>) = hashed_texels(mapping.chart_count(), w, h, texels, seed)
+        .into_iter()
+        .filter_map(|(c, i, j)| {
+            mapping
+                .inverse(ChartUv::new(c, texel_center(i, w), texel_center(j, h)))
+                .map(|d| (frame.to_canonical(d), (c, i, j)))
+        })
+        .unzip();
+    let exact = oracle.irradiance(&dirs);
+    let f = scale.factor();
+    let mut m = compare(coords.iter().zip(&exact).map(|(&(c, i, j), e)| {
+        (
+            map.chart_texel(c, i, j).unwrap_or_default().map(f64::from),
+            e.map(|v| (v * f).max(0.0)),
+        )
+    }));
+    m.seconds = t.elapsed().as_secs_f64();
+    m
 }
 
 /// The relative RMS error a sampled level is expected to have against the
@@ -355,6 +462,56 @@ pub fn clamp_luminance(img: &mut EnvImage, t: f32) -> Result<ClampReport> {
     Ok(rep)
 }
 
+/// Replaces each texel of a latlong's row by the mean of the `k` texels
+/// centred on it (circularly; k odd, the row's texels about `width`
+/// radians across in all), for rows whose texels are narrower than
+/// `width`; the rows nearer the equator are left as they are. A row's sum,
+/// and so its energy, is kept (to f64 rounding).
+fn widen_polar_rows(img: &mut EnvImage, width: f64) {
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    img.rows_mut()
+        .enumerate()
+        .par_bridge()
+        .for_each(|(j, row)| {
+            let theta = std::f64::consts::PI * (j as f64 + 0.5) / h as f64;
+            let texel = std::f64::consts::TAU / w as f64 * theta.sin();
+            let k = (width / texel).round() as usize;
+            if k < 2 || w < 3 {
+                return;
+            }
+            let k = (k | 1).min(if w % 2 == 1 { w } else { w - 1 });
+            let half = k / 2;
+            let mut prefix = vec![[0.0f64; 3]; w + 1];
+            for (i, p) in row.iter().enumerate() {
+                for c in 0..3 {
+                    prefix[i + 1][c] = prefix[i][c] + f64::from(p[c]);
+                }
+            }
+            let total = prefix[w];
+            // Σ over the circular window [i − half, i + half].
+            let window = |i: usize| -> [f64; 3] {
+                let lo = i as isize - half as isize;
+                let hi = i + half + 1;
+                core::array::from_fn(|c| {
+                    let mut s = if hi <= w {
+                        prefix[hi][c]
+                    } else {
+                        total[c] + prefix[hi - w][c]
+                    };
+                    s -= if lo >= 0 {
+                        prefix[lo as usize][c]
+                    } else {
+                        prefix[(lo + w as isize) as usize][c] - total[c]
+                    };
+                    s
+                })
+            };
+            for (i, p) in row.iter_mut().enumerate() {
+                *p = window(i).map(|v| (v / k as f64) as f32);
+            }
+        });
+}
+
 /// Clamps negative components at zero; returns how many texels had one.
 fn clamp_negative(img: &mut EnvImage) -> u64 {
     let mut n = 0;
@@ -406,8 +563,10 @@ pub struct SpecularChain {
     pub levels: Vec<EnvImage>,
     /// One report per level.
     pub reports: Vec<LevelReport>,
-    /// The brightest texels split out.
+    /// The brightest texels split out (from the input's own texels).
     pub bright: BrightReport,
+    /// Energy bookkeeping: the input's, the base cube's and the split's.
+    pub energy: EnergyReport,
     /// What the firefly clamp changed, if it was asked for.
     pub clamp: Option<ClampReport>,
     /// The base cube's face size.
@@ -415,6 +574,56 @@ pub struct SpecularChain {
     /// Seconds per preparation stage (the base cube, the split, the
     /// pyramid, ...), in order; each level's time is in its report.
     pub stages: Vec<(&'static str, f64)>,
+}
+
+/// Energy per channel, Σ Ω·L over a map's texels with their exact solid
+/// angles, in steradian-radiance units: what the bake took in and where it
+/// went. `input ≈ base + split`: the base cube is a footprint average that
+/// keeps the integral, the split texels are summed exactly.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EnergyReport {
+    /// The input's (negative texels included, as given).
+    pub input: [f64; 3],
+    /// The input's negative texels alone (≤ 0).
+    pub negative: [f64; 3],
+    /// The base cube's (the input without the split texels, resampled).
+    pub base: [f64; 3],
+    /// The split texels'.
+    pub split: [f64; 3],
+    /// Points per side of each base texel's footprint average.
+    pub footprint_samples: u32,
+}
+
+impl EnergyReport {
+    /// The largest relative gap |input − base − split| / |input| over the
+    /// channels (0 for a black input).
+    #[must_use]
+    pub fn gap(&self) -> f64 {
+        (0..3)
+            .map(|c| {
+                let d = self.input[c] - self.base[c] - self.split[c];
+                if self.input[c] != 0.0 {
+                    (d / self.input[c]).abs()
+                } else {
+                    d.abs()
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// Per channel, the share of negative energy: −negative / (input −
+    /// negative), the negative texels' integral over the positive texels'.
+    #[must_use]
+    pub fn negative_share(&self) -> [f64; 3] {
+        core::array::from_fn(|c| {
+            let pos = self.input[c] - self.negative[c];
+            if pos > 0.0 {
+                -self.negative[c] / pos
+            } else {
+                0.0
+            }
+        })
+    }
 }
 
 /// An error counting the NaN and infinite texels of `src`, if it has any.
@@ -444,6 +653,18 @@ pub fn specular_chain(
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SpecularChain> {
+    let oracle = (opts.check > 0).then(|| Oracle::new(src));
+    chain_checked(src, opts, progress, oracle.as_ref())
+}
+
+/// [`specular_chain`], measuring against `oracle` (of `src`) when
+/// [`BakeOptions::check`] asks.
+fn chain_checked(
+    src: &EnvImage,
+    opts: &BakeOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    oracle: Option<&Oracle>,
+) -> Result<SpecularChain> {
     refuse_non_finite(src)?;
     let sizes = chain_sizes(opts)?;
     let cube = Representation::new(
@@ -453,11 +674,14 @@ pub fn specular_chain(
     )?;
     // The base: a cube with about as many texels as the source (a 4096 ×
     // 2048 latlong gives 1024² faces), the power of two at or below, at
-    // least the chain's level 0 and at most 2048.
+    // least twice the chain's level 0 (level 1's lobe then spans a dozen
+    // base texels or more: at level 0's own size it spans about three, and
+    // the base's box filter costs 1.4 % at level 1 on real HDRIs) and at
+    // most 2048.
     let src_texels = u64::from(src.width()) * u64::from(src.height());
     let per_face = ((src_texels as f64 / 6.0).sqrt() * 1.05).max(1.0) as u32;
     let floor_pow2 = 1u32 << (31 - per_face.leading_zeros());
-    let base_size = floor_pow2.clamp(opts.size.min(2048), 2048);
+    let base_size = floor_pow2.clamp((2 * opts.size).min(2048), 2048);
     let copts = ConvertOptions {
         cancel: opts.cancel,
         ..ConvertOptions::default()
@@ -473,14 +697,76 @@ pub fn specular_chain(
     };
     let mut level0 = convert(src, cube, 6 * sizes[0], sizes[0], &copts, None)?;
     tr("level 0 resampled");
-    let mut base = convert(src, cube, 6 * base_size, base_size, &copts, None)?;
-    tr("base cube");
+    let input_energy = channel_energy(src);
+    tr("input energy");
+    // The brightest texels, split from the input's own texels before any
+    // resampling; each cut into parts no wider than the narrowest lobe's
+    // cluster cell.
+    let mut rest_src = src.clone();
     let clamp = match opts.clamp {
         Some(t) => {
             clamp_luminance(&mut level0, t)?;
-            Some(clamp_luminance(&mut base, t)?)
+            Some(clamp_luminance(&mut rest_src, t)?)
         }
         None => None,
+    };
+    let n = sizes.len();
+    let narrowest = (1..n)
+        .map(|k| opts.rule.roughness(k, n))
+        .filter(|&r| r > 0.0)
+        .fold(1.0f32, f32::min);
+    let alpha_min = f64::from(narrowest) * f64::from(narrowest);
+    let mut bright = split_bright(
+        &mut rest_src,
+        opts.bright_max,
+        lobe_width(alpha_min) / CLUSTER,
+    )?;
+    tr("bright texels split");
+    // The base cube: the footprint average of the rest, each texel the mean
+    // over N × N points of its footprint of the input's bilinear
+    // reconstruction (which integrates to the input's own integral), N ≥ 2
+    // making the points at most 2/3 of an input texel apart. Measured on
+    // the real HDRIs: the base's energy plus the split's is the input's
+    // within 1e-4 (a nearest-texel average at the same N misses by 1e-3:
+    // its points divide the input's texels unevenly).
+    let input_texel = (4.0 * std::f64::consts::PI / src_texels.max(1) as f64).sqrt();
+    let base_texel = std::f64::consts::FRAC_PI_2 / f64::from(base_size);
+    let n_foot = ((1.5 * base_texel / input_texel).ceil() as u32).clamp(2, 16);
+    // A latlong's rows near the poles hold texels far narrower than a base
+    // texel, which N × N points would alias (a few hot texels near a pole
+    // read at half or twice their energy); a circular box along each such
+    // row, as wide as a base texel, keeps the row's energy exactly (its
+    // texels have equal solid angles) and leaves nothing narrow to alias.
+    if rest_src.mapping() == AnyMapping::LatLong && rest_src.atlas().cols == 1 {
+        widen_polar_rows(&mut rest_src, base_texel);
+    }
+    let base = convert(
+        &rest_src,
+        cube,
+        6 * base_size,
+        base_size,
+        &ConvertOptions {
+            filter: Filter::Bilinear,
+            samples: Some(n_foot),
+            ..copts
+        },
+        None,
+    )?;
+    drop(rest_src);
+    tr("base cube");
+    let base_energy = channel_energy(&base);
+    // The split points from the input's axes into the base's.
+    let to_base =
+        base.representation().frame.matrix().transpose() * src.representation().frame.matrix();
+    for d in &mut bright.dirs {
+        *d = (to_base * *d).normalize();
+    }
+    let energy = EnergyReport {
+        input: input_energy.total,
+        negative: input_energy.negative,
+        base: base_energy.total,
+        split: bright.report.energy,
+        footprint_samples: n_foot,
     };
     let clamped0 = clamp_negative(&mut level0);
     let mut reports = vec![LevelReport {
@@ -493,24 +779,29 @@ pub fn specular_chain(
         seconds: t0.elapsed().as_secs_f64(),
         measured: None,
     }];
-    let bright = split_bright(&mut base, opts.bright_max)?;
-    tr("bright texels split");
     let rest = Pyramid::new(base, 1)?;
     tr("pyramid");
     cancel::check(opts.cancel)?;
-    let n = sizes.len();
-    // Each level's roughness and method: exact where that is cheaper than
-    // sampling (a source texel costs about as much as a sample), or when
+    // Each level's roughness and method: exact where that costs no more
+    // than sampling (a source texel's weight, eight output texels at a
+    // time, costs about a sixteenth of a sample's trilinear read), or when
     // asked.
-    let plans: Vec<(f32, Method)> = (1..n)
-        .map(|k| {
+    let plans: Vec<(f32, Method)> = sizes
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(k, &size)| {
             let roughness = opts.rule.roughness(k, n);
+            let out_texels = 6 * u64::from(size) * u64::from(size);
             let samples = opts
                 .samples
-                .unwrap_or_else(|| opts.quality.samples(roughness));
+                .unwrap_or_else(|| opts.quality.samples_for(roughness, out_texels));
             let el = exact_level(&rest, roughness);
             let src_texels = rest.level(el).pixels().len() as u64;
-            let method = if opts.exact || src_texels <= u64::from(samples) {
+            let method = if opts.exact
+                || src_texels <= EXACT_PER_SAMPLE * u64::from(samples)
+                || out_texels.saturating_mul(src_texels) <= EXACT_BUDGET
+            {
                 Method::Exact { level: el }
             } else {
                 Method::Sampled { samples }
@@ -550,10 +841,12 @@ pub fn specular_chain(
         let clamped = clamp_negative(&mut img);
         let seconds = t.elapsed().as_secs_f64();
         let measured = match method {
-            Method::Sampled { .. } if opts.check > 0 => Some(measure_level(
-                &rest, &bright, roughness, &img, opts.check, k as u32,
-            )?),
-            _ => None,
+            _ => match oracle {
+                Some(o) if opts.check > 0 => {
+                    Some(measure_level(o, roughness, &img, opts.check, k as u32)?)
+                }
+                _ => None,
+            },
         };
         reports.push(LevelReport {
             size,
@@ -580,6 +873,7 @@ pub fn specular_chain(
         levels,
         reports,
         bright: bright.report,
+        energy,
         clamp,
         base_size,
         stages,
@@ -617,6 +911,21 @@ pub struct Bake {
     pub dfg: Option<DfgTable>,
     /// Seconds per stage besides the chain's: `sh9`, `irradiance`, `dfg`.
     pub stages: Vec<(&'static str, f64)>,
+    /// The irradiance map and the SH9 measured against the oracle of the
+    /// input, when [`BakeOptions::check`] asks.
+    pub checked: Option<BakeCheck>,
+}
+
+/// What [`BakeOptions::check`] measured besides the levels (theirs are in
+/// each [`LevelReport::measured`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BakeCheck {
+    /// The irradiance map against the oracle's E (or E/π), on `check`
+    /// texels.
+    pub irradiance: Option<LevelError>,
+    /// The SH9's relative error against the oracle's projection (texels
+    /// split 2 × 2): √(Σ(a − b)²/Σb²) over the 27 coefficients.
+    pub sh9: f64,
 }
 
 /// The whole lighting bake of `src`: the specular chain
@@ -637,11 +946,12 @@ pub fn bake(
         Atlas::CUBE_HORIZONTAL_STRIP,
         opts.axes.frame(AnyMapping::Cube),
     )?;
+    let oracle = (opts.check > 0).then(|| Oracle::new(src));
     let chain = if opts.sh_only {
         refuse_non_finite(src)?;
         None
     } else {
-        Some(specular_chain(src, opts, progress)?)
+        Some(chain_checked(src, opts, progress, oracle.as_ref())?)
     };
     cancel::check(opts.cancel)?;
     let mut stages = Vec::new();
@@ -687,6 +997,22 @@ pub fn bake(
         table = Some(DfgTable::new_cancellable(opts.dfg_size, opts.cancel)?);
         stages.push(("dfg", t.elapsed().as_secs_f64()));
     }
+    let checked = oracle.map(|o| {
+        let exact = o.sh9(2);
+        let (mut se, mut ss) = (0.0f64, 0.0f64);
+        for (a, e) in sh.coeffs.iter().zip(&exact.coeffs) {
+            for (x, y) in a.iter().zip(e) {
+                se += (x - y) * (x - y);
+                ss += y * y;
+            }
+        }
+        BakeCheck {
+            irradiance: irradiance
+                .as_ref()
+                .map(|i| measure_irradiance(&o, &i.image, opts.irradiance_scale, opts.check, 7)),
+            sh9: if ss > 0.0 { (se / ss).sqrt() } else { 0.0 },
+        }
+    });
     Ok(Bake {
         chain,
         sh,
@@ -694,6 +1020,7 @@ pub fn bake(
         irradiance,
         dfg: table,
         stages,
+        checked,
     })
 }
 

@@ -12,6 +12,8 @@
 //!   [`pyramid::Trilinear`]).
 //! * [`dfg`]: the split-sum DFG table, single and multiscatter
 //!   ([`dfg::DfgTable`], [`dfg::dfg_integral`]).
+//! * [`oracle`]: the bake's integrals from the input itself, piecewise
+//!   constant over its own texels, by adaptive quadrature ([`oracle::Oracle`]).
 //! * [`bake`]: the lighting bake's pipeline (chain, levels, reports).
 //! * [`specular`]: GGX-prefiltered levels, exact or importance-sampled, the
 //!   brightest texels added exactly, and the mip↔roughness rules.
@@ -25,6 +27,7 @@
 pub mod bake;
 pub mod convert;
 pub mod dfg;
+pub mod oracle;
 pub mod pyramid;
 pub mod sample;
 pub mod sh;

@@ -50,7 +50,7 @@
 use std::sync::atomic::AtomicBool;
 
 use envmap_core::glam::Vec3;
-use envmap_core::texel::texel_center;
+use envmap_core::texel::{texel_bounds, texel_center};
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 use envmap_simd::{Dir8, Fine, Mapping8, Uv8, LANES};
 use rayon::prelude::*;
@@ -247,13 +247,14 @@ fn weight8(r: &Dir8, l: Vec3, a2: f32) -> f32x8 {
     front.select(w, f32x8::ZERO)
 }
 
-/// Texels taken out of a map, to be added exactly: their directions (in
-/// the map's own axes) and Ω·L.
+/// Texels taken out of a map, to be added exactly: points (a texel's
+/// centre, or the centres of the parts a texel was cut into) with their
+/// directions (in the map's own axes) and Ω·L.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bright {
-    /// Direction of each texel's centre (unit, the map's axes).
+    /// Direction of each point (unit, the map's axes).
     pub dirs: Vec<Vec3>,
-    /// Ω·L per texel (solid angle times radiance).
+    /// Ω·L per point (solid angle times radiance; negative values kept).
     pub omega_l: Vec<[f32; 3]>,
     /// What was taken, for reports.
     pub report: BrightReport,
@@ -262,23 +263,45 @@ pub struct Bright {
 /// How many texels [`split_bright`] took and what they carry.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BrightReport {
-    /// The luminance threshold used.
+    /// The threshold on the largest absolute channel.
     pub threshold: f32,
     /// Texels taken out.
     pub texels: u64,
-    /// Their share of the map's energy (Σ Ω·luminance), in [0, 1].
+    /// Points they were cut into (each texel into m × m parts where the
+    /// narrowest lobe asks for it).
+    pub points: u64,
+    /// Their share of the map's energy by luminance (Σ Ω·Y of the texels
+    /// over Σ Ω·max(Y, 0) of the map).
     pub energy_share: f64,
+    /// Σ Ω·L per channel of the texels taken (negative values count).
+    pub energy: [f64; 3],
+}
+
+/// The largest absolute channel of a texel: the split's measure, so that a
+/// negative lobe ringing around a sun counts as much as its overshoot.
+#[inline]
+#[must_use]
+pub fn peak_magnitude(p: [f32; 3]) -> f32 {
+    p[0].abs().max(p[1].abs()).max(p[2].abs())
 }
 
 /// Takes out of `img` (in place, setting them to black) the texels whose
-/// luminance exceeds 16 × P, with P the solid-angle-weighted 99th
-/// percentile of luminance (the brightness that 1 % of the sphere exceeds,
-/// read from a histogram of 64 bins per octave: a luminance's bin is its
-/// f32 exponent and top six mantissa bits, P the lower edge of its bin), at
-/// most `max_texels` of them (the brightest); returns them with their share
-/// of the energy. The rule is stated in the bake's manifest and
-/// `docs/lighting.md`.
-pub fn split_bright(img: &mut EnvImage, max_texels: usize) -> Result<Bright> {
+/// largest absolute channel ([`peak_magnitude`]) exceeds 16 × P, with P the
+/// solid-angle-weighted 99th percentile of that measure (the value that 1 %
+/// of the sphere exceeds, read from a histogram of 64 bins per octave: a
+/// value's bin is its f32 exponent and top six mantissa bits, P the lower
+/// edge of its bin), at most `max_texels` of them (the largest); returns
+/// them with their energy. Measured by the largest absolute channel, the
+/// rule takes a sun and the ringing around it that lossy compression leaves
+/// (negative texels of a large magnitude), so the two are summed exactly
+/// together and cancel as they do in the data.
+///
+/// Each texel taken is cut into m × m parts of its chart coordinates, each
+/// with its exact solid angle and its centre's direction, m the smallest
+/// that makes a part at most `pitch` radians across (at most 16; `pitch`
+/// infinite for one point per texel). The rule is stated in the bake's
+/// manifest and `docs/lighting.md`.
+pub fn split_bright(img: &mut EnvImage, max_texels: usize, pitch: f64) -> Result<Bright> {
     const K: f32 = 16.0;
     // Bits below the top six of the mantissa.
     const SHIFT: u32 = 17;
@@ -286,8 +309,8 @@ pub fn split_bright(img: &mut EnvImage, max_texels: usize) -> Result<Bright> {
     let mapping = img.mapping();
     let (cw, ch) = img.cell_size();
     let weights = TexelWeights::new(mapping, cw, ch);
-    // Positive finite luminances by their bits (monotone in the value);
-    // zero, negative and non-finite ones in bin 0.
+    // Positive finite values by their bits (monotone in the value); zero
+    // and non-finite ones in bin 0.
     let bin = |y: f32| -> usize {
         if y > 0.0 && y.is_finite() {
             (y.to_bits() >> SHIFT) as usize
@@ -312,8 +335,8 @@ pub fn split_bright(img: &mut EnvImage, max_texels: usize) -> Result<Bright> {
         })
     };
     // Fixed blocks of rows, added in order: the same sums at any thread
-    // count. Each row's brightest luminance too, so that the search for
-    // the texels above the threshold reads only the rows that hold some.
+    // count. Each row's largest value too, so that the search for the
+    // texels above the threshold reads only the rows that hold some.
     let parts: Vec<(Vec<f64>, f64, f64, Vec<f32>)> = rows
         .par_chunks(256)
         .map(|block| {
@@ -324,11 +347,11 @@ pub fn split_bright(img: &mut EnvImage, max_texels: usize) -> Result<Bright> {
                 for (i, p) in texels(chart, j) {
                     let o = weights.get(chart, i, j);
                     if o > 0.0 {
-                        let y = luminance(p).max(0.0);
-                        hist[bin(y)] += o;
-                        total += o * f64::from(y);
+                        let m = peak_magnitude(p);
+                        hist[bin(m)] += o;
+                        total += o * f64::from(luminance(p).max(0.0));
                         sphere += o;
-                        top = top.max(y);
+                        top = top.max(m);
                     }
                 }
                 maxima.push(top);
@@ -348,7 +371,7 @@ pub fn split_bright(img: &mut EnvImage, max_texels: usize) -> Result<Bright> {
         maxima.extend_from_slice(m);
     }
     drop(parts);
-    // The bin where the brightest 1 % of the sphere begins.
+    // The bin where the largest 1 % of the sphere begins.
     let mut acc = 0.0;
     let mut p99 = 0.0f32;
     for (k, h) in hist.iter().enumerate().rev() {
@@ -359,14 +382,13 @@ pub fn split_bright(img: &mut EnvImage, max_texels: usize) -> Result<Bright> {
         }
     }
     let threshold = (K * p99).max(f32::MIN_POSITIVE);
-    // The candidates above it (in a fixed order); the brightest
-    // `max_texels` of them.
+    // The candidates above it (in a fixed order); the largest `max_texels`.
     let mut cand: Vec<(f32, u32, u32, u32)> = Vec::new();
     for (&(chart, j), _) in rows.iter().zip(&maxima).filter(|(_, &m)| m > threshold) {
         for (i, p) in texels(chart, j) {
-            let y = luminance(p);
-            if y > threshold && weights.get(chart, i, j) > 0.0 {
-                cand.push((y, chart, i, j));
+            let m = peak_magnitude(p);
+            if m > threshold && weights.get(chart, i, j) > 0.0 {
+                cand.push((m, chart, i, j));
             }
         }
     }
@@ -374,6 +396,7 @@ pub fn split_bright(img: &mut EnvImage, max_texels: usize) -> Result<Bright> {
         cand.select_nth_unstable_by(max_texels, |a, b| b.0.total_cmp(&a.0));
         cand.truncate(max_texels);
     }
+    cand.sort_unstable_by_key(|&(_, c, i, j)| (c, j, i));
     let mut out = Bright {
         report: BrightReport {
             threshold,
@@ -382,20 +405,116 @@ pub fn split_bright(img: &mut EnvImage, max_texels: usize) -> Result<Bright> {
         ..Bright::default()
     };
     let mut carried = 0.0f64;
-    for &(y, chart, i, j) in &cand {
-        let c = ChartUv::new(chart, texel_center(i, cw), texel_center(j, ch));
-        let (Some(d), Some(p)) = (mapping.inverse(c), img.chart_texel(chart, i, j)) else {
+    let dir = |chart: u32, u: f64, v: f64| mapping.inverse(ChartUv::new(chart, u as f32, v as f32));
+    for &(_, chart, i, j) in &cand {
+        let (u0, u1) = texel_bounds(i, cw);
+        let (v0, v1) = texel_bounds(j, ch);
+        let (Some(d), Some(p)) = (
+            dir(chart, 0.5 * (u0 + u1), 0.5 * (v0 + v1)),
+            img.chart_texel(chart, i, j),
+        ) else {
             continue;
         };
         let o = weights.get(chart, i, j);
-        out.dirs.push(d);
-        out.omega_l.push(p.map(|v| (o * f64::from(v)) as f32));
-        carried += o * f64::from(y);
+        // The texel's width: the largest angle between its corners and
+        // its centre, twice.
+        let width = [(u0, v0), (u1, v0), (u0, v1), (u1, v1)]
+            .iter()
+            .filter_map(|&(u, v)| dir(chart, u, v))
+            .map(|c| 2.0 * f64::from(c.angle_between(d)))
+            .fold(0.0f64, f64::max);
+        let m = if pitch.is_finite() && pitch > 0.0 {
+            ((width / pitch).ceil() as u32).clamp(1, 16)
+        } else {
+            1
+        };
+        if m == 1 {
+            out.dirs.push(d);
+            out.omega_l.push(p.map(|v| (o * f64::from(v)) as f32));
+        } else {
+            let (du, dv) = ((u1 - u0) / f64::from(m), (v1 - v0) / f64::from(m));
+            for b in 0..m {
+                for a in 0..m {
+                    let (ua, va) = (u0 + f64::from(a) * du, v0 + f64::from(b) * dv);
+                    let os = mapping.solid_angle(chart, ua, ua + du, va, va + dv);
+                    let Some(ds) = dir(chart, ua + 0.5 * du, va + 0.5 * dv).filter(|_| os > 0.0)
+                    else {
+                        continue;
+                    };
+                    out.dirs.push(ds);
+                    out.omega_l.push(p.map(|v| (os * f64::from(v)) as f32));
+                }
+            }
+        }
+        for (e, v) in out.report.energy.iter_mut().zip(p) {
+            *e += o * f64::from(v);
+        }
+        carried += o * f64::from(luminance(p));
+        out.report.texels += 1;
         img.set_chart_texel(chart, i, j, [0.0; 3]);
     }
-    out.report.texels = out.dirs.len() as u64;
+    out.report.points = out.dirs.len() as u64;
     out.report.energy_share = if total > 0.0 { carried / total } else { 0.0 };
     Ok(out)
+}
+
+impl Bright {
+    /// The points merged into clusters at most `cell` radians across (a
+    /// cube-face grid of that pitch): each cluster's Ω·L summed, its
+    /// direction the mean of its points' weighted by Ω·|L| (largest
+    /// channel). A GGX lobe W wide changes by a fraction of order
+    /// (cell/W)² over a cell about such a centre (its first-order term
+    /// cancels), so a level sums a sun of many texels as a few points.
+    /// `cell` 0 or NaN keeps every point.
+    #[must_use]
+    pub fn clustered(&self, cell: f64) -> Bright {
+        if !(cell > 0.0) || self.dirs.len() < 2 {
+            return self.clone();
+        }
+        // A cube face spans π/2 at its centre; texels of n per side are at
+        // most (π/2)/n across there and smaller elsewhere.
+        let n = ((std::f64::consts::FRAC_PI_2 / cell).ceil() as u32).clamp(1, 1 << 15);
+        let mut cells: Vec<(u64, usize)> = self
+            .dirs
+            .iter()
+            .enumerate()
+            .filter_map(|(k, &d)| {
+                let c = AnyMapping::Cube.forward(d)?;
+                let i = ((c.u * n as f32) as u32).min(n - 1);
+                let j = ((c.v * n as f32) as u32).min(n - 1);
+                Some((
+                    (u64::from(c.chart) * u64::from(n) + u64::from(j)) * u64::from(n)
+                        + u64::from(i),
+                    k,
+                ))
+            })
+            .collect();
+        cells.sort_unstable();
+        let mut out = Bright {
+            report: self.report,
+            ..Bright::default()
+        };
+        for group in cells.chunk_by(|a, b| a.0 == b.0) {
+            let mut ol = [0.0f64; 3];
+            let mut centre = Vec3::ZERO.as_dvec3();
+            for &(_, k) in group {
+                let v = self.omega_l[k];
+                let w = f64::from(peak_magnitude(v));
+                centre += w * self.dirs[k].as_dvec3();
+                for (a, b) in ol.iter_mut().zip(v) {
+                    *a += f64::from(b);
+                }
+            }
+            let d = if centre.length() > 0.0 {
+                centre.normalize().as_vec3()
+            } else {
+                self.dirs[group[0].1]
+            };
+            out.dirs.push(d);
+            out.omega_l.push(ol.map(|v| v as f32));
+        }
+        out
+    }
 }
 
 /// How a level is filtered.
@@ -433,6 +552,10 @@ pub fn exact_level(p: &Pyramid, roughness: f32) -> usize {
     }
     best
 }
+
+/// A level sums the split texels in clusters at most 1/`CLUSTER` of its
+/// lobe's width across ([`Bright::clustered`]).
+pub const CLUSTER: f64 = 16.0;
 
 /// Per-sample values shared by every output texel of a sampled level.
 #[derive(Clone, Copy, Debug)]
@@ -603,40 +726,6 @@ fn texels_of_bright(b: &Bright) -> Texels {
     }
 }
 
-/// The exact prefiltered value (as [`Method::Exact`] at pyramid level
-/// `level`, plus the bright texels) at each of `dirs` (unit directions in
-/// the source's axes): for measuring a sampled level against the exact
-/// integral on a subset of its texels.
-#[must_use]
-pub fn exact_at(
-    rest: &Pyramid,
-    bright: &Bright,
-    roughness: f32,
-    level: usize,
-    dirs: &[Vec3],
-) -> Vec<[f32; 3]> {
-    let alpha = roughness * roughness;
-    let a2 = alpha * alpha;
-    let t = texels_of(rest.level(level));
-    let bt = texels_of_bright(bright);
-    dirs.par_chunks(LANES)
-        .flat_map_iter(|d| {
-            let r = Dir8::from_partial(d);
-            let (acc, wsum) = exact_sums(&t, &r, a2);
-            let b = exact_sums(&bt, &r, a2).0;
-            (0..d.len())
-                .map(|l| {
-                    if wsum[l] > 0.0 {
-                        core::array::from_fn(|c| ((acc[l][c] + b[l][c]) / wsum[l]) as f32)
-                    } else {
-                        [0.0; 3]
-                    }
-                })
-                .collect::<Vec<_>>()
-        })
-        .collect()
-}
-
 /// What a level needs besides its output: the filtered part's pyramid
 /// (and its trilinear sampler), the bright texels, the roughness, the
 /// method.
@@ -682,7 +771,8 @@ pub fn prefilter_level(
     let z = lobe_normalizer(f64::from(alpha));
     let (cw, ch) = out.cell_size();
     let mapping = repr.mapping;
-    let bright_texels = texels_of_bright(job.bright);
+    let bright_texels =
+        texels_of_bright(&job.bright.clustered(lobe_width(f64::from(alpha)) / CLUSTER));
     let exact_texels = match job.method {
         Method::Exact { level } => Some(texels_of(job.rest.level(level))),
         Method::Sampled { .. } => None,

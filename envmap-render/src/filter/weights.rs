@@ -133,6 +133,66 @@ impl TexelWeights {
     }
 }
 
+/// A map's energy per channel (Σ Ω·L over its texels, exact solid
+/// angles; NaN and infinite values count as 0), and that of its negative
+/// values alone.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ChannelEnergy {
+    /// Σ Ω·L per channel, negative texels included.
+    pub total: [f64; 3],
+    /// Σ Ω·min(L, 0) per channel (≤ 0).
+    pub negative: [f64; 3],
+}
+
+/// [`ChannelEnergy`] of `img`, summed in f64 per row and added in a fixed
+/// order (the same at any thread count).
+#[must_use]
+pub fn channel_energy(img: &crate::image::EnvImage) -> ChannelEnergy {
+    let mapping = img.mapping();
+    let (cw, ch) = img.cell_size();
+    let weights = TexelWeights::new(mapping, cw, ch);
+    let rows: Vec<(u32, u32)> = (0..mapping.chart_count())
+        .flat_map(|c| (0..ch).map(move |j| (c, j)))
+        .collect();
+    let parts: Vec<ChannelEnergy> = rows
+        .par_iter()
+        .map(|&(chart, j)| {
+            let mut e = ChannelEnergy::default();
+            let Some((row, reversed)) = img.chart_row(chart, j) else {
+                return e;
+            };
+            for (k, p) in row.iter().enumerate() {
+                let i = if reversed {
+                    cw - 1 - k as u32
+                } else {
+                    k as u32
+                };
+                let o = weights.get(chart, i, j);
+                for c in 0..3 {
+                    let v = if p[c].is_finite() {
+                        f64::from(p[c])
+                    } else {
+                        0.0
+                    };
+                    e.total[c] += o * v;
+                    if v < 0.0 {
+                        e.negative[c] += o * v;
+                    }
+                }
+            }
+            e
+        })
+        .collect();
+    let mut e = ChannelEnergy::default();
+    for p in &parts {
+        for c in 0..3 {
+            e.total[c] += p.total[c];
+            e.negative[c] += p.negative[c];
+        }
+    }
+    e
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,705 @@
+//! The oracle: the bake's integrals computed from the input itself, read as
+//! piecewise constant over its own texels, independent of the bake's own
+//! stages (no base cube, no pyramid, no sampling).
+//!
+//! # What it computes
+//!
+//! The input is a function L on the sphere that is constant over each of its
+//! own texels (each texel's value over its exact solid angle, in its own
+//! mapping: latlong rows, cube faces, any representation envmap reads). For
+//! a direction R the oracle gives, with N = V = R as the split sum takes them
+//! (Karis 2013; the formula of [`crate::filter::specular`]):
+//!
+//! ```text
+//! LD(R) = ∫ L(l) w(R·l) dl / ∫ w(R·l) dl,   w(c) = D((1 + c)/2)·c for c > 0, 0 behind
+//! E(n)  = ∫ L(l) max(n·l, 0) dl                         (irradiance; E/π is what maps store)
+//! L_lm  = ∫ L(l) Y_lm(l) dl                             (SH9, the basis of [`crate::filter::sh`])
+//! ```
+//!
+//! with D the GGX distribution (Walter et al. 2007) at α = roughness².
+//!
+//! # How (adaptive quadrature over the input's texels)
+//!
+//! The texels of each chart are grouped into a tree of rectangles (a leaf
+//! holds at most 8 × 8 texels); each node keeps, in f64, its solid angle
+//! Σ Ω, its first moment Σ Ω·d, and per channel Σ Ω·L and Σ Ω·L·d, with d a
+//! texel's centre direction, plus a cap (centre, angular radius ρ) that
+//! holds every one of its texels. For each R the tree is walked from the
+//! roots:
+//!
+//! * a node wholly behind R (the weight is 0 there) is skipped;
+//! * a node whose radius is small against the scale on which the weight
+//!   changes there, ρ ≤ τ·s(θ) (θ the nearest angle from R to the cap), and
+//!   that does not straddle the horizon R·l = 0 (where the weight has a
+//!   kink), is taken whole, to first order in the weight:
+//!   Σ Ω L w(c_j) ≈ w(c̄)·Σ Ω L + w′(c̄)·(R·Σ Ω L d − c̄·Σ Ω L), c̄ = R·centre, so
+//!   its error is second order in ρ/s;
+//! * otherwise its children are walked; a leaf's texels are tested one by
+//!   one in the same way (each with its own cap), a texel that passes taken
+//!   at its centre, one that does not **subdivided** into m × m
+//!   sub-rectangles of its chart coordinates, each with its exact solid
+//!   angle ([`Mapping::solid_angle`]) and its centre's direction, m chosen so
+//!   that each part passes the same test (at most 64).
+//!
+//! s(θ) is max(θ, W) for GGX, W = [`lobe_width`](crate::filter::specular::lobe_width)
+//! (near the peak the lobe changes over its own width, in the tail w falls
+//! as θ⁻⁴, changing by a fixed fraction over a fixed fraction of θ), and 1 rad
+//! for the cosine. Texels brighter than 64 × the map's mean (by the largest
+//! absolute channel: a sun and what rings around it) and the nodes holding
+//! them are held to τ/4. The denominator is the same sum with L = 1, so a
+//! constant map gives its constant to rounding. τ ([`Oracle::tolerance`],
+//! default 1/16) sets the accuracy; halving it shows the convergence (the
+//! tests and `examples/bake_accuracy.rs` do).
+//!
+//! SH9 is a sum over every texel split into m × m parts (`sh9(m)`): the
+//! basis is a quadratic polynomial, smooth everywhere.
+
+use envmap_core::texel::texel_center;
+use envmap_core::{ChartUv, Mapping};
+use glam::{DMat3, DVec3, Vec3};
+use rayon::prelude::*;
+
+use crate::filter::sh::{basis, Sh9, ShKind};
+use crate::filter::specular::lobe_width;
+use crate::filter::weights::TexelWeights;
+use crate::image::EnvImage;
+
+/// The largest side of a leaf, in texels.
+const LEAF: u32 = 8;
+/// The most parts a subdivided texel is cut into per side.
+const MAX_SPLIT: u32 = 64;
+/// A texel brighter than this many times the map's mean (largest absolute
+/// channel, solid-angle weighted) is held to a quarter of the tolerance.
+const BRIGHT_FACTOR: f64 = 64.0;
+
+/// Sums over a node's texels (f64).
+#[derive(Clone, Copy, Debug, Default)]
+struct Sums {
+    /// Σ Ω.
+    w0: f64,
+    /// Σ Ω·d.
+    w1: DVec3,
+    /// Σ Ω·L per channel.
+    s0: [f64; 3],
+    /// Σ Ω·L·d per channel.
+    s1: [DVec3; 3],
+}
+
+impl Sums {
+    fn add(&mut self, o: &Sums) {
+        self.w0 += o.w0;
+        self.w1 += o.w1;
+        for c in 0..3 {
+            self.s0[c] += o.s0[c];
+            self.s1[c] += o.s1[c];
+        }
+    }
+
+    fn texel(&mut self, d: DVec3, omega: f64, l: [f64; 3]) {
+        self.w0 += omega;
+        self.w1 += omega * d;
+        for c in 0..3 {
+            self.s0[c] += omega * l[c];
+            self.s1[c] += (omega * l[c]) * d;
+        }
+    }
+}
+
+/// A rectangle of one chart's texels.
+#[derive(Clone, Copy, Debug)]
+struct Rect {
+    chart: u32,
+    i0: u32,
+    i1: u32,
+    j0: u32,
+    j1: u32,
+}
+
+#[derive(Debug)]
+struct Node {
+    rect: Rect,
+    sums: Sums,
+    centre: DVec3,
+    /// Angular radius of a cap about `centre` holding every texel.
+    radius: f64,
+    bright: bool,
+    children: Option<Box<(Node, Node)>>,
+    /// A leaf's texels, row by row: centre direction and cap radius (NaN
+    /// for a texel that holds no direction).
+    caps: Vec<[f32; 4]>,
+}
+
+/// The weight a lobe gives a direction at c = R·l (0 behind), its
+/// derivative in c, and the angular scale on which it changes.
+trait Kernel: Sync {
+    fn w(&self, c: f64) -> f64;
+    fn dw(&self, c: f64) -> f64;
+    fn scale(&self, theta: f64) -> f64;
+}
+
+/// GGX with N = V: w(c) = D((1 + c)/2)·c.
+struct Ggx {
+    a2: f64,
+    width: f64,
+}
+
+impl Ggx {
+    fn new(roughness: f64) -> Self {
+        let alpha = roughness * roughness;
+        Self {
+            a2: alpha * alpha,
+            width: lobe_width(alpha).max(1e-9),
+        }
+    }
+
+    /// D's denominator g = sin²θh + α² cos²θh, with sin²θh = (1 − c)/2 and
+    /// cos²θh = (1 + c)/2 (two positive terms: no cancellation).
+    #[inline]
+    fn g(&self, c: f64) -> f64 {
+        0.5 * (1.0 - c) + self.a2 * 0.5 * (1.0 + c)
+    }
+}
+
+impl Kernel for Ggx {
+    #[inline]
+    fn w(&self, c: f64) -> f64 {
+        if c <= 0.0 {
+            return 0.0;
+        }
+        let g = self.g(c);
+        self.a2 / (core::f64::consts::PI * g * g) * c
+    }
+
+    #[inline]
+    fn dw(&self, c: f64) -> f64 {
+        if c <= 0.0 {
+            return 0.0;
+        }
+        let g = self.g(c);
+        let d = self.a2 / (core::f64::consts::PI * g * g);
+        // dD/dc = −2D/g · dg/dc, dg/dc = (α² − 1)/2.
+        d + c * d * (1.0 - self.a2) / g
+    }
+
+    #[inline]
+    fn scale(&self, theta: f64) -> f64 {
+        theta.max(self.width)
+    }
+}
+
+/// The cosine: w(c) = max(c, 0).
+struct Cosine;
+
+impl Kernel for Cosine {
+    #[inline]
+    fn w(&self, c: f64) -> f64 {
+        c.max(0.0)
+    }
+    #[inline]
+    fn dw(&self, c: f64) -> f64 {
+        if c > 0.0 {
+            1.0
+        } else {
+            0.0
+        }
+    }
+    #[inline]
+    fn scale(&self, _theta: f64) -> f64 {
+        1.0
+    }
+}
+
+/// Numerator (per channel) and denominator of a weighted integral.
+#[derive(Clone, Copy, Debug, Default)]
+struct Acc {
+    num: [f64; 3],
+    den: f64,
+    /// Texels subdivided and parts evaluated, for reports.
+    parts: u64,
+}
+
+/// The input's integrals, exactly enough to measure the bake against; see
+/// the [module docs](self).
+pub struct Oracle<'a> {
+    src: &'a EnvImage,
+    weights: TexelWeights,
+    /// World (canonical) axes → the input's axes.
+    to_src: DMat3,
+    /// The input's axes → world.
+    to_world: DMat3,
+    roots: Vec<Node>,
+    bright_level: f64,
+    tolerance: f64,
+}
+
+impl std::fmt::Debug for Oracle<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Oracle")
+            .field("tolerance", &self.tolerance)
+            .field("bright_level", &self.bright_level)
+            .finish_non_exhaustive()
+    }
+}
+
+fn dvec(v: Vec3) -> DVec3 {
+    DVec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
+}
+
+fn angle(a: DVec3, b: DVec3) -> f64 {
+    // atan2(|a × b|, a·b): accurate at small and large angles.
+    a.cross(b).length().atan2(a.dot(b))
+}
+
+impl<'a> Oracle<'a> {
+    /// The oracle of `src` (texels as given: negative values count, NaN and
+    /// infinite ones are taken as 0), at the default tolerance 1/16.
+    #[must_use]
+    pub fn new(src: &'a EnvImage) -> Self {
+        let mapping = src.mapping();
+        let (cw, ch) = src.cell_size();
+        let weights = TexelWeights::new(mapping, cw, ch);
+        let m = src.representation().frame.matrix();
+        let to_world = DMat3::from_cols(dvec(m.x_axis), dvec(m.y_axis), dvec(m.z_axis));
+        let mut o = Oracle {
+            src,
+            weights,
+            to_src: to_world.transpose(),
+            to_world,
+            roots: Vec::new(),
+            bright_level: f64::INFINITY,
+            tolerance: 1.0 / 16.0,
+        };
+        // The mean of the largest absolute channel, for the bright rule.
+        let (mut sum, mut sphere) = (0.0f64, 0.0f64);
+        for chart in 0..mapping.chart_count() {
+            for j in 0..ch {
+                for i in 0..cw {
+                    let w = o.weights.get(chart, i, j);
+                    if w > 0.0 {
+                        sum += w * o
+                            .texel_value(chart, i, j)
+                            .map(f64::abs)
+                            .iter()
+                            .fold(0.0f64, |a, &b| a.max(b));
+                        sphere += w;
+                    }
+                }
+            }
+        }
+        if sphere > 0.0 && sum > 0.0 {
+            o.bright_level = BRIGHT_FACTOR * sum / sphere;
+        }
+        let roots: Vec<Node> = (0..mapping.chart_count())
+            .into_par_iter()
+            .map(|chart| {
+                o.build(Rect {
+                    chart,
+                    i0: 0,
+                    i1: cw,
+                    j0: 0,
+                    j1: ch,
+                })
+            })
+            .collect();
+        o.roots = roots;
+        o
+    }
+
+    /// The same oracle at tolerance `tau` (smaller is finer and slower;
+    /// see the [module docs](self)).
+    #[must_use]
+    pub fn with_tolerance(mut self, tau: f64) -> Self {
+        self.tolerance = tau.clamp(1e-4, 1.0);
+        self
+    }
+
+    /// The tolerance τ.
+    #[must_use]
+    pub fn tolerance(&self) -> f64 {
+        self.tolerance
+    }
+
+    /// The input.
+    #[must_use]
+    pub fn source(&self) -> &EnvImage {
+        self.src
+    }
+
+    fn texel_value(&self, chart: u32, i: u32, j: u32) -> [f64; 3] {
+        self.src
+            .chart_texel(chart, i, j)
+            .unwrap_or_default()
+            .map(|v| if v.is_finite() { f64::from(v) } else { 0.0 })
+    }
+
+    fn is_bright(&self, l: [f64; 3]) -> bool {
+        l.iter().fold(0.0f64, |a, b| a.max(b.abs())) > self.bright_level
+    }
+
+    /// The direction at chart point (u, v), f64.
+    fn dir(&self, chart: u32, u: f64, v: f64) -> Option<DVec3> {
+        let m = self.src.mapping();
+        m.inverse(ChartUv::new(chart, u as f32, v as f32))
+            .map(|d| dvec(d).normalize())
+    }
+
+    /// Texel (i, j)'s centre direction and the angular radius of a cap
+    /// about it holding the texel (its corners; a disk's rim texels get
+    /// one texel's width more).
+    fn texel_cap(&self, chart: u32, i: u32, j: u32) -> Option<(DVec3, f64)> {
+        let (cw, ch) = self.src.cell_size();
+        let d = self.dir(
+            chart,
+            f64::from(texel_center(i, cw)),
+            f64::from(texel_center(j, ch)),
+        )?;
+        let mut r = 0.0f64;
+        let mut missing = false;
+        for (a, b) in [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)] {
+            match self.dir(
+                chart,
+                f64::from(a) / f64::from(cw),
+                f64::from(b) / f64::from(ch),
+            ) {
+                Some(c) => r = r.max(angle(d, c)),
+                None => missing = true,
+            }
+        }
+        if missing {
+            r = 2.0 * r.max(self.weights.get(chart, i, j).sqrt());
+        }
+        Some((d, r))
+    }
+
+    fn build(&self, rect: Rect) -> Node {
+        let (w, h) = (rect.i1 - rect.i0, rect.j1 - rect.j0);
+        if w <= LEAF && h <= LEAF {
+            let mut sums = Sums::default();
+            let mut bright = false;
+            let mut caps = Vec::with_capacity((w * h) as usize);
+            for j in rect.j0..rect.j1 {
+                for i in rect.i0..rect.i1 {
+                    let omega = self.weights.get(rect.chart, i, j);
+                    let cap = self.texel_cap(rect.chart, i, j).filter(|_| omega > 0.0);
+                    let Some((d, r)) = cap else {
+                        caps.push([f32::NAN; 4]);
+                        continue;
+                    };
+                    let l = self.texel_value(rect.chart, i, j);
+                    bright |= self.is_bright(l);
+                    sums.texel(d, omega, l);
+                    caps.push([d.x as f32, d.y as f32, d.z as f32, r as f32]);
+                }
+            }
+            let cap_dir =
+                |c: &[f32; 4]| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]));
+            let centre = if sums.w1.length() > 1e-300 {
+                sums.w1.normalize()
+            } else {
+                caps.iter()
+                    .find(|c| !c[3].is_nan())
+                    .map_or(DVec3::Z, cap_dir)
+            };
+            let radius = caps
+                .iter()
+                .filter(|c| !c[3].is_nan())
+                .map(|c| angle(centre, cap_dir(c)) + f64::from(c[3]) * (1.0 + 1e-6))
+                .fold(0.0, f64::max)
+                .min(core::f64::consts::PI);
+            return Node {
+                rect,
+                sums,
+                centre,
+                radius,
+                bright,
+                children: None,
+                caps,
+            };
+        }
+        let (a, b) = if w >= h {
+            let m = rect.i0 + w / 2;
+            (Rect { i1: m, ..rect }, Rect { i0: m, ..rect })
+        } else {
+            let m = rect.j0 + h / 2;
+            (Rect { j1: m, ..rect }, Rect { j0: m, ..rect })
+        };
+        let (na, nb) = if w * h > 4096 {
+            rayon::join(|| self.build(a), || self.build(b))
+        } else {
+            (self.build(a), self.build(b))
+        };
+        let mut sums = na.sums;
+        sums.add(&nb.sums);
+        let centre = if sums.w1.length() > 1e-300 {
+            sums.w1.normalize()
+        } else {
+            na.centre
+        };
+        let radius = [&na, &nb]
+            .iter()
+            .map(|n| angle(centre, n.centre) + n.radius)
+            .fold(0.0, f64::max)
+            .min(core::f64::consts::PI);
+        Node {
+            rect,
+            sums,
+            centre,
+            radius,
+            bright: na.bright || nb.bright,
+            children: Some(Box::new((na, nb))),
+            caps: Vec::new(),
+        }
+    }
+
+    /// The test a cap passes to be taken whole: `Some(true)` take it,
+    /// `Some(false)` open it, `None` skip it (wholly behind).
+    ///
+    /// A single texel that straddles the horizon is taken at its centre
+    /// when it passes the radius test: the kink's error is then at most
+    /// w′(0)·ρ·Ω per texel, signs varying along the horizon, under
+    /// w′(0)·4πρ² in all (ρ the texel's radius: 1.4·10⁻⁴ of the lobe's
+    /// integral at roughness 1 on a 512-wide latlong, where w′(0) = 1/π is
+    /// largest); a node of many texels there is opened.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn test(
+        &self,
+        k: &dyn Kernel,
+        r: DVec3,
+        centre: DVec3,
+        radius: f64,
+        bright: bool,
+        texel: bool,
+    ) -> Option<bool> {
+        let theta = angle(r, centre);
+        let lo = (theta - radius).max(0.0);
+        let hi = theta + radius;
+        let half = core::f64::consts::FRAC_PI_2;
+        if lo >= half {
+            return None;
+        }
+        let tau = if bright {
+            0.25 * self.tolerance
+        } else {
+            self.tolerance
+        };
+        Some((texel || hi < half) && radius <= tau * k.scale(lo))
+    }
+
+    fn visit(&self, n: &Node, k: &dyn Kernel, r: DVec3, acc: &mut Acc) {
+        match self.test(k, r, n.centre, n.radius, n.bright, false) {
+            None => {}
+            Some(true) => {
+                let c = r.dot(n.centre).clamp(-1.0, 1.0);
+                let (w, dw) = (k.w(c), k.dw(c));
+                let s = &n.sums;
+                for ch in 0..3 {
+                    acc.num[ch] += w * s.s0[ch] + dw * (r.dot(s.s1[ch]) - c * s.s0[ch]);
+                }
+                acc.den += w * s.w0 + dw * (r.dot(s.w1) - c * s.w0);
+            }
+            Some(false) => match &n.children {
+                Some(ch) => {
+                    self.visit(&ch.0, k, r, acc);
+                    self.visit(&ch.1, k, r, acc);
+                }
+                None => self.visit_leaf(n, k, r, acc),
+            },
+        }
+    }
+
+    fn visit_leaf(&self, n: &Node, k: &dyn Kernel, r: DVec3, acc: &mut Acc) {
+        let rect = n.rect;
+        let (cw, ch) = self.src.cell_size();
+        let mapping = self.src.mapping();
+        let mut caps = n.caps.iter();
+        for j in rect.j0..rect.j1 {
+            for i in rect.i0..rect.i1 {
+                let Some(cap) = caps.next().filter(|c| !c[3].is_nan()) else {
+                    continue;
+                };
+                let omega = self.weights.get(rect.chart, i, j);
+                let d =
+                    DVec3::new(f64::from(cap[0]), f64::from(cap[1]), f64::from(cap[2])).normalize();
+                let radius = f64::from(cap[3]) * (1.0 + 1e-6);
+                let l = self.texel_value(rect.chart, i, j);
+                let bright = self.is_bright(l);
+                match self.test(k, r, d, radius, bright, true) {
+                    None => {}
+                    Some(true) => {
+                        let w = k.w(r.dot(d).clamp(-1.0, 1.0));
+                        for c in 0..3 {
+                            acc.num[c] += w * omega * l[c];
+                        }
+                        acc.den += w * omega;
+                    }
+                    Some(false) => {
+                        // Subdivide: parts whose radius is about radius/m.
+                        let theta = angle(r, d);
+                        let lo = (theta - radius).max(0.0);
+                        let tau = if bright {
+                            0.25 * self.tolerance
+                        } else {
+                            self.tolerance
+                        };
+                        let want = (tau * k.scale(lo)).max(1e-12);
+                        let m = ((radius / want).ceil() as u32).clamp(2, MAX_SPLIT);
+                        let (u0, v0) = (f64::from(i) / f64::from(cw), f64::from(j) / f64::from(ch));
+                        let (du, dv) = (1.0 / f64::from(cw * m), 1.0 / f64::from(ch * m));
+                        for b in 0..m {
+                            for a in 0..m {
+                                let (ua, va) = (u0 + f64::from(a) * du, v0 + f64::from(b) * dv);
+                                let o = mapping.solid_angle(rect.chart, ua, ua + du, va, va + dv);
+                                if o <= 0.0 {
+                                    continue;
+                                }
+                                let Some(p) = self.dir(rect.chart, ua + 0.5 * du, va + 0.5 * dv)
+                                else {
+                                    continue;
+                                };
+                                let w = k.w(r.dot(p).clamp(-1.0, 1.0));
+                                for c in 0..3 {
+                                    acc.num[c] += w * o * l[c];
+                                }
+                                acc.den += w * o;
+                            }
+                        }
+                        acc.parts += u64::from(m * m);
+                    }
+                }
+            }
+        }
+    }
+
+    fn integrate(&self, k: &dyn Kernel, r_world: Vec3) -> Acc {
+        let r = (self.to_src * dvec(r_world)).normalize();
+        let mut acc = Acc::default();
+        if !r.is_finite() {
+            return acc;
+        }
+        for n in &self.roots {
+            self.visit(n, k, r, &mut acc);
+        }
+        acc
+    }
+
+    /// LD at each of `dirs` (world axes) for perceptual `roughness` (in
+    /// (0, 1]; α = roughness²): the GGX-weighted mean of the input, f64.
+    /// Zero where the lobe sees no texel.
+    #[must_use]
+    pub fn prefiltered(&self, roughness: f32, dirs: &[Vec3]) -> Vec<[f64; 3]> {
+        let k = Ggx::new(f64::from(roughness).max(1e-3));
+        dirs.par_iter()
+            .map(|&d| {
+                let a = self.integrate(&k, d);
+                if a.den > 0.0 {
+                    a.num.map(|v| v / a.den)
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect()
+    }
+
+    /// E(n) = ∫ L max(n·l, 0) dl at each of `normals` (world axes), f64
+    /// (divide by π for what an E/π map stores).
+    #[must_use]
+    pub fn irradiance(&self, normals: &[Vec3]) -> Vec<[f64; 3]> {
+        normals
+            .par_iter()
+            .map(|&d| self.integrate(&Cosine, d).num)
+            .collect()
+    }
+
+    /// ∫ max(n·l, 0) dl over the input's texels at `n` (π for a map that
+    /// covers the sphere): the quadrature's own check.
+    #[must_use]
+    pub fn cosine_total(&self, n: Vec3) -> f64 {
+        self.integrate(&Cosine, n).den
+    }
+
+    /// The radiance SH9 coefficients (canonical axes) with every texel
+    /// split into `m × m` parts (`m` ≥ 1), each with its exact solid angle.
+    #[must_use]
+    pub fn sh9(&self, m: u32) -> Sh9 {
+        let m = m.max(1);
+        let mapping = self.src.mapping();
+        let (cw, ch) = self.src.cell_size();
+        let rows: Vec<(u32, u32)> = (0..mapping.chart_count())
+            .flat_map(|c| (0..ch).map(move |j| (c, j)))
+            .collect();
+        let parts: Vec<[[f64; 3]; 9]> = rows
+            .par_iter()
+            .map(|&(chart, j)| {
+                let mut s = [[0.0f64; 3]; 9];
+                for i in 0..cw {
+                    if self.weights.get(chart, i, j) <= 0.0 {
+                        continue;
+                    }
+                    let l = self.texel_value(chart, i, j);
+                    let (u0, v0) = (f64::from(i) / f64::from(cw), f64::from(j) / f64::from(ch));
+                    let (du, dv) = (1.0 / f64::from(cw * m), 1.0 / f64::from(ch * m));
+                    for b in 0..m {
+                        for a in 0..m {
+                            let (ua, va) = (u0 + f64::from(a) * du, v0 + f64::from(b) * dv);
+                            let o = mapping.solid_angle(chart, ua, ua + du, va, va + dv);
+                            let Some(p) = self.dir(chart, ua + 0.5 * du, va + 0.5 * dv) else {
+                                continue;
+                            };
+                            if o <= 0.0 {
+                                continue;
+                            }
+                            let y = basis((self.to_world * p).to_array());
+                            for (k, yk) in y.iter().enumerate() {
+                                for c in 0..3 {
+                                    s[k][c] += o * l[c] * yk;
+                                }
+                            }
+                        }
+                    }
+                }
+                s
+            })
+            .collect();
+        let mut coeffs = [[0.0f64; 3]; 9];
+        for p in &parts {
+            for k in 0..9 {
+                for c in 0..3 {
+                    coeffs[k][c] += p[k][c];
+                }
+            }
+        }
+        Sh9 {
+            coeffs,
+            kind: ShKind::Radiance,
+        }
+    }
+
+    /// The input's energy per channel, Σ Ω·L over its texels (exact solid
+    /// angles), and of its negative values alone, Σ Ω·min(L, 0).
+    #[must_use]
+    pub fn energy(&self) -> ([f64; 3], [f64; 3]) {
+        let mut e = [0.0; 3];
+        let mut neg = [0.0; 3];
+        for n in &self.roots {
+            for c in 0..3 {
+                e[c] += n.sums.s0[c];
+            }
+        }
+        let mapping = self.src.mapping();
+        let (cw, ch) = self.src.cell_size();
+        for chart in 0..mapping.chart_count() {
+            for j in 0..ch {
+                for i in 0..cw {
+                    let o = self.weights.get(chart, i, j);
+                    for (c, v) in self.texel_value(chart, i, j).iter().enumerate() {
+                        if *v < 0.0 {
+                            neg[c] += o * v;
+                        }
+                    }
+                }
+            }
+        }
+        (e, neg)
+    }
+}
