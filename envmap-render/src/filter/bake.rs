@@ -840,13 +840,12 @@ fn chain_checked(
         let mut img = prefilter_level(&job, cube, 6 * size, size)?;
         let clamped = clamp_negative(&mut img);
         let seconds = t.elapsed().as_secs_f64();
-        let measured = match method {
-            _ => match oracle {
-                Some(o) if opts.check > 0 => {
-                    Some(measure_level(o, roughness, &img, opts.check, k as u32)?)
-                }
-                _ => None,
-            },
+        // --check: every level, exact or sampled, against the oracle.
+        let measured = match oracle {
+            Some(o) if opts.check > 0 => {
+                Some(measure_level(o, roughness, &img, opts.check, k as u32)?)
+            }
+            _ => None,
         };
         reports.push(LevelReport {
             size,

@@ -27,6 +27,8 @@
 pub mod bake;
 pub mod convert;
 pub mod dfg;
+// Its channel loops index several per-channel arrays in step.
+#[allow(clippy::needless_range_loop)]
 pub mod oracle;
 pub mod pyramid;
 pub mod sample;

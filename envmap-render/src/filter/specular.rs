@@ -468,7 +468,7 @@ impl Bright {
     /// `cell` 0 or NaN keeps every point.
     #[must_use]
     pub fn clustered(&self, cell: f64) -> Bright {
-        if !(cell > 0.0) || self.dirs.len() < 2 {
+        if cell.is_nan() || cell <= 0.0 || self.dirs.len() < 2 {
             return self.clone();
         }
         // A cube face spans π/2 at its centre; texels of n per side are at

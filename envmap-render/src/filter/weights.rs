@@ -147,6 +147,7 @@ pub struct ChannelEnergy {
 /// [`ChannelEnergy`] of `img`, summed in f64 per row and added in a fixed
 /// order (the same at any thread count).
 #[must_use]
+#[allow(clippy::needless_range_loop)]
 pub fn channel_energy(img: &crate::image::EnvImage) -> ChannelEnergy {
     let mapping = img.mapping();
     let (cw, ch) = img.cell_size();
