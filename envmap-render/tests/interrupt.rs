@@ -141,7 +141,11 @@ fn interrupt(dir: &Path, out: &str, extra: &[&str], stage: &str, temps: usize, s
     }
     kill(&child, signal);
     let (code, latency) = finish(&mut child);
-    seen.extend(rx.try_iter());
+    // Every line the process wrote: the reader thread ends when the pipe
+    // closes, which may be after the exit is seen (a loaded machine).
+    while let Ok(l) = rx.recv_timeout(Duration::from_secs(10)) {
+        seen.push(l);
+    }
     let want = if signal == "INT" { 130 } else { 143 };
     assert_eq!(code, Some(want), "{out} {stage} {signal}: {seen:?}");
     assert!(

@@ -983,7 +983,7 @@ fn manifest(
                 "energy_share": chain.bright.energy_share,
                 "energy_per_channel": chain.bright.energy,
                 "threshold": chain.bright.threshold,
-                "rule": format!("split from the input's own texels before any resampling: largest absolute channel above 16 × its solid-angle-weighted 99th percentile, at most {} texels (the largest); each cut into parts at most 1/16 of the narrowest level's lobe across, each part with its exact solid angle; added exactly to every level, in clusters at most 1/16 of that level's lobe across", opts.bright_max),
+                "rule": format!("split from the input's own texels before any resampling: largest absolute channel above 16 × its solid-angle-weighted 99th percentile, at most {} texels (the largest); each cut into parts at most 1/4 of the narrowest level's lobe across, each part with its exact solid angle; added exactly to every level, in clusters at most 1/8 of that level's lobe across", opts.bright_max),
             },
             "energy": {
                 "unit": "Σ Ω·L per channel (R, G, B) over texels with their exact solid angles",

@@ -37,7 +37,7 @@ use crate::filter::sh::{
 };
 use crate::filter::specular::{
     exact_level, finest_sampled_level, lobe_width, prefilter_level, split_bright, BrightReport,
-    LevelJob, Method, RoughnessRule, CLUSTER,
+    LevelJob, Method, RoughnessRule, PART,
 };
 use crate::filter::weights::channel_energy;
 use crate::image::{luminance, EnvImage, FileAxes, Representation};
@@ -716,11 +716,7 @@ fn chain_checked(
         .filter(|&r| r > 0.0)
         .fold(1.0f32, f32::min);
     let alpha_min = f64::from(narrowest) * f64::from(narrowest);
-    let mut bright = split_bright(
-        &mut rest_src,
-        opts.bright_max,
-        lobe_width(alpha_min) / CLUSTER,
-    )?;
+    let mut bright = split_bright(&mut rest_src, opts.bright_max, lobe_width(alpha_min) / PART)?;
     tr("bright texels split");
     // The base cube: the footprint average of the rest, each texel the mean
     // over N × N points of its footprint of the input's bilinear

@@ -554,8 +554,15 @@ pub fn exact_level(p: &Pyramid, roughness: f32) -> usize {
 }
 
 /// A level sums the split texels in clusters at most 1/`CLUSTER` of its
-/// lobe's width across ([`Bright::clustered`]).
-pub const CLUSTER: f64 = 16.0;
+/// lobe's width across ([`Bright::clustered`]). Measured on real HDRIs
+/// with suns at a 512² chain: 1/8 reads the same error as 1/16 (to 0.002 %)
+/// at a third to a sixth of the time; 1/4 costs 0.3 % at level 3.
+pub const CLUSTER: f64 = 8.0;
+
+/// The split texels are cut into parts at most 1/`PART` of the narrowest
+/// level's lobe across ([`split_bright`]'s `pitch`): as accurate as 1/8
+/// or 1/16 on the real HDRIs measured, the clusters being what sums them.
+pub const PART: f64 = 4.0;
 
 /// Per-sample values shared by every output texel of a sampled level.
 #[derive(Clone, Copy, Debug)]
