@@ -5,7 +5,7 @@
 //! relative RMS error and bias per level, on a subset of each level's texels.
 //!
 //! ```text
-//! cargo run --release -p envmap-render --example bake_accuracy -- IN|sky|room|smooth|smooth-sun [SIZE] [TEXELS]
+//! cargo run --release -p envmap-render --example bake_accuracy -- IN|sky|room|smooth|smooth-sun|small-sun [SIZE] [TEXELS]
 //! ```
 //!
 //! SIZE is level 0's face (default 512), TEXELS the texels checked per
@@ -18,6 +18,9 @@
 //!   `levels.txt` (lines `k size roughness`) and `level<k>.exr` (cubes in
 //!   envmap's default axes), as `envmap-bench/scripts/cmgen-chain.sh` writes.
 //! * `SAMPLES=N`: samples per texel at every sampled level.
+//! * `WRITE=FILE`: save the input (e.g. `smooth`, `small-sun`: the
+//!   benchmark's 4096 × 2048 maps) to FILE and exit, for whole-process
+//!   timings.
 //! * `EXACT=1`: the bake's `--exact` mode (slow at large sizes).
 //! * `LOD_BIAS=B`: the sampled levels' FIS level bias.
 //! * `SPLIT=N`: at most N texels split (`--split`).
@@ -30,7 +33,7 @@ use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::image::{EnvImage, FileAxes, Representation};
 use envmap_render::io::{load, LoadOptions, NonFinite};
-use envmap_render::procedural::{fill, smooth, sunny};
+use envmap_render::procedural::{fill, small_sun, smooth, sunny};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -51,6 +54,7 @@ fn main() {
         }
         "smooth" => fill(latlong, 4096, 2048, smooth).unwrap(),
         "smooth-sun" => fill(latlong, 4096, 2048, sunny).unwrap(),
+        "small-sun" => fill(latlong, 4096, 2048, small_sun).unwrap(),
         path => load(
             path,
             &LoadOptions {
@@ -60,6 +64,12 @@ fn main() {
         )
         .unwrap_or_else(|e| panic!("{path}: {e}")),
     };
+    if let Ok(out) = std::env::var("WRITE") {
+        envmap_render::save(&src, std::path::Path::new(&out), &Default::default())
+            .unwrap_or_else(|e| panic!("{out}: {e}"));
+        println!("wrote {out}");
+        return;
+    }
     let t = Instant::now();
     let oracle = Oracle::new(&src);
     println!(
@@ -99,7 +109,7 @@ fn main() {
             size,
             samples: std::env::var("SAMPLES").ok().map(|s| s.parse().unwrap()),
             exact: std::env::var("EXACT").is_ok(),
-            bright_max: std::env::var("SPLIT").map_or(1024, |s| s.parse().unwrap()),
+            bright_max: std::env::var("SPLIT").map_or(16384, |s| s.parse().unwrap()),
             lod_bias: std::env::var("LOD_BIAS").map_or(0.0, |s| s.parse().unwrap()),
             ..BakeOptions::default()
         };

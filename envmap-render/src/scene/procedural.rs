@@ -56,13 +56,27 @@ pub fn smooth(d: Vec3) -> [f32; 3] {
 /// (0.3, −0.5, 0.8): the test environment of a real HDRI's worst feature.
 #[must_use]
 pub fn sunny(d: Vec3) -> [f32; 3] {
+    smooth_with_sun(d, 1.5, 50_000.0)
+}
+
+/// [`smooth`] plus a disc of `radius` degrees about (0.3, −0.5, 0.8) raised
+/// by `value`.
+fn smooth_with_sun(d: Vec3, radius: f32, value: f32) -> [f32; 3] {
     let s = Vec3::new(0.3, -0.5, 0.8).normalize();
     let base = smooth(d);
-    if d.normalize().dot(s) > (1.5f32).to_radians().cos() {
-        base.map(|v| v + 50_000.0)
+    if d.normalize().dot(s) > radius.to_radians().cos() {
+        base.map(|v| v + value)
     } else {
         base
     }
+}
+
+/// [`smooth`] plus a sun 100 000 times as bright and 0.5° across (the
+/// real sun's size), towards (0.3, −0.5, 0.8): a 4096 × 2048 latlong of it
+/// has about 25 sun texels, the bake's benchmark of a map with a sun.
+#[must_use]
+pub fn small_sun(d: Vec3) -> [f32; 3] {
+    smooth_with_sun(d, 0.25, 100_000.0)
 }
 
 /// Peak signal-to-noise ratio in dB of `a` against the reference `b` over
