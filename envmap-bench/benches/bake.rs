@@ -1,7 +1,8 @@
 //! The lighting bake of a 4096×2048 latlong (the smooth test environment,
 //! already in memory): the default 512² GGX specular chain (linear rule,
 //! nine levels down to 2², default quality), the SH9, the 32² irradiance
-//! cube and the 128² DFG table, on two threads; and the chain alone; and
+//! cube and the 128² DFG table, on two threads; and the chain alone; the
+//! same bake of that map with a 0.5° sun of 100 000 ([`small_sun`]); and
 //! the exact mode of a 64² chain from a 256² cube.
 //!
 //! ```text
@@ -16,7 +17,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use envmap_core::AnyMapping;
 use envmap_render::filter::bake::{bake, specular_chain, BakeOptions};
 use envmap_render::image::{FileAxes, Representation};
-use envmap_render::procedural::{fill, smooth};
+use envmap_render::procedural::{fill, small_sun, smooth};
 
 fn bench(c: &mut Criterion) {
     let pool = common::pool(2);
@@ -37,6 +38,20 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             pool.install(|| specular_chain(black_box(&src), &opts, &|_, _| {}).expect("chain"))
         })
+    });
+    g.finish();
+
+    let sun = fill(
+        Representation::default_for(AnyMapping::LatLong),
+        4096,
+        2048,
+        small_sun,
+    )
+    .unwrap();
+    let mut g = c.benchmark_group("bake/latlong4096-sun");
+    g.sample_size(10);
+    g.bench_function("chain512+sh9+irradiance32+dfg128/2-threads", |b| {
+        b.iter(|| pool.install(|| bake(black_box(&sun), &opts, &|_, _| {}).expect("bake")))
     });
     g.finish();
 
