@@ -8,15 +8,19 @@
 //! | [`image`] | [`EnvImage`] and its [`Representation`], layouts, every file format ([`image::io`]: PNG/JPEG, Radiance HDR, OpenEXR, six-file cubes, safe writes) | `envmap-core` |
 //! | [`filter`] | sampling with each representation's edge rule ([`filter::sample`]), the one conversion loop ([`filter::convert`]) | `image`, `envmap-simd` |
 //! | [`scene`] | built-in environments, procedural environments, meshes, the renderer, the demo | `image`, `filter` |
-//! | [`cli`] | the `envmap` command, one file per subcommand | everything |
+//! | `cli` | the `envmap` command, one file per subcommand (feature `cli`, on by default) | everything |
 //!
 //! [`Error`] (in `error.rs`) is shared by all of them: every message names
 //! the file it concerns.
 //!
 //! The paths of the first release keep working: [`io`], [`layout`],
 //! [`sample`], [`convert`](mod@convert), [`procedural`], [`environments`],
-//! [`mesh`], [`render`](mod@render), [`demo`] and [`text`] are the modules
-//! above under their old names.
+//! [`mesh`], [`render`](mod@render), [`demo`] and `text` (with `cli`) are
+//! the modules above under their old names.
+//!
+//! Features: `cli` (default) is the command line and its dependencies
+//! (clap, indicatif, signal-hook); an engine that embeds the library sets
+//! `default-features = false` and keeps everything else.
 //!
 //! Conventions (axes, frames, layouts, image coordinates) are in
 //! `docs/conventions.md`; speed in `docs/performance.md`; what bad input gives
@@ -28,6 +32,7 @@
 )]
 
 pub mod cancel;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod error;
 pub mod filter;
@@ -41,6 +46,7 @@ pub use crate::image::{EnvImage, Layout, Representation, RgbImage, Stats};
 pub use crate::scene::render::render;
 
 // The module paths of the first release.
+#[cfg(feature = "cli")]
 #[doc(no_inline)]
 pub use crate::cli::text;
 #[doc(no_inline)]

@@ -180,6 +180,10 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
             TexelFormat::NAMES
         )));
     }
+    #[cfg(not(feature = "zstd"))]
+    if opts.zstd.is_some() {
+        return Err(Error::Input(NO_ZSTD.to_owned()));
+    }
     if let Some(l) = opts.zstd {
         if !(1..=22).contains(&l) {
             return Err(Error::Input(format!(
@@ -294,6 +298,7 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
 /// One level as one zstd frame at `level`; levels above 1 MiB are split
 /// among the worker threads (zstd's own multithreading: still one frame,
 /// jobs of at least 1 MiB).
+#[cfg(feature = "zstd")]
 fn compress(raw: &[u8], level: i32) -> std::io::Result<Vec<u8>> {
     use zstd::zstd_safe::CParameter;
     let workers = rayon::current_num_threads().min(raw.len() >> 20) as u32;
@@ -304,6 +309,29 @@ fn compress(raw: &[u8], level: i32) -> std::io::Result<Vec<u8>> {
     }
     c.compress(raw)
 }
+
+/// Without the `zstd` feature: an error saying so.
+#[cfg(not(feature = "zstd"))]
+fn compress(_raw: &[u8], _level: i32) -> std::io::Result<Vec<u8>> {
+    Err(std::io::Error::other(NO_ZSTD))
+}
+
+/// One zstd frame decoded, its size known.
+#[cfg(feature = "zstd")]
+fn decompress(data: &[u8], want: usize) -> std::result::Result<Vec<u8>, String> {
+    zstd::bulk::decompress(data, want).map_err(|e| e.to_string())
+}
+
+/// Without the `zstd` feature: an error saying so.
+#[cfg(not(feature = "zstd"))]
+fn decompress(_data: &[u8], _want: usize) -> std::result::Result<Vec<u8>, String> {
+    Err(NO_ZSTD.to_owned())
+}
+
+/// What a build without the `zstd` feature says of zstd supercompression.
+#[cfg(not(feature = "zstd"))]
+const NO_ZSTD: &str =
+    "zstd supercompression needs envmap-render's `zstd` feature (on by default; this build has it off)";
 
 fn u32_at(b: &[u8], at: usize) -> u32 {
     u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
@@ -588,7 +616,7 @@ fn decode_inner(b: &[u8], max_texels: u64) -> std::result::Result<TextureFile, F
         .map(|(p, &(data, want))| {
             let raw;
             let data = if zstd {
-                raw = zstd::bulk::decompress(data, want as usize)
+                raw = decompress(data, want as usize)
                     .map_err(|e| format!("level {p}: the zstd data does not decode: {e}"))?;
                 if raw.len() as u64 != want {
                     return Err(format!(
