@@ -54,8 +54,9 @@ struct Node {
     leaf_count: u32,
 }
 
-/// A node with at most this many leaves below is summed leaf by leaf,
-/// without testing its children: cheaper than the walk for a few points.
+/// A node to be opened with at most this many leaves below is summed leaf
+/// by leaf, without testing its children: cheaper than the walk for a few
+/// points.
 const FLAT: u32 = 16;
 
 /// The split texels' points as a tree, for [`BrightTree::sums`].
@@ -228,26 +229,27 @@ impl BrightTree {
         let mut s = [f32x8::ZERO; 3];
         while let Some(k) = stack.pop() {
             let node = &self.nodes[k as usize];
-            if node.count > 0 && node.leaf_count <= FLAT {
-                let (a, b) = (
-                    node.leaf_first as usize,
-                    (node.leaf_first + node.leaf_count) as usize,
-                );
-                for &leaf in &self.leaves[a..b] {
-                    add(&self.nodes[leaf as usize], &mut s, &mut run);
-                }
-            } else if node.count > 0 {
+            if node.count > 0 {
                 let c = r.x * f32x8::splat(node.dir.x)
                     + r.y * f32x8::splat(node.dir.y)
                     + r.z * f32x8::splat(node.dir.z);
                 let cmax = c.to_array().into_iter().fold(-1.0f32, f32::max);
                 let dist = cmax.clamp(-1.0, 1.0).acos() - node.rho;
-                if node.rho > core.max(dist / FAR) {
+                if node.rho <= core.max(dist / FAR) {
+                    add(node, &mut s, &mut run);
+                } else if node.leaf_count <= FLAT {
+                    let (a, b) = (
+                        node.leaf_first as usize,
+                        (node.leaf_first + node.leaf_count) as usize,
+                    );
+                    for &leaf in &self.leaves[a..b] {
+                        add(&self.nodes[leaf as usize], &mut s, &mut run);
+                    }
+                } else {
                     let (a, b) = (node.first as usize, (node.first + node.count) as usize);
                     stack.extend_from_slice(&self.kids[a..b]);
                     continue;
                 }
-                add(node, &mut s, &mut run);
             } else {
                 add(node, &mut s, &mut run);
             }
