@@ -37,6 +37,9 @@ pub const FAR: f32 = 32.0;
 /// finer than any part [`crate::filter::specular::split_bright`] makes.
 const DEPTH: u32 = 15;
 
+/// The walk's stack size: 6 roots + 3 per level below a face, rounded up.
+const STACK: usize = 6 + 3 * (DEPTH as usize + 1) + 6;
+
 #[derive(Clone, Copy, Debug)]
 struct Node {
     /// Unit centre (Ω·|L|-weighted mean of the points' directions).
@@ -209,7 +212,14 @@ impl BrightTree {
             return out;
         }
         let core = width / CORE;
-        let mut stack: Vec<u32> = self.roots.clone();
+        // The walk's stack, on the stack: at most the 6 roots plus 3 more
+        // per level opened below them (a node has at most 4 children).
+        let mut stack = [0u32; STACK];
+        let mut top = 0usize;
+        for &root in &self.roots {
+            stack[top] = root;
+            top += 1;
+        }
         let mut run = 0u32;
         let flush = |out: &mut [[f64; 3]; 8], s: [f32x8; 3]| {
             let a = s.map(f32x8::to_array);
@@ -227,7 +237,9 @@ impl BrightTree {
             *run += 1;
         };
         let mut s = [f32x8::ZERO; 3];
-        while let Some(k) = stack.pop() {
+        while top > 0 {
+            top -= 1;
+            let k = stack[top];
             let node = &self.nodes[k as usize];
             if node.count > 0 {
                 let c = r.x * f32x8::splat(node.dir.x)
@@ -247,7 +259,10 @@ impl BrightTree {
                     }
                 } else {
                     let (a, b) = (node.first as usize, (node.first + node.count) as usize);
-                    stack.extend_from_slice(&self.kids[a..b]);
+                    for &kid in &self.kids[a..b] {
+                        stack[top] = kid;
+                        top += 1;
+                    }
                     continue;
                 }
             } else {
