@@ -206,11 +206,20 @@ impl BrightTree {
     /// whole by the rule of [`CORE`] and [`FAR`], accumulated in f32 per
     /// run of 256 nodes and in f64 across runs.
     #[must_use]
+    #[inline]
     pub fn sums(&self, r: &Dir8, a2: f32, width: f32) -> [[f64; 3]; 8] {
-        let mut out = [[0.0f64; 3]; 8];
         if self.nodes.is_empty() {
-            return out;
+            return [[0.0f64; 3]; 8];
         }
+        self.walk(r, a2, width)
+    }
+
+    /// [`Self::sums`] of a tree with nodes: kept out of line, so that the
+    /// callers' loops (the sampled levels' per-texel work) are compiled
+    /// without the walk's code and registers.
+    #[inline(never)]
+    fn walk(&self, r: &Dir8, a2: f32, width: f32) -> [[f64; 3]; 8] {
+        let mut out = [[0.0f64; 3]; 8];
         let core = width / CORE;
         // The walk's stack, on the stack: at most the 6 roots plus 3 more
         // per level opened below them (a node has at most 4 children).
