@@ -31,6 +31,7 @@
     deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)
 )]
 
+pub mod bakedir;
 pub mod cancel;
 #[cfg(feature = "cli")]
 pub mod cli;

@@ -6,22 +6,20 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use clap::Args;
-use envmap_core::glam::{Mat3, Vec3};
-use envmap_core::{AnyMapping, Frame};
+use envmap_core::AnyMapping;
 use indicatif::{ProgressBar, ProgressStyle};
 
+use crate::bakedir::{self, Container, Preset, Provenance, Target};
 use crate::cli::args::{
     load_error, parse_convention, parse_layout, parse_mapping, parse_world, set_threads,
     warn_clamped, warn_replaced, CliResult, TextureFlags,
 };
 use crate::filter::bake::{bake, chain_sizes, Bake, BakeOptions, Quality};
-use crate::filter::sh::{IrradianceScale, ShWindow, NAMES};
+use crate::filter::sh::{IrradianceScale, ShWindow};
 use crate::filter::specular::RoughnessRule;
 use crate::image::convention::{Convention, FileAxes, World};
-use crate::image::io::{load_detailed, ExrPrecision, LoadOptions, NonFinite, Outputs, SaveOptions};
-use crate::image::ktx1;
+use crate::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
 use crate::image::layout::Layout;
-use crate::image::{Clamped, TexelFormat, Texture, TextureKind, TextureOptions};
 use crate::image::{EnvImage, Representation};
 use crate::scene::environments::Builtin;
 
@@ -121,164 +119,27 @@ pub(crate) struct BakeArgs {
     pub(crate) quiet: bool,
 }
 
-/// `--target`: an engine's preset.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Target {
-    /// Bevy's `EnvironmentMapLight`: E5B9G9R9 + zstd KTX2 cubes.
-    Bevy,
-    /// glTF-IBL-Sampler's outputs: RGBA16F KTX2 cubes and the BRDF LUT.
-    Gltf,
-    /// Filament's `cmgen --deploy`: KTX 1, R11F_G11F_B10F, `sh` key.
-    Filament,
-}
-
 fn parse_target(s: &str) -> Result<Target, String> {
-    match s.to_ascii_lowercase().as_str() {
-        "bevy" => Ok(Target::Bevy),
-        "gltf" | "gltf-ibl-sampler" | "khronos" => Ok(Target::Gltf),
-        "filament" | "cmgen" => Ok(Target::Filament),
-        _ => Err(format!("{s}: expected bevy, gltf or filament")),
-    }
-}
-
-/// `--container`: how the maps are stored.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Container {
-    /// One OpenEXR file (or six) per level.
-    Exr,
-    /// One KTX2 file per map, every level inside.
-    Ktx2,
-    /// One DDS file per map.
-    Dds,
-    /// One KTX 1 file per map (Filament).
-    Ktx,
-}
-
-impl Container {
-    fn extension(self) -> &'static str {
-        match self {
-            Container::Exr => "exr",
-            Container::Ktx2 => "ktx2",
-            Container::Dds => "dds",
-            Container::Ktx => "ktx",
-        }
-    }
+    s.parse()
 }
 
 fn parse_container(s: &str) -> Result<Container, String> {
-    match s.to_ascii_lowercase().as_str() {
-        "exr" => Ok(Container::Exr),
-        "ktx2" => Ok(Container::Ktx2),
-        "dds" => Ok(Container::Dds),
-        "ktx" | "ktx1" => Ok(Container::Ktx),
-        _ => Err(format!("{s}: expected exr, ktx2, dds or ktx")),
-    }
-}
-
-/// What a bake makes, once the preset and the flags are put together.
-#[derive(Clone, Debug)]
-struct Plan {
-    size: u32,
-    rule: RoughnessRule,
-    min_size: Option<u32>,
-    irradiance_size: u32,
-    sh_window: Option<ShWindow>,
-    dfg_size: u32,
-    container: Container,
-    texture: TextureOptions,
-    axes: FileAxes,
-    /// Filament's cube mirrored as cmgen's default (x negated).
-    mirrored: bool,
-    /// The file names: specular chain, irradiance map.
-    specular: &'static str,
-    irradiance: &'static str,
-}
-
-/// The GL world with x negated: the axes of cmgen's default (mirrored)
-/// cube files (`CubemapUtils::mirrorCubemap` samples the source at
-/// (−x, y, z)).
-fn mirrored_gl() -> FileAxes {
-    let m = Frame::Y_UP_RH.matrix() * Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
-    FileAxes::Frame(Frame::from_mat3(m).unwrap_or(Frame::Y_UP_RH))
+    s.parse()
 }
 
 /// The preset of `a.target` with every flag given laid over it.
-fn plan(a: &BakeArgs) -> Result<Plan, String> {
+fn plan(a: &BakeArgs) -> Result<Preset, String> {
     let convention = a.convention.unwrap_or_default();
     let gl = FileAxes::Convention(convention, a.to_frame);
     let base = match a.target {
-        None => Plan {
-            size: 512,
-            rule: RoughnessRule::Linear,
-            min_size: None,
-            irradiance_size: 32,
-            sh_window: None,
-            dfg_size: crate::filter::dfg::DEFAULT_SIZE,
-            container: Container::Exr,
-            texture: TextureOptions::default(),
+        None => Preset {
             axes: gl,
-            mirrored: false,
-            specular: "specular",
-            irradiance: "irradiance",
+            ..Preset::default()
         },
-        // Bevy's shipped maps (pisa_*_rgb9e5_zstd.ktx2) and its runtime
-        // generator: 512² specular with roughness = mip / (mips − 1), 32²
-        // diffuse, one level; E5B9G9R9 + zstd; a standard KTX cube (Bevy
-        // negates z itself when it samples).
-        Some(Target::Bevy) => Plan {
-            size: 512,
-            rule: RoughnessRule::Linear,
-            min_size: None,
-            irradiance_size: 32,
-            sh_window: None,
-            dfg_size: 0,
-            container: Container::Ktx2,
-            texture: TextureOptions {
-                format: TexelFormat::E5b9g9r9,
-                zstd: Some(DEFAULT_ZSTD),
-            },
-            axes: gl,
-            mirrored: false,
-            specular: "specular",
-            irradiance: "diffuse",
-        },
-        // glTF-IBL-Sampler (lib/source/lib.cpp): RGBA16F through libktx,
-        // ⌊log2 size⌋ levels (down to 2×2) at roughness i/(n − 1), the
-        // Lambertian map, the GGX BRDF LUT.
-        Some(Target::Gltf) => Plan {
-            size: 512,
-            rule: RoughnessRule::Linear,
-            min_size: Some(2),
-            irradiance_size: 32,
-            sh_window: None,
-            dfg_size: crate::filter::dfg::DEFAULT_SIZE,
-            container: Container::Ktx2,
-            texture: TextureOptions::default(),
-            axes: gl,
-            mirrored: false,
-            specular: "specular",
-            irradiance: "diffuse",
-        },
-        // cmgen --deploy (tools/cmgen): 256², levels down to 16² at
-        // lod = (n − 1)·r·(2 − r), R11F_G11F_B10F KTX 1, the SH in the `sh`
-        // key (auto-windowed), mirrored unless --no-mirror.
-        Some(Target::Filament) => Plan {
-            size: 256,
-            rule: RoughnessRule::Filament,
-            min_size: Some(16),
-            irradiance_size: 0,
-            sh_window: Some(ShWindow::Cmgen),
-            dfg_size: 0,
-            container: Container::Ktx,
-            texture: TextureOptions {
-                format: TexelFormat::B10g11r11,
-                zstd: None,
-            },
-            axes: if a.no_mirror { gl } else { mirrored_gl() },
-            mirrored: !a.no_mirror,
-            specular: "ibl",
-            irradiance: "irradiance",
-        },
+        Some(Target::Filament) if a.no_mirror => {
+            Preset::for_target(Target::Filament, gl).unmirrored(gl)
+        }
+        Some(t) => Preset::for_target(t, gl),
     };
     if a.no_mirror && a.target != Some(Target::Filament) {
         return Err("--no-mirror is for --target filament".into());
@@ -294,7 +155,7 @@ fn plan(a: &BakeArgs) -> Result<Plan, String> {
             container.extension()
         ));
     }
-    Ok(Plan {
+    Ok(Preset {
         size: a.size.unwrap_or(base.size),
         rule: a.roughness_rule.clone().unwrap_or(base.rule),
         min_size: a.min_size.or(base.min_size),
@@ -303,12 +164,10 @@ fn plan(a: &BakeArgs) -> Result<Plan, String> {
         dfg_size: a.dfg_size.unwrap_or(base.dfg_size),
         container,
         texture,
+        layout: a.layout,
         ..base
     })
 }
-
-/// The zstd level of the presets that supercompress: zstd's own default (`--zstd 19` gives files about 36 % smaller for seconds more; docs/performance.md).
-pub(crate) const DEFAULT_ZSTD: i32 = 3;
 
 /// `--sh-window`: none, auto, or a cutoff.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -403,27 +262,20 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             a.layout
         ));
     }
-    let opts = BakeOptions {
-        size: plan.size,
+    let opts = plan.bake_options(BakeOptions {
         levels: a.levels,
-        min_size: plan.min_size,
-        rule: plan.rule.clone(),
         quality: a.quality,
         samples: a.samples,
         exact: a.exact,
         exact_irradiance: a.exact_irradiance,
         clamp: a.clamp,
-        axes: plan.axes,
-        irradiance_size: plan.irradiance_size,
         irradiance_scale: a.irradiance_scale,
-        sh_window: plan.sh_window,
         sh_only: a.sh_only,
-        dfg_size: plan.dfg_size,
         bright_max: a.split,
         check: a.check,
         cancel: Some(stop),
         ..BakeOptions::default()
-    };
+    });
     // Bad sizes and levels before any loading.
     let sizes = chain_sizes(&opts).map_err(|e| e.to_string())?;
     let t0 = Instant::now();
@@ -458,174 +310,22 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
     if let Ok(b) = bar.lock() {
         b.finish_and_clear();
     }
-    // Every file into the directory together.
-    let created = !a.out.exists();
-    std::fs::create_dir_all(&a.out)
-        .map_err(|e| format!("{}: cannot create: {e}", a.out.display()))?;
-    let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
-    let written = (|| -> Result<Vec<PathBuf>, String> {
-        let sopts = SaveOptions {
-            six_files: a.layout.is_six_files(),
-            inputs: inputs.clone(),
-            cancel: Some(stop),
-            ..SaveOptions::default()
-        };
-        let mut run = Outputs::new(&sopts);
-        let mut stage = |img: &EnvImage, stem: &str, content: String| -> Result<(), String> {
-            let img = if a.layout.is_six_files() {
-                img.clone()
-            } else {
-                img.relayout(a.layout.atlas()).map_err(|e| e.to_string())?
-            };
-            let o = SaveOptions {
-                content: Some(content),
-                ..sopts.clone()
-            };
-            run.stage_image(&img, a.out.join(file_name(a, stem)), &o)
-                .map_err(|e| e.to_string())
-        };
-        if plan.container == Container::Exr {
-            if let Some(chain) = &baked.chain {
-                let n = chain.levels.len();
-                for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
-                    let content = format!(
-                        "GGX-prefiltered radiance (split sum, N = V = R): level {k} of {n}, perceptual roughness {:.4} (alpha = roughness^2), rule {}",
-                        r.roughness,
-                        opts.rule.name()
-                    );
-                    stage(level, &format!("specular_{k}"), content)?;
-                }
-            }
-            if let Some(irr) = &baked.irradiance {
-                let content = match a.irradiance_scale {
-                    IrradianceScale::EOverPi => {
-                        "irradiance E/pi (the radiance a white Lambertian surface reflects)"
-                            .to_owned()
-                    }
-                    IrradianceScale::E => "irradiance E (not divided by pi)".to_owned(),
-                };
-                stage(&irr.image, "irradiance", content)?;
-            }
-        } else {
-            let mut texture = |levels: &[EnvImage], name: &str, kv: &[(&str, &[u8])]| {
-                let tex = Texture::from_env(levels).map_err(|e| e.to_string())?;
-                let path = a.out.join(name);
-                let clamped = if plan.container == Container::Ktx {
-                    let (bytes, c) = ktx1::encode(&tex, plan.texture.format, kv)
-                        .map_err(|e| e.in_file(&path).to_string())?;
-                    run.stage_bytes(&path, &bytes).map_err(|e| e.to_string())?;
-                    c
-                } else {
-                    run.stage_texture(&tex, &path, plan.texture)
-                        .map_err(|e| e.to_string())?
-                };
-                clamped_total.push((path, clamped));
-                Ok::<(), String>(())
-            };
-            let ext = plan.container.extension();
-            let sh_key = filament_sh_text(&baked, &plan);
-            if let Some(chain) = &baked.chain {
-                let kv: Vec<(&str, &[u8])> = if plan.container == Container::Ktx {
-                    vec![("sh", sh_key.as_bytes())]
-                } else {
-                    Vec::new()
-                };
-                texture(&chain.levels, &texture_name(a, &plan, plan.specular), &kv)?;
-                if plan.container == Container::Ktx {
-                    texture(&chain.levels[..1], &texture_name(a, &plan, "skybox"), &[])?;
-                }
-            }
-            if let Some(irr) = &baked.irradiance {
-                texture(
-                    std::slice::from_ref(&irr.image),
-                    &texture_name(a, &plan, plan.irradiance),
-                    &[],
-                )?;
-            }
-            if plan.container == Container::Ktx {
-                run.stage_bytes(
-                    a.out.join("sh.txt"),
-                    filament_sh_txt(&baked, &plan).as_bytes(),
-                )
-                .map_err(|e| e.to_string())?;
-            }
-            if let (Some(t), Some(Target::Gltf)) = (&baked.dfg, a.target) {
-                // glTF-IBL-Sampler's LUT: R = scale, G = bias, N·V across,
-                // roughness down (row 0 = roughness 0.5/size).
-                let lut = Texture::new(TextureKind::Flat, vec![vec![t.single_scatter_image()]])
-                    .map_err(|e| e.to_string())?;
-                let path = a.out.join(format!("lut_ggx.{ext}"));
-                let c = run
-                    .stage_texture(
-                        &lut,
-                        &path,
-                        TextureOptions {
-                            zstd: None,
-                            ..plan.texture
-                        },
-                    )
-                    .map_err(|e| e.to_string())?;
-                clamped_total.push((path, c));
-            }
-        }
-        if let Some(t) = &baked.dfg {
-            let axes = format!(
-                "column i: N.V = (i + 0.5)/{0}, row j from the top: perceptual roughness (j + 0.5)/{0}; height-correlated Smith GGX",
-                t.size()
-            );
-            for (file, form, image) in [
-                (
-                    "dfg.exr",
-                    "DFG single scatter: R = scale, G = bias (F0 scale + bias)",
-                    t.single_scatter_image(),
-                ),
-                (
-                    "dfg_multiscatter.exr",
-                    "DFG multiscatter (Filament): R = bias, G = scale + bias",
-                    t.multiscatter_image(),
-                ),
-            ] {
-                let o = SaveOptions {
-                    exr_precision: ExrPrecision::F32,
-                    content: Some(format!("{form}; {axes}")),
-                    ..sopts.clone()
-                };
-                run.stage_rgb(&image, a.out.join(file), &o)
-                    .map_err(|e| e.to_string())?;
-            }
-        }
-        run.stage_bytes(
-            a.out.join("sh.json"),
-            sh_json(&plan, &baked, opts.axes).as_bytes(),
-        )
-        .map_err(|e| e.to_string())?;
-        let manifest = manifest(
-            a,
-            &plan,
-            &name,
-            &baked,
-            &opts,
-            t_load.as_secs_f64(),
-            t_bake.as_secs_f64(),
-        );
-        run.stage_bytes(a.out.join("manifest.json"), manifest.as_bytes())
-            .map_err(|e| e.to_string())?;
-        run.commit().map_err(|e| e.to_string())
-    })();
-    let written = match written {
-        Ok(w) => {
-            for (path, c) in &clamped_total {
-                warn_clamped(path, plan.texture.format, *c);
-            }
-            w
-        }
-        Err(e) => {
-            if created {
-                let _ = std::fs::remove_dir(&a.out);
-            }
-            return Err(e);
-        }
+    let provenance = Provenance {
+        input: name.clone(),
+        load_seconds: t_load.as_secs_f64(),
+        bake_seconds: t_bake.as_secs_f64(),
     };
+    let save = SaveOptions {
+        inputs: inputs.clone(),
+        cancel: Some(stop),
+        ..SaveOptions::default()
+    };
+    let written = bakedir::write(&a.out, &baked, &opts, &plan, &provenance, &save)
+        .map_err(|e| e.to_string())?;
+    for (path, c) in &written.clamped {
+        warn_clamped(path, plan.texture.format, *c);
+    }
+    let written = written.files;
     if !a.quiet {
         summary(
             a,
@@ -637,123 +337,6 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         );
     }
     Ok(())
-}
-
-/// The file of a texture container: `<stem>.<ext>`, or for KTX 1 (cmgen's
-/// names) `<dir>_<stem>.ktx` with `<dir>` the output directory's name
-/// without its extension.
-fn texture_name(a: &BakeArgs, plan: &Plan, stem: &str) -> String {
-    let ext = plan.container.extension();
-    if plan.container == Container::Ktx {
-        let dir = a
-            .out
-            .file_stem()
-            .map(|d| d.to_string_lossy().into_owned())
-            .filter(|d| !d.is_empty() && d != "." && d != "..")
-            .unwrap_or_else(|| "envmap".to_owned());
-        format!("{dir}_{stem}.{ext}")
-    } else {
-        format!("{stem}.{ext}")
-    }
-}
-
-/// Where level `k` of the chain is, for the manifest.
-fn level_file(a: &BakeArgs, plan: &Plan, k: usize) -> String {
-    if plan.container == Container::Exr {
-        file_name(a, &format!("specular_{k}"))
-    } else {
-        crate::scene::lit_files::level_entry(&texture_name(a, plan, plan.specular), k)
-    }
-}
-
-/// Filament's pre-scaled SH (E/π, y up) of the bake, windowed as the plan
-/// says, in the cube files' axes: cmgen's mirroring negates x, flipping the
-/// three terms odd in x (L11, L2-2, L21).
-fn filament_sh(b: &Bake, plan: &Plan) -> [[f64; 3]; 9] {
-    let sh = match plan.sh_window {
-        Some(w) => b.sh.windowed(w),
-        None => b.sh,
-    };
-    let mut f = sh.filament_shader_form();
-    if plan.mirrored {
-        for i in [3, 4, 7] {
-            f[i] = f[i].map(|v| -v);
-        }
-    }
-    f
-}
-
-/// C's `%g` (6 significant digits), as cmgen prints floats into its `sh` key.
-fn format_g(v: f32) -> String {
-    if v == 0.0 {
-        return if v.is_sign_negative() { "-0" } else { "0" }.to_owned();
-    }
-    let e = f64::from(v).abs().log10().floor() as i32;
-    // Rounding to 6 digits can carry into the next power of ten.
-    let sci = format!("{:.5e}", v);
-    let exp: i32 = sci
-        .split('e')
-        .nth(1)
-        .and_then(|x| x.parse().ok())
-        .unwrap_or(e);
-    let trim = |s: String| {
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_owned()
-        } else {
-            s
-        }
-    };
-    if !(-4..6).contains(&exp) {
-        let (m, _) = sci.split_once('e').unwrap_or((&sci, ""));
-        format!(
-            "{}e{}{:02}",
-            trim(m.to_owned()),
-            if exp < 0 { '-' } else { '+' },
-            exp.abs()
-        )
-    } else {
-        trim(format!("{:.*}", (5 - exp).max(0) as usize, v))
-    }
-}
-
-/// The `sh` key of cmgen's KTX 1 files: nine lines `r g b`, L00 … L22, `%g`
-/// of the f32 values, each line ended by `\n`.
-fn filament_sh_text(b: &Bake, plan: &Plan) -> String {
-    filament_sh(b, plan)
-        .iter()
-        .map(|c| {
-            format!(
-                "{} {} {}\n",
-                format_g(c[0] as f32),
-                format_g(c[1] as f32),
-                format_g(c[2] as f32)
-            )
-        })
-        .collect()
-}
-
-/// cmgen's `sh.txt`: `(r, g, b); // L00, irradiance, pre-scaled base` per
-/// line, `%18.15f`.
-fn filament_sh_txt(b: &Bake, plan: &Plan) -> String {
-    filament_sh(b, plan)
-        .iter()
-        .zip(NAMES)
-        .map(|(c, n)| {
-            format!(
-                "({:18.15}, {:18.15}, {:18.15}); // {n}, irradiance, pre-scaled base\n",
-                c[0], c[1], c[2]
-            )
-        })
-        .collect()
-}
-
-/// A file's name in the output directory (`{face}` for six files).
-fn file_name(a: &BakeArgs, stem: &str) -> String {
-    if a.layout.is_six_files() {
-        format!("{stem}_{{face}}.exr")
-    } else {
-        format!("{stem}.exr")
-    }
 }
 
 /// Three values for a summary line.
@@ -776,7 +359,7 @@ fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, load: f64, work: f6
         );
         eprintln!("| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: |");
         for (k, r) in chain.reports.iter().enumerate() {
-            let expected = estimated_error(r)
+            let expected = bakedir::write::estimated_error(r)
                 .map(|e| format!("{:.2} %", 100.0 * e))
                 .unwrap_or_else(|| "not sampled".to_owned());
             let measured = r
@@ -868,236 +451,4 @@ fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, load: f64, work: f6
         .map(|(n, t)| format!("{n} {:.0} ms", t * 1e3))
         .collect();
     eprintln!("{}", rest.join(", "));
-}
-
-/// The frame's matrix as rows, for the JSON files.
-fn frame_rows(frame: envmap_core::Frame) -> [[f32; 3]; 3] {
-    let m = frame.matrix().transpose();
-    [
-        m.x_axis.to_array(),
-        m.y_axis.to_array(),
-        m.z_axis.to_array(),
-    ]
-}
-
-/// Coefficients as `{ "L00": [r, g, b], ... }`.
-fn named(c: &[[f64; 3]; 9]) -> serde_json::Value {
-    let map: serde_json::Map<String, serde_json::Value> = NAMES
-        .iter()
-        .zip(c)
-        .map(|(n, v)| ((*n).to_owned(), serde_json::json!(v)))
-        .collect();
-    serde_json::Value::Object(map)
-}
-
-/// `sh.json`: the coefficients, their basis, frame and kind.
-fn sh_json(plan: &Plan, b: &Bake, axes: FileAxes) -> String {
-    let frame = axes.frame(AnyMapping::Cube);
-    let windowed = match plan.sh_window {
-        Some(w) => b.sh.windowed(w),
-        None => b.sh,
-    };
-    let out = windowed.in_frame(frame);
-    let m = serde_json::json!({
-        "basis": "real spherical harmonics, bands 0-2, Ramamoorthi & Hanrahan 2001 (no Condon-Shortley phase): Y00 = 0.282095, Y1m = 0.488603 (y, z, x), Y2-2 = 1.092548 xy, Y2-1 = 1.092548 yz, Y20 = 0.315392 (3z^2 - 1), Y21 = 1.092548 xz, Y22 = 0.546274 (x^2 - y^2)",
-        "order": NAMES,
-        "axes": axes.describe(AnyMapping::Cube),
-        "frame_rows": frame_rows(frame),
-        "frame_note": "coefficients are in the axes of the cube files (x, y, z as the files' face names say); canonical: envmap's z-up right-handed axes",
-        "window": match plan.sh_window {
-            None => serde_json::json!("none"),
-            Some(_) => match b.sh_cutoff {
-                Some(cutoff) => serde_json::json!({
-                    "kind": "sinc^4 (Filament CubemapSH::sincWindow; Sloan 2017)",
-                    "cutoff_bands": cutoff,
-                }),
-                None => serde_json::json!("auto: none applied (the irradiance is non-negative without one)"),
-            },
-        },
-        "radiance": {
-            "meaning": "L_lm = integral of L(w) Y_lm(w) dw (radiance coefficients)",
-            "coefficients": named(&out.coeffs),
-        },
-        "irradiance": {
-            "meaning": "E_lm = A_l L_lm, A = (pi, 2pi/3, pi/4): sum of E_lm Y_lm(n) is the irradiance E(n), not divided by pi",
-            "value": "E",
-            "coefficients": named(&out.irradiance().coeffs),
-        },
-        "canonical_radiance": {
-            "meaning": "radiance coefficients in envmap's canonical axes (z up, right-handed)",
-            "coefficients": named(&windowed.coeffs),
-        },
-        "filament": {
-            "meaning": "Filament's pre-scaled shader form (cmgen --sh-shader, the sh of its KTX and sh.txt), GL axes (y up, cmgen --no-mirror): E(n)/pi = sh0 + sh1 y + sh2 z + sh3 x + sh4 yx + sh5 yz + sh6 (3z^2 - 1) + sh7 zx + sh8 (x^2 - y^2)",
-            "value": "E/pi",
-            "sh": windowed.filament_shader_form(),
-        },
-    });
-    serde_json::to_string_pretty(&m).unwrap_or_default()
-}
-
-/// The manifest: the input, the conventions, the rule, every level.
-fn manifest(
-    a: &BakeArgs,
-    plan: &Plan,
-    name: &str,
-    b: &Bake,
-    opts: &BakeOptions,
-    load: f64,
-    work: f64,
-) -> String {
-    let specular = b.chain.as_ref().map(|chain| {
-        let levels: Vec<serde_json::Value> = chain
-            .reports
-            .iter()
-            .enumerate()
-            .map(|(k, r)| {
-                serde_json::json!({
-                    "level": k,
-                    "file": level_file(a, plan, k),
-                    "size": r.size,
-                    "perceptual_roughness": r.roughness,
-                    "alpha": r.roughness * r.roughness,
-                    "method": r.method,
-                    "samples": r.samples,
-                    "exact_source_level": r.source_level,
-                    "expected_relative_rms_error_smooth_light": estimated_error(r),
-                    "measured": r.measured.map(|m| serde_json::json!({
-                        "texels": m.texels,
-                        "relative_rms_error": m.relative_rms,
-                        "bias": m.bias,
-                        "seconds": m.seconds,
-                        "against": "the oracle: the input as given, piecewise constant over its own texels, by adaptive quadrature (envmap_render::filter::oracle)",
-                    })),
-                    "texels_clamped_at_zero": r.clamped,
-                    "seconds": r.seconds,
-                })
-            })
-            .collect();
-        serde_json::json!({
-            "integral": "LD(R) = ∫ L(l) D(h) (n·l)⁺ dl / ∫ D(h) (n·l)⁺ dl, N = V = R, GGX D, alpha = roughness²",
-            "value": "radiance (the prefiltered radiance LD, same units as the input)",
-            "roughness_rule": opts.rule.name(),
-            "roughness_rule_formula": opts.rule.formula(),
-            "base_cube_size": chain.base_size,
-            "fis_lod_bias": opts.lod_bias,
-            "bright_texels": {
-                "count": chain.bright.texels,
-                "points": chain.bright.points,
-                "energy_share": chain.bright.energy_share,
-                "energy_per_channel": chain.bright.energy,
-                "threshold": chain.bright.threshold,
-                "rule": format!("split from the input's own texels before any resampling: largest absolute channel above both its solid-angle-weighted 99th percentile and 4 × its solid-angle mean, at most {} texels (the largest); each cut into parts at most 1/4 of the narrowest level's lobe across, each part with its exact solid angle; added to every level by a tree over the parts (Barnes-Hut: a node added whole at its centre when at most 1/16 of the lobe across, or 1/32 of its distance from the lobe)", opts.bright_max),
-            },
-            "energy": {
-                "unit": "Σ Ω·L per channel (R, G, B) over texels with their exact solid angles",
-                "input": chain.energy.input,
-                "input_negative": chain.energy.negative,
-                "negative_share": chain.energy.negative_share(),
-                "negative_policy": "negative texels (lossy compression's ringing) are kept: every integral is of the data as given, so they cancel the overshoots they ring with; outputs are clamped at zero and counted (texels_clamped_at_zero)",
-                "base_cube": chain.energy.base,
-                "split": chain.energy.split,
-                "relative_gap": chain.energy.gap(),
-                "base_cube_method": format!("footprint average: each texel the mean of the input's bilinear reconstruction over {0}×{0} points of its footprint", chain.energy.footprint_samples),
-            },
-            "clamp": chain.clamp.map(|c| serde_json::json!({
-                "luminance": c.threshold,
-                "texels": c.texels,
-                "energy_removed": c.energy_removed,
-            })),
-            "preparation_seconds": chain.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
-            "levels": levels,
-        })
-    });
-    let m = serde_json::json!({
-        "envmap": crate::image::metadata::software(),
-        "input": name,
-        "axes": opts.axes.describe(AnyMapping::Cube),
-        "frame_to_canonical": frame_columns(opts.axes.frame(AnyMapping::Cube)),
-        "frame_to_canonical_note": "the cube files' x, y and z axes as columns in envmap's canonical axes (z up, right-handed); what `envmap render --env DIR` reads",
-        "layout": if plan.container == Container::Exr { a.layout.name() } else { "one texture file per map: faces +X, -X, +Y, -Y, +Z, -Z, first texel top-left (KTX orientation rd), levels largest first" },
-        "container": plan.container.extension(),
-        "target": a.target.map(|t| format!("{t:?}").to_ascii_lowercase()),
-        "texel_format": (plan.container != Container::Exr).then(|| plan.texture.format.vk_name()),
-        "zstd_level": plan.texture.zstd,
-        "mirrored": plan.mirrored.then_some("x negated, as cmgen's default (Filament's shaders expect it)"),
-        "seconds": { "load": load, "bake": work },
-        "specular": specular,
-        "irradiance": b.irradiance.as_ref().map(|i| serde_json::json!({
-            "file": if plan.container == Container::Exr { file_name(a, "irradiance") } else { texture_name(a, plan, plan.irradiance) },
-            "size": i.image.cell_size().0,
-            "value": opts.irradiance_scale.name(),
-            "value_note": "E/pi is the outgoing radiance of a white Lambertian surface (what engines expect); E = pi × that",
-            "method": i.method,
-            "exact_source_level": i.source_level,
-            "texels_clamped_at_zero": i.clamped,
-            "measured": b.checked.and_then(|c| c.irradiance).map(|m| serde_json::json!({
-                "texels": m.texels,
-                "relative_rms_error": m.relative_rms,
-                "bias": m.bias,
-                "against": "the oracle's E (scaled as value says) of the input itself",
-            })),
-        })),
-        "sh": {
-            "file": "sh.json",
-            "window": plan.sh_window.map(|_| b.sh_cutoff),
-            "measured_relative_error": b.checked.map(|c| c.sh9),
-        },
-        "dfg": b.dfg.as_ref().map(|t| serde_json::json!({
-            "files": {
-                "dfg.exr": "single scatter: R = scale, G = bias (F0·scale + bias)",
-                "dfg_multiscatter.exr": "Filament's multiscatter form: R = bias, G = scale + bias",
-            },
-            "size": t.size(),
-            "x": "column i: N·V = (i + 0.5) / size",
-            "y": "row j from the top: perceptual roughness = (j + 0.5) / size",
-            "visibility": "height-correlated Smith GGX",
-            "precision": "computed in f64 by quadrature, stored as f32",
-        })),
-        "stages_seconds": b.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
-    });
-    serde_json::to_string_pretty(&m).unwrap_or_default()
-}
-
-/// A frame's matrix as three columns (the file axes in canonical ones).
-fn frame_columns(f: envmap_core::Frame) -> [[f32; 3]; 3] {
-    let m = f.matrix();
-    [
-        m.x_axis.to_array(),
-        m.y_axis.to_array(),
-        m.z_axis.to_array(),
-    ]
-}
-
-/// The relative RMS error a level's method is measured to have
-/// (`docs/lighting.md`): 0 for the resampled and exact levels.
-fn estimated_error(r: &crate::filter::bake::LevelReport) -> Option<f64> {
-    (r.method == "sampled").then(|| crate::filter::bake::estimated_error(r.roughness, r.samples))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::format_g;
-
-    /// `%g` as C prints it (cmgen's `sh` key), on the values of a cmgen file.
-    #[test]
-    fn format_g_prints_as_c_does() {
-        for (v, want) in [
-            (1.00391_f32, "1.00391"),
-            (0.503_906, "0.503906"),
-            (-1.003_54e-7, "-1.00354e-07"),
-            (8.364_38e-11, "8.36438e-11"),
-            (0.0, "0"),
-            (-0.0, "-0"),
-            (0.028_810_7, "0.0288107"),
-            (123_456.0, "123456"),
-            (1_234_567.0, "1.23457e+06"),
-            (999_999.5, "1e+06"),
-            (0.000_1, "0.0001"),
-            (0.000_012_5, "1.25e-05"),
-            (2.5, "2.5"),
-        ] {
-            assert_eq!(format_g(v), want, "{v}");
-        }
-    }
 }

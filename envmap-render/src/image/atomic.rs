@@ -8,10 +8,13 @@
 //! Unix by device and inode) is refused unless asked for.
 //!
 //! [`Outputs`] stages the files of one run and renames them together; see
-//! [`crate::image::io`] ("Safe writes") for what that promises.
+//! [`crate::image::io`] ("Safe writes") for what that promises. The same
+//! run made with [`Outputs::in_memory`] encodes every file into memory
+//! instead ([`Outputs::into_memory`]), with the same encoders, so a library
+//! gets the bytes a command would have written without touching a disk.
 
 use std::fs;
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, Cursor, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
@@ -71,8 +74,43 @@ fn same_inode(_: &fs::Metadata, _: &fs::Metadata) -> bool {
 }
 
 /// What an output's bytes are written to: a 1 MiB buffer over its
-/// temporary file, which fails once the cancel flag is set.
-pub(crate) type TempWriter<'a> = BufWriter<Cancellable<'a, &'a mut fs::File>>;
+/// temporary file (or, in an in-memory run, its buffer), which fails once
+/// the cancel flag is set.
+pub(crate) type TempWriter<'a> = BufWriter<Cancellable<'a, Sink<'a>>>;
+
+/// Where a staged output goes: its temporary file, or memory.
+#[derive(Debug)]
+pub(crate) enum Sink<'a> {
+    /// A temporary file beside the target.
+    File(&'a mut fs::File),
+    /// A buffer of an in-memory run.
+    Memory(&'a mut Cursor<Vec<u8>>),
+}
+
+impl Write for Sink<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self {
+            Sink::File(f) => f.write(buf),
+            Sink::Memory(m) => m.write(buf),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            Sink::File(f) => f.flush(),
+            Sink::Memory(m) => m.flush(),
+        }
+    }
+}
+
+impl Seek for Sink<'_> {
+    fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
+        match self {
+            Sink::File(f) => f.seek(pos),
+            Sink::Memory(m) => m.seek(pos),
+        }
+    }
+}
 
 /// The hidden temporary name beside `path`: `.<name>.<random><suffix>`,
 /// through `make` (which creates the file at the name it is given).
@@ -127,8 +165,10 @@ pub(crate) fn write_temp(
         options.open(p)
     })?;
     let written = (|| {
-        let mut out =
-            BufWriter::with_capacity(1 << 20, Cancellable::new(temp.as_file_mut(), cancel));
+        let mut out = BufWriter::with_capacity(
+            1 << 20,
+            Cancellable::new(Sink::File(temp.as_file_mut()), cancel),
+        );
         write(&mut out)?;
         out.flush().map_err(|e| Error::write(path, e))
     })();
@@ -143,6 +183,25 @@ pub(crate) fn write_temp(
         }
     }
     Ok(temp)
+}
+
+/// The bytes `write` gives for `path` in an in-memory run, through the
+/// same buffer and cancel checks as [`write_temp`].
+fn write_memory(
+    path: &Path,
+    cancel: Option<&AtomicBool>,
+    write: impl FnOnce(&mut TempWriter<'_>) -> Result<()>,
+) -> Result<Vec<u8>> {
+    cancel::check(cancel)?;
+    let mut buf = Cursor::new(Vec::new());
+    let written = (|| {
+        let mut out =
+            BufWriter::with_capacity(1 << 20, Cancellable::new(Sink::Memory(&mut buf), cancel));
+        write(&mut out)?;
+        out.flush().map_err(|e| Error::write(path, e))
+    })();
+    cancel::or_cancelled(written, cancel)?;
+    Ok(buf.into_inner())
 }
 
 /// The operating system's error inside one of `tempfile`'s, which adds the
@@ -193,10 +252,29 @@ pub(crate) fn persist(temp: NamedTempFile, path: &Path) -> Result<()> {
 /// ```
 #[derive(Debug)]
 pub struct Outputs<'a> {
-    staged: Vec<(NamedTempFile, PathBuf)>,
+    staged: Vec<(Staged, PathBuf)>,
     inputs: Vec<PathBuf>,
     overwrite_input: bool,
     cancel: Option<&'a AtomicBool>,
+    /// An in-memory run ([`Outputs::in_memory`]).
+    memory: bool,
+}
+
+/// A staged output: its complete temporary file, or its bytes.
+#[derive(Debug)]
+enum Staged {
+    File(NamedTempFile),
+    Bytes(Vec<u8>),
+}
+
+/// A file of an in-memory run: its path as staged and its bytes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MemoryFile {
+    /// The path the file was staged for (as given: nothing was checked or
+    /// created there).
+    pub path: PathBuf,
+    /// Its bytes, as [`Outputs::commit`] would have written them.
+    pub bytes: Vec<u8>,
 }
 
 impl<'a> Outputs<'a> {
@@ -210,6 +288,28 @@ impl<'a> Outputs<'a> {
             inputs: inputs.to_vec(),
             overwrite_input,
             cancel,
+            memory: false,
+        }
+    }
+
+    /// A run that encodes every staged file into memory: the paths are
+    /// names only (no directory need exist, nothing on disk is read or
+    /// written); [`Outputs::into_memory`] returns the files. Staging stops
+    /// with [`Error::Cancelled`] once `cancel` is set.
+    ///
+    /// ```
+    /// use envmap_render::io::Outputs;
+    /// let mut run = Outputs::in_memory(None);
+    /// run.stage_bytes("out/a.txt", b"one").unwrap();
+    /// let files = run.into_memory().unwrap();
+    /// assert_eq!(files[0].bytes, b"one");
+    /// assert!(!std::path::Path::new("out/a.txt").exists());
+    /// ```
+    #[must_use]
+    pub fn in_memory(cancel: Option<&'a AtomicBool>) -> Self {
+        Self {
+            memory: true,
+            ..Self::with(&[], false, cancel)
         }
     }
 
@@ -226,7 +326,9 @@ impl<'a> Outputs<'a> {
         target: &Path,
         write: impl FnOnce(&mut TempWriter<'_>) -> Result<()>,
     ) -> Result<()> {
-        check_target(target, &self.inputs, self.overwrite_input)?;
+        if !self.memory {
+            check_target(target, &self.inputs, self.overwrite_input)?;
+        }
         if self.staged.iter().any(|(_, t)| t == target) {
             return Err(Error::write(
                 target,
@@ -236,9 +338,34 @@ impl<'a> Outputs<'a> {
                 ),
             ));
         }
-        let temp = write_temp(target, self.cancel, write)?;
-        self.staged.push((temp, target.to_path_buf()));
+        let staged = if self.memory {
+            Staged::Bytes(write_memory(target, self.cancel, write)?)
+        } else {
+            Staged::File(write_temp(target, self.cancel, write)?)
+        };
+        self.staged.push((staged, target.to_path_buf()));
         Ok(())
+    }
+
+    /// An in-memory run's files, in the order they were staged. With the
+    /// cancel flag set, [`Error::Cancelled`].
+    ///
+    /// # Errors
+    ///
+    /// A run that writes files ([`Outputs::new`], [`Outputs::with`]):
+    /// commit it instead; the cancel flag.
+    pub fn into_memory(self) -> Result<Vec<MemoryFile>> {
+        cancel::check(self.cancel)?;
+        self.staged
+            .into_iter()
+            .map(|(s, path)| match s {
+                Staged::Bytes(bytes) => Ok(MemoryFile { path, bytes }),
+                Staged::File(_) => Err(Error::Input(format!(
+                    "{}: staged as a file; an in-memory run is made with Outputs::in_memory",
+                    path.display()
+                ))),
+            })
+            .collect()
     }
 
     /// Bytes as they are (a report, a manifest) for `target`.
@@ -255,25 +382,39 @@ impl<'a> Outputs<'a> {
     pub fn commit(self) -> Result<Vec<PathBuf>> {
         cancel::check(self.cancel)?;
         let targets: Vec<PathBuf> = self.staged.iter().map(|(_, t)| t.clone()).collect();
-        if self.staged.len() == 1 {
+        if self.memory {
+            return Err(Error::Input(
+                "an in-memory run is not committed to files: take them with Outputs::into_memory"
+                    .into(),
+            ));
+        }
+        let staged: Vec<(NamedTempFile, PathBuf)> = self
+            .staged
+            .into_iter()
+            .filter_map(|(s, t)| match s {
+                Staged::File(f) => Some((f, t)),
+                Staged::Bytes(_) => None,
+            })
+            .collect();
+        if staged.len() == 1 {
             // One rename is atomic by itself.
-            for (temp, target) in self.staged {
+            for (temp, target) in staged {
                 persist(temp, &target)?;
             }
             return Ok(targets);
         }
         // A second name for every existing target, made before any rename,
         // from which it can be put back.
-        let mut backups: Vec<Option<TempPath>> = Vec::with_capacity(self.staged.len());
-        for (_, target) in &self.staged {
+        let mut backups: Vec<Option<TempPath>> = Vec::with_capacity(staged.len());
+        for (_, target) in &staged {
             backups.push(if target.is_file() {
                 Some(backup(target)?)
             } else {
                 None
             });
         }
-        let n = self.staged.len();
-        for (k, (temp, target)) in self.staged.into_iter().enumerate() {
+        let n = staged.len();
+        for (k, (temp, target)) in staged.into_iter().enumerate() {
             if let Err(e) = temp.persist(&target) {
                 let failed = plain_io_error(e.error);
                 return Err(roll_back(&targets[..k], &mut backups, &target, failed, n));

@@ -82,7 +82,7 @@ use crate::image::texel::Clamped;
 use crate::image::texture::{self, Texture, TextureKind, TextureOptions};
 use crate::image::{exr, faces, hdr, metadata, png_jpeg};
 
-pub use crate::image::atomic::Outputs;
+pub use crate::image::atomic::{MemoryFile, Outputs};
 pub use crate::image::exr::ExrPrecision;
 pub use crate::image::faces::{
     face_name, face_of_name, face_paths, face_paths_named, is_face_pattern, FaceName, FaceNames,

@@ -51,4 +51,6 @@ pub use envimage::{
 };
 pub use layout::{Layout, Representation};
 pub use texel::{Clamped, TexelFormat};
-pub use texture::{Texture, TextureFile, TextureInfo, TextureKind, TextureOptions};
+pub use texture::{
+    Texture, TextureFile, TextureInfo, TextureKind, TextureOptions, Upload, UploadLevel,
+};

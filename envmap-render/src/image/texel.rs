@@ -170,6 +170,35 @@ impl TexelFormat {
         }
     }
 
+    /// wgpu's name (`wgpu::TextureFormat`'s variant, as in wgpu 24–27:
+    /// `"Rgba16Float"`, `"Rgba32Float"`, `"Rg11b10Ufloat"`,
+    /// `"Rgb9e5Ufloat"`), if wgpu has the format (it has no three-channel
+    /// float formats).
+    #[must_use]
+    pub const fn wgpu_name(self) -> Option<&'static str> {
+        match self {
+            TexelFormat::Rgba16f => Some("Rgba16Float"),
+            TexelFormat::Rgba32f => Some("Rgba32Float"),
+            TexelFormat::B10g11r11 => Some("Rg11b10Ufloat"),
+            TexelFormat::E5b9g9r9 => Some("Rgb9e5Ufloat"),
+            TexelFormat::Rgb16f | TexelFormat::Rgb32f => None,
+        }
+    }
+
+    /// The `DXGI_FORMAT` name (`"DXGI_FORMAT_R16G16B16A16_FLOAT"`, ...), if
+    /// Direct3D has the format (see [`TexelFormat::dxgi_format`]).
+    #[must_use]
+    pub const fn dxgi_name(self) -> Option<&'static str> {
+        match self {
+            TexelFormat::Rgba16f => Some("DXGI_FORMAT_R16G16B16A16_FLOAT"),
+            TexelFormat::Rgba32f => Some("DXGI_FORMAT_R32G32B32A32_FLOAT"),
+            TexelFormat::B10g11r11 => Some("DXGI_FORMAT_R11G11B10_FLOAT"),
+            TexelFormat::E5b9g9r9 => Some("DXGI_FORMAT_R9G9B9E5_SHAREDEXP"),
+            TexelFormat::Rgb32f => Some("DXGI_FORMAT_R32G32B32_FLOAT"),
+            TexelFormat::Rgb16f => None,
+        }
+    }
+
     /// The `VkFormat` number (KTX2's `vkFormat`).
     #[must_use]
     pub const fn vk_format(self) -> u32 {

@@ -284,6 +284,43 @@ impl Texture {
         (levels, clamped)
     }
 
+    /// The texels an engine uploads, in `format`: per level (largest
+    /// first), per face (GL order +X, −X, +Y, −Y, +Z, −Z: the layer order of
+    /// a Vulkan, wgpu, D3D or GL cube), rows top-down, tightly packed, as
+    /// KTX2 and DDS files hold them; no file is made. The format's names
+    /// for each API are [`TexelFormat::vk_name`], [`TexelFormat::wgpu_name`]
+    /// and [`TexelFormat::dxgi_name`].
+    #[must_use]
+    pub fn upload(&self, format: TexelFormat) -> Upload {
+        let mut clamped = Clamped::default();
+        let levels = self
+            .levels
+            .iter()
+            .map(|faces| {
+                let (width, height) = faces.first().map_or((0, 0), |f| (f.width, f.height));
+                let faces = faces
+                    .iter()
+                    .map(|img| {
+                        let mut out = vec![0u8; img.pixels.len() * format.bytes()];
+                        clamped.add(format.pack_into(&img.pixels, &mut out));
+                        out
+                    })
+                    .collect();
+                UploadLevel {
+                    width,
+                    height,
+                    faces,
+                }
+            })
+            .collect();
+        Upload {
+            kind: self.kind,
+            format,
+            levels,
+            clamped,
+        }
+    }
+
     /// The bytes of level `p` in `format` (all its faces).
     #[must_use]
     pub fn level_len(&self, p: usize, format: TexelFormat) -> usize {
@@ -308,6 +345,40 @@ impl Texture {
             at += n;
         }
         clamped
+    }
+}
+
+/// A texture's texels as an engine uploads them ([`Texture::upload`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Upload {
+    /// A cube (six faces per level) or a 2D texture (one).
+    pub kind: TextureKind,
+    /// The texel format of every byte below.
+    pub format: TexelFormat,
+    /// The levels, largest first.
+    pub levels: Vec<UploadLevel>,
+    /// What packing into `format` clamped (see [`crate::image::texel`]).
+    pub clamped: Clamped,
+}
+
+/// One level of an [`Upload`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UploadLevel {
+    /// Width of each face, in texels.
+    pub width: u32,
+    /// Height of each face, in texels.
+    pub height: u32,
+    /// Each face's bytes (GL order for a cube), rows top-down.
+    pub faces: Vec<Vec<u8>>,
+}
+
+impl UploadLevel {
+    /// Every face's bytes one after the other (what a KTX2 or DDS level
+    /// holds, and what `wgpu::Queue::write_texture` takes for a whole cube
+    /// level at `bytes_per_row` = width × the format's bytes).
+    #[must_use]
+    pub fn concatenated(&self) -> Vec<u8> {
+        self.faces.concat()
     }
 }
 

@@ -7,7 +7,8 @@
 //! * [`material`]: the glTF metallic-roughness model and its presets.
 //! * [`lit`]: shading with baked maps (the split sum) and the Monte Carlo
 //!   reference it approximates.
-//! * [`lit_files`]: those maps from the files `envmap bake` wrote.
+//! * [`lit_files`]: those maps from the files `envmap bake` wrote (the
+//!   reader of [`crate::bakedir`], kept here under its first name).
 //! * [`render`]: the rasterizer, per pixel (seed `000`) and per vertex
 //!   (seed `002`).
 //! * [`demo`]: `envmap demo`, every representation side by side; [`demo_lit`]:
@@ -20,7 +21,7 @@ pub mod demo;
 pub mod demo_lit;
 pub mod environments;
 pub mod lit;
-pub mod lit_files;
+pub use crate::bakedir::read as lit_files;
 pub mod material;
 pub mod mesh;
 pub mod procedural;

@@ -1,0 +1,282 @@
+//! The engines' presets as values: what a bake makes for Bevy, glTF viewers
+//! and Filament (sizes, roughness rule, texel format, container, axes, file
+//! names), and the container choice itself.
+
+use envmap_core::glam::{Mat3, Vec3};
+use envmap_core::Frame;
+
+use crate::error::{Error, Result};
+use crate::filter::bake::BakeOptions;
+use crate::filter::sh::ShWindow;
+use crate::filter::specular::RoughnessRule;
+use crate::image::convention::FileAxes;
+use crate::image::layout::Layout;
+use crate::image::{TexelFormat, TextureOptions};
+
+/// An engine a bake is made for (`envmap bake --target`); see
+/// `docs/engines.md` for what each loads and how it was checked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Target {
+    /// Bevy's `EnvironmentMapLight`: E5B9G9R9 + zstd KTX2 cubes, 512²
+    /// specular (roughness = mip / (mips − 1)), 32² diffuse.
+    Bevy,
+    /// glTF-IBL-Sampler's outputs: RGBA16F KTX2 cubes and the BRDF LUT.
+    Gltf,
+    /// Filament's `cmgen --deploy`: KTX 1, R11F_G11F_B10F, the `sh` key,
+    /// mirrored unless asked otherwise.
+    Filament,
+}
+
+impl Target {
+    /// Every target.
+    pub const ALL: [Target; 3] = [Target::Bevy, Target::Gltf, Target::Filament];
+
+    /// The name `--target` takes and the manifest records.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Target::Bevy => "bevy",
+            Target::Gltf => "gltf",
+            Target::Filament => "filament",
+        }
+    }
+}
+
+impl std::str::FromStr for Target {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "bevy" => Ok(Target::Bevy),
+            "gltf" | "gltf-ibl-sampler" | "khronos" => Ok(Target::Gltf),
+            "filament" | "cmgen" => Ok(Target::Filament),
+            _ => Err(format!("{s}: expected bevy, gltf or filament")),
+        }
+    }
+}
+
+/// How a bake's maps are stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Container {
+    /// One OpenEXR file (or six) per level.
+    Exr,
+    /// One KTX2 file per map, every level inside.
+    Ktx2,
+    /// One DDS file per map.
+    Dds,
+    /// One KTX 1 file per map (Filament).
+    Ktx,
+}
+
+impl Container {
+    /// The files' extension: `exr`, `ktx2`, `dds`, `ktx`.
+    #[must_use]
+    pub const fn extension(self) -> &'static str {
+        match self {
+            Container::Exr => "exr",
+            Container::Ktx2 => "ktx2",
+            Container::Dds => "dds",
+            Container::Ktx => "ktx",
+        }
+    }
+}
+
+impl std::str::FromStr for Container {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "exr" => Ok(Container::Exr),
+            "ktx2" => Ok(Container::Ktx2),
+            "dds" => Ok(Container::Dds),
+            "ktx" | "ktx1" => Ok(Container::Ktx),
+            _ => Err(format!("{s}: expected exr, ktx2, dds or ktx")),
+        }
+    }
+}
+
+/// The zstd level of the presets that supercompress: zstd's own default
+/// (`--zstd 19` gives files about 36 % smaller for seconds more;
+/// `docs/performance.md`).
+pub const DEFAULT_ZSTD: i32 = 3;
+
+/// What a bake makes and how its files are written: a [`Target`]'s
+/// choices ([`Preset::for_target`]) or envmap's own default
+/// ([`Preset::default`]), any field of which a caller may change.
+/// [`Preset::bake_options`] turns it into the bake's options;
+/// [`crate::bakedir::write`] and [`crate::bakedir::in_memory`] write the
+/// files it names.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct Preset {
+    /// The engine, if any (recorded in the manifest).
+    pub target: Option<Target>,
+    /// Face size of the specular chain's level 0.
+    pub size: u32,
+    /// The mip ↔ roughness rule.
+    pub rule: RoughnessRule,
+    /// Face size of the smallest level (`None`: the rule's default).
+    pub min_size: Option<u32>,
+    /// Face size of the irradiance cube (0: none).
+    pub irradiance_size: u32,
+    /// Deringing of the SH9 (and of the irradiance map made from it).
+    pub sh_window: Option<ShWindow>,
+    /// Size of the DFG table (0: none).
+    pub dfg_size: u32,
+    /// Container of the maps.
+    pub container: Container,
+    /// Texel format and supercompression of texture containers.
+    pub texture: TextureOptions,
+    /// Layout of the chain's OpenEXR files ([`Container::Exr`]).
+    pub layout: Layout,
+    /// The cube files' axes.
+    pub axes: FileAxes,
+    /// The cube mirrored as cmgen's default (x negated; Filament's shaders
+    /// undo it).
+    pub mirrored: bool,
+    /// The specular chain's file stem (`specular`; Filament's `ibl`).
+    pub specular: &'static str,
+    /// The irradiance map's file stem (`irradiance`; Bevy's and glTF's
+    /// `diffuse`).
+    pub irradiance: &'static str,
+}
+
+impl Default for Preset {
+    /// envmap's own: a 512² chain by the linear rule down to 2², one
+    /// OpenEXR cross per level, a 32² irradiance cube, the 128² DFG table,
+    /// GL axes.
+    fn default() -> Self {
+        Self {
+            target: None,
+            size: 512,
+            rule: RoughnessRule::Linear,
+            min_size: None,
+            irradiance_size: crate::filter::sh::DEFAULT_IRRADIANCE_SIZE,
+            sh_window: None,
+            dfg_size: crate::filter::dfg::DEFAULT_SIZE,
+            container: Container::Exr,
+            texture: TextureOptions::default(),
+            layout: Layout::Cross,
+            axes: FileAxes::default(),
+            mirrored: false,
+            specular: "specular",
+            irradiance: "irradiance",
+        }
+    }
+}
+
+/// The GL world with x negated: the axes of cmgen's default (mirrored)
+/// cube files (`CubemapUtils::mirrorCubemap` samples the source at
+/// (−x, y, z)).
+fn mirrored_gl() -> FileAxes {
+    let m = Frame::Y_UP_RH.matrix() * Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
+    FileAxes::Frame(Frame::from_mat3(m).unwrap_or(Frame::Y_UP_RH))
+}
+
+impl Preset {
+    /// The choices of `target`, with the cube files in `axes` (envmap's
+    /// default: GL's). Filament's preset mirrors the cube as cmgen does by
+    /// default, in GL's axes whatever `axes` says (Filament's world);
+    /// [`Preset::unmirrored`] is `cmgen --no-mirror`.
+    #[must_use]
+    pub fn for_target(target: Target, axes: FileAxes) -> Self {
+        let base = Self {
+            target: Some(target),
+            axes,
+            ..Self::default()
+        };
+        match target {
+            // Bevy's shipped maps (pisa_*_rgb9e5_zstd.ktx2) and its runtime
+            // generator: 512² specular with roughness = mip / (mips − 1),
+            // 32² diffuse, one level; E5B9G9R9 + zstd; a standard KTX cube
+            // (Bevy negates z itself when it samples).
+            Target::Bevy => Self {
+                dfg_size: 0,
+                container: Container::Ktx2,
+                texture: TextureOptions {
+                    format: TexelFormat::E5b9g9r9,
+                    zstd: Some(DEFAULT_ZSTD),
+                },
+                irradiance: "diffuse",
+                ..base
+            },
+            // glTF-IBL-Sampler (lib/source/lib.cpp): RGBA16F through libktx,
+            // ⌊log2 size⌋ levels (down to 2×2) at roughness i/(n − 1), the
+            // Lambertian map, the GGX BRDF LUT.
+            Target::Gltf => Self {
+                min_size: Some(2),
+                container: Container::Ktx2,
+                irradiance: "diffuse",
+                ..base
+            },
+            // cmgen --deploy (tools/cmgen): 256², levels down to 16² at
+            // lod = (n − 1)·r·(2 − r), R11F_G11F_B10F KTX 1, the SH in the
+            // `sh` key (auto-windowed), mirrored unless --no-mirror.
+            Target::Filament => Self {
+                size: 256,
+                rule: RoughnessRule::Filament,
+                min_size: Some(16),
+                irradiance_size: 0,
+                sh_window: Some(ShWindow::Cmgen),
+                dfg_size: 0,
+                container: Container::Ktx,
+                texture: TextureOptions {
+                    format: TexelFormat::B10g11r11,
+                    zstd: None,
+                },
+                axes: mirrored_gl(),
+                mirrored: true,
+                specular: "ibl",
+                ..base
+            },
+        }
+    }
+
+    /// `self` without cmgen's mirroring (`cmgen --no-mirror`): the cube in
+    /// the axes it was made for.
+    #[must_use]
+    pub fn unmirrored(self, axes: FileAxes) -> Self {
+        Self {
+            axes,
+            mirrored: false,
+            ..self
+        }
+    }
+
+    /// The bake's options for this preset (size, levels, rule, irradiance,
+    /// SH window, DFG table, axes); every other field is `base`'s.
+    #[must_use]
+    pub fn bake_options<'a>(&self, base: BakeOptions<'a>) -> BakeOptions<'a> {
+        BakeOptions {
+            size: self.size,
+            min_size: self.min_size,
+            rule: self.rule.clone(),
+            irradiance_size: self.irradiance_size,
+            sh_window: self.sh_window,
+            dfg_size: self.dfg_size,
+            axes: self.axes,
+            ..base
+        }
+    }
+
+    /// Checks the choices against each other.
+    ///
+    /// # Errors
+    ///
+    /// Supercompression outside KTX2; a layout that is not a cube's.
+    pub fn check(&self) -> Result<()> {
+        if self.container != Container::Ktx2 && self.texture.zstd.is_some() {
+            return Err(Error::Input(format!(
+                "zstd: only KTX2 has supercompression (the container is {})",
+                self.container.extension()
+            )));
+        }
+        if !Layout::for_mapping(envmap_core::AnyMapping::Cube).contains(&self.layout) {
+            return Err(Error::Input(format!(
+                "layout {}: not a cube layout (cross, vcross, strip, vstrip, faces)",
+                self.layout
+            )));
+        }
+        Ok(())
+    }
+}

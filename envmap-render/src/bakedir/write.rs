@@ -1,0 +1,671 @@
+//! The bake directory's writer: every file of a [`Bake`] as a [`Preset`]
+//! names it, staged into one [`Outputs`] run: to a directory together
+//! ([`write`]) or into memory ([`in_memory`]), by the same code.
+
+use std::path::{Path, PathBuf};
+
+use envmap_core::AnyMapping;
+
+use super::preset::{Container, Preset, Target};
+use crate::error::{Error, Result};
+use crate::filter::bake::{Bake, BakeOptions};
+use crate::filter::sh::{IrradianceScale, NAMES};
+use crate::image::convention::FileAxes;
+use crate::image::io::{ExrPrecision, MemoryFile, Outputs, SaveOptions};
+use crate::image::ktx1;
+use crate::image::{Clamped, EnvImage, Texture, TextureKind, TextureOptions, Upload};
+
+/// Where a bake came from, for its manifest.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct Provenance {
+    /// The input, as a user would name it (a file, or a built-in).
+    pub input: String,
+    /// Seconds spent loading it.
+    pub load_seconds: f64,
+    /// Seconds the bake took.
+    pub bake_seconds: f64,
+}
+
+impl Provenance {
+    /// `input` with no timings.
+    #[must_use]
+    pub fn new(input: impl Into<String>) -> Self {
+        Self {
+            input: input.into(),
+            ..Self::default()
+        }
+    }
+}
+
+/// What [`write`] wrote.
+#[derive(Clone, Debug, Default)]
+pub struct Written {
+    /// The files, in the order they were staged.
+    pub files: Vec<PathBuf>,
+    /// Per texture file, what packing its texel format clamped.
+    pub clamped: Vec<(PathBuf, Clamped)>,
+}
+
+/// What [`in_memory`] made: the files [`write`] would have written to its
+/// `dir`, each by its name in that directory.
+#[derive(Clone, Debug, Default)]
+pub struct BakeFiles {
+    /// Each file: its name in the directory and its bytes.
+    pub files: Vec<MemoryFile>,
+    /// Per texture file, what packing its texel format clamped.
+    pub clamped: Vec<(PathBuf, Clamped)>,
+}
+
+impl BakeFiles {
+    /// The bytes of the file named `name` (as in the directory: `specular.ktx2`).
+    #[must_use]
+    pub fn get(&self, name: &str) -> Option<&[u8]> {
+        self.files
+            .iter()
+            .find(|f| f.path.file_name().is_some_and(|n| n == name))
+            .map(|f| f.bytes.as_slice())
+    }
+}
+
+/// Writes every file of `bake` into directory `dir` (created if missing,
+/// removed again if it was created and a write fails), all renamed into
+/// place together at the end ([`Outputs`]); `save`'s inputs are never
+/// overwritten and its cancel flag stops the run. The files: the chain,
+/// the irradiance map, the DFG tables, `sh.json`, `manifest.json`, and
+/// for KTX 1 Filament's `<dir>_ibl.ktx`, `<dir>_skybox.ktx` and `sh.txt`
+/// (see the [module docs](super)).
+///
+/// # Errors
+///
+/// The preset's [`Preset::check`]; the directory cannot be made; any
+/// encoding or write error (nothing is left half-written);
+/// [`Error::Cancelled`].
+pub fn write(
+    dir: &Path,
+    bake: &Bake,
+    opts: &BakeOptions,
+    preset: &Preset,
+    provenance: &Provenance,
+    save: &SaveOptions,
+) -> Result<Written> {
+    preset.check()?;
+    let created = !dir.exists();
+    std::fs::create_dir_all(dir).map_err(|e| Error::write(dir, e))?;
+    let result = (|| {
+        let mut run = Outputs::new(save);
+        let clamped = stage(&mut run, dir, bake, opts, preset, provenance, save)?;
+        let files = run.commit()?;
+        Ok(Written { files, clamped })
+    })();
+    if result.is_err() && created {
+        let _ = std::fs::remove_dir(dir);
+    }
+    result
+}
+
+/// The files [`write`] writes to a directory named `dir` (whose name gives
+/// KTX 1 files theirs, as cmgen's), made in memory: nothing on disk is read
+/// or written. Their bytes equal the files' (the same encoders, through
+/// [`Outputs::in_memory`]).
+///
+/// # Errors
+///
+/// As [`write`], but for the file system's.
+pub fn in_memory(
+    dir: &Path,
+    bake: &Bake,
+    opts: &BakeOptions,
+    preset: &Preset,
+    provenance: &Provenance,
+) -> Result<BakeFiles> {
+    preset.check()?;
+    let mut run = Outputs::in_memory(opts.cancel);
+    let save = SaveOptions {
+        cancel: opts.cancel,
+        ..SaveOptions::default()
+    };
+    let clamped = stage(&mut run, dir, bake, opts, preset, provenance, &save)?;
+    let name = |p: PathBuf| p.strip_prefix(dir).map(Path::to_path_buf).unwrap_or(p);
+    let files = run
+        .into_memory()?
+        .into_iter()
+        .map(|f| MemoryFile {
+            path: name(f.path),
+            bytes: f.bytes,
+        })
+        .collect();
+    let clamped = clamped.into_iter().map(|(p, c)| (name(p), c)).collect();
+    Ok(BakeFiles { files, clamped })
+}
+
+/// A bake's maps as an engine uploads them, in the preset's texel format.
+#[derive(Clone, Debug)]
+pub struct EngineTextures {
+    /// The specular chain: a cube, level k at the preset rule's roughness
+    /// for k (the manifest's `perceptual_roughness`).
+    pub specular: Option<Upload>,
+    /// The irradiance cube (E/π unless the bake's options say E).
+    pub irradiance: Option<Upload>,
+}
+
+/// The texels of `bake`'s chain and irradiance map in `preset.texture`'s
+/// format, per level and face, as [`Texture::upload`] lays them out (the
+/// cube in the bake's axes: `preset.axes`); no file is made. The format's
+/// Vulkan, wgpu and DXGI names are on [`crate::image::TexelFormat`].
+///
+/// # Errors
+///
+/// Levels that do not make a texture (a chain that does not halve).
+pub fn engine_textures(bake: &Bake, preset: &Preset) -> Result<EngineTextures> {
+    let format = preset.texture.format;
+    let upload = |levels: &[EnvImage]| Texture::from_env(levels).map(|t| t.upload(format));
+    Ok(EngineTextures {
+        specular: bake.chain.as_ref().map(|c| upload(&c.levels)).transpose()?,
+        irradiance: bake
+            .irradiance
+            .as_ref()
+            .map(|i| upload(std::slice::from_ref(&i.image)))
+            .transpose()?,
+    })
+}
+
+/// Stages every file of `bake` into `run`, each at `dir`/name; returns what
+/// packing clamped per texture file.
+fn stage(
+    run: &mut Outputs<'_>,
+    dir: &Path,
+    bake: &Bake,
+    opts: &BakeOptions,
+    preset: &Preset,
+    provenance: &Provenance,
+    save: &SaveOptions,
+) -> Result<Vec<(PathBuf, Clamped)>> {
+    let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
+    let sopts = SaveOptions {
+        six_files: preset.layout.is_six_files(),
+        ..save.clone()
+    };
+    if preset.container == Container::Exr {
+        let mut stage_exr = |img: &EnvImage, stem: &str, content: String| -> Result<()> {
+            let img = if preset.layout.is_six_files() {
+                img.clone()
+            } else {
+                img.relayout(preset.layout.atlas())?
+            };
+            let o = SaveOptions {
+                content: Some(content),
+                ..sopts.clone()
+            };
+            run.stage_image(&img, dir.join(file_name(preset, stem)), &o)
+        };
+        if let Some(chain) = &bake.chain {
+            let n = chain.levels.len();
+            for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
+                let content = format!(
+                    "GGX-prefiltered radiance (split sum, N = V = R): level {k} of {n}, perceptual roughness {:.4} (alpha = roughness^2), rule {}",
+                    r.roughness,
+                    opts.rule.name()
+                );
+                stage_exr(level, &format!("specular_{k}"), content)?;
+            }
+        }
+        if let Some(irr) = &bake.irradiance {
+            let content = match opts.irradiance_scale {
+                IrradianceScale::EOverPi => {
+                    "irradiance E/pi (the radiance a white Lambertian surface reflects)".to_owned()
+                }
+                IrradianceScale::E => "irradiance E (not divided by pi)".to_owned(),
+            };
+            stage_exr(&irr.image, "irradiance", content)?;
+        }
+    } else {
+        let mut texture = |run: &mut Outputs<'_>,
+                           levels: &[EnvImage],
+                           name: &str,
+                           kv: &[(&str, &[u8])]|
+         -> Result<()> {
+            let tex = Texture::from_env(levels)?;
+            let path = dir.join(name);
+            let clamped = if preset.container == Container::Ktx {
+                let (bytes, c) =
+                    ktx1::encode(&tex, preset.texture.format, kv).map_err(|e| e.in_file(&path))?;
+                run.stage_bytes(&path, &bytes)?;
+                c
+            } else {
+                run.stage_texture(&tex, &path, preset.texture)?
+            };
+            clamped_total.push((path, clamped));
+            Ok(())
+        };
+        let ext = preset.container.extension();
+        let sh_key = filament_sh_key(bake, preset);
+        if let Some(chain) = &bake.chain {
+            let kv: Vec<(&str, &[u8])> = if preset.container == Container::Ktx {
+                vec![("sh", sh_key.as_bytes())]
+            } else {
+                Vec::new()
+            };
+            texture(
+                run,
+                &chain.levels,
+                &texture_name(dir, preset, preset.specular),
+                &kv,
+            )?;
+            if preset.container == Container::Ktx {
+                texture(
+                    run,
+                    &chain.levels[..1],
+                    &texture_name(dir, preset, "skybox"),
+                    &[],
+                )?;
+            }
+        }
+        if let Some(irr) = &bake.irradiance {
+            texture(
+                run,
+                std::slice::from_ref(&irr.image),
+                &texture_name(dir, preset, preset.irradiance),
+                &[],
+            )?;
+        }
+        if preset.container == Container::Ktx {
+            run.stage_bytes(dir.join("sh.txt"), filament_sh_txt(bake, preset).as_bytes())?;
+        }
+        if let (Some(t), Some(Target::Gltf)) = (&bake.dfg, preset.target) {
+            // glTF-IBL-Sampler's LUT: R = scale, G = bias, N·V across,
+            // roughness down (row 0 = roughness 0.5/size).
+            let lut = Texture::new(TextureKind::Flat, vec![vec![t.single_scatter_image()]])?;
+            let path = dir.join(format!("lut_ggx.{ext}"));
+            let c = run.stage_texture(
+                &lut,
+                &path,
+                TextureOptions {
+                    zstd: None,
+                    ..preset.texture
+                },
+            )?;
+            clamped_total.push((path, c));
+        }
+    }
+    if let Some(t) = &bake.dfg {
+        let axes = format!(
+            "column i: N.V = (i + 0.5)/{0}, row j from the top: perceptual roughness (j + 0.5)/{0}; height-correlated Smith GGX",
+            t.size()
+        );
+        for (file, form, image) in [
+            (
+                "dfg.exr",
+                "DFG single scatter: R = scale, G = bias (F0 scale + bias)",
+                t.single_scatter_image(),
+            ),
+            (
+                "dfg_multiscatter.exr",
+                "DFG multiscatter (Filament): R = bias, G = scale + bias",
+                t.multiscatter_image(),
+            ),
+        ] {
+            let o = SaveOptions {
+                exr_precision: ExrPrecision::F32,
+                content: Some(format!("{form}; {axes}")),
+                ..sopts.clone()
+            };
+            run.stage_rgb(&image, dir.join(file), &o)?;
+        }
+    }
+    run.stage_bytes(
+        dir.join("sh.json"),
+        sh_json(preset, bake, opts.axes).as_bytes(),
+    )?;
+    run.stage_bytes(
+        dir.join("manifest.json"),
+        manifest(dir, preset, provenance, bake, opts).as_bytes(),
+    )?;
+    Ok(clamped_total)
+}
+
+/// The file of a texture container: `<stem>.<ext>`, or for KTX 1 (cmgen's
+/// names) `<dir>_<stem>.ktx` with `<dir>` the output directory's name
+/// without its extension.
+fn texture_name(dir: &Path, preset: &Preset, stem: &str) -> String {
+    let ext = preset.container.extension();
+    if preset.container == Container::Ktx {
+        let dir = dir
+            .file_stem()
+            .map(|d| d.to_string_lossy().into_owned())
+            .filter(|d| !d.is_empty() && d != "." && d != "..")
+            .unwrap_or_else(|| "envmap".to_owned());
+        format!("{dir}_{stem}.{ext}")
+    } else {
+        format!("{stem}.{ext}")
+    }
+}
+
+/// Where level `k` of the chain is, for the manifest.
+fn level_file(dir: &Path, preset: &Preset, k: usize) -> String {
+    if preset.container == Container::Exr {
+        file_name(preset, &format!("specular_{k}"))
+    } else {
+        super::read::level_entry(&texture_name(dir, preset, preset.specular), k)
+    }
+}
+
+/// Filament's pre-scaled SH (E/π, y up) of the bake, windowed as the plan
+/// says, in the cube files' axes: cmgen's mirroring negates x, flipping the
+/// three terms odd in x (L11, L2-2, L21).
+fn filament_sh(b: &Bake, preset: &Preset) -> [[f64; 3]; 9] {
+    let sh = match preset.sh_window {
+        Some(w) => b.sh.windowed(w),
+        None => b.sh,
+    };
+    let mut f = sh.filament_shader_form();
+    if preset.mirrored {
+        for i in [3, 4, 7] {
+            f[i] = f[i].map(|v| -v);
+        }
+    }
+    f
+}
+
+/// C's `%g` (6 significant digits), as cmgen prints floats into its `sh` key.
+fn format_g(v: f32) -> String {
+    if v == 0.0 {
+        return if v.is_sign_negative() { "-0" } else { "0" }.to_owned();
+    }
+    let e = f64::from(v).abs().log10().floor() as i32;
+    // Rounding to 6 digits can carry into the next power of ten.
+    let sci = format!("{:.5e}", v);
+    let exp: i32 = sci
+        .split('e')
+        .nth(1)
+        .and_then(|x| x.parse().ok())
+        .unwrap_or(e);
+    let trim = |s: String| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_owned()
+        } else {
+            s
+        }
+    };
+    if !(-4..6).contains(&exp) {
+        let (m, _) = sci.split_once('e').unwrap_or((&sci, ""));
+        format!(
+            "{}e{}{:02}",
+            trim(m.to_owned()),
+            if exp < 0 { '-' } else { '+' },
+            exp.abs()
+        )
+    } else {
+        trim(format!("{:.*}", (5 - exp).max(0) as usize, v))
+    }
+}
+
+/// The `sh` key of cmgen's KTX 1 files: nine lines `r g b`, L00 … L22, `%g`
+/// of the f32 values, each line ended by `\n`.
+pub fn filament_sh_key(b: &Bake, preset: &Preset) -> String {
+    filament_sh(b, preset)
+        .iter()
+        .map(|c| {
+            format!(
+                "{} {} {}\n",
+                format_g(c[0] as f32),
+                format_g(c[1] as f32),
+                format_g(c[2] as f32)
+            )
+        })
+        .collect()
+}
+
+/// cmgen's `sh.txt`: `(r, g, b); // L00, irradiance, pre-scaled base` per
+/// line, `%18.15f`.
+pub fn filament_sh_txt(b: &Bake, preset: &Preset) -> String {
+    filament_sh(b, preset)
+        .iter()
+        .zip(NAMES)
+        .map(|(c, n)| {
+            format!(
+                "({:18.15}, {:18.15}, {:18.15}); // {n}, irradiance, pre-scaled base\n",
+                c[0], c[1], c[2]
+            )
+        })
+        .collect()
+}
+
+/// A file's name in the output directory (`{face}` for six files).
+fn file_name(preset: &Preset, stem: &str) -> String {
+    if preset.layout.is_six_files() {
+        format!("{stem}_{{face}}.exr")
+    } else {
+        format!("{stem}.exr")
+    }
+}
+
+/// The frame's matrix as rows, for the JSON files.
+fn frame_rows(frame: envmap_core::Frame) -> [[f32; 3]; 3] {
+    let m = frame.matrix().transpose();
+    [
+        m.x_axis.to_array(),
+        m.y_axis.to_array(),
+        m.z_axis.to_array(),
+    ]
+}
+
+/// Coefficients as `{ "L00": [r, g, b], ... }`.
+fn named(c: &[[f64; 3]; 9]) -> serde_json::Value {
+    let map: serde_json::Map<String, serde_json::Value> = NAMES
+        .iter()
+        .zip(c)
+        .map(|(n, v)| ((*n).to_owned(), serde_json::json!(v)))
+        .collect();
+    serde_json::Value::Object(map)
+}
+
+/// `sh.json`: the coefficients, their basis, frame and kind.
+pub fn sh_json(preset: &Preset, b: &Bake, axes: FileAxes) -> String {
+    let frame = axes.frame(AnyMapping::Cube);
+    let windowed = match preset.sh_window {
+        Some(w) => b.sh.windowed(w),
+        None => b.sh,
+    };
+    let out = windowed.in_frame(frame);
+    let m = serde_json::json!({
+        "basis": "real spherical harmonics, bands 0-2, Ramamoorthi & Hanrahan 2001 (no Condon-Shortley phase): Y00 = 0.282095, Y1m = 0.488603 (y, z, x), Y2-2 = 1.092548 xy, Y2-1 = 1.092548 yz, Y20 = 0.315392 (3z^2 - 1), Y21 = 1.092548 xz, Y22 = 0.546274 (x^2 - y^2)",
+        "order": NAMES,
+        "axes": axes.describe(AnyMapping::Cube),
+        "frame_rows": frame_rows(frame),
+        "frame_note": "coefficients are in the axes of the cube files (x, y, z as the files' face names say); canonical: envmap's z-up right-handed axes",
+        "window": match preset.sh_window {
+            None => serde_json::json!("none"),
+            Some(_) => match b.sh_cutoff {
+                Some(cutoff) => serde_json::json!({
+                    "kind": "sinc^4 (Filament CubemapSH::sincWindow; Sloan 2017)",
+                    "cutoff_bands": cutoff,
+                }),
+                None => serde_json::json!("auto: none applied (the irradiance is non-negative without one)"),
+            },
+        },
+        "radiance": {
+            "meaning": "L_lm = integral of L(w) Y_lm(w) dw (radiance coefficients)",
+            "coefficients": named(&out.coeffs),
+        },
+        "irradiance": {
+            "meaning": "E_lm = A_l L_lm, A = (pi, 2pi/3, pi/4): sum of E_lm Y_lm(n) is the irradiance E(n), not divided by pi",
+            "value": "E",
+            "coefficients": named(&out.irradiance().coeffs),
+        },
+        "canonical_radiance": {
+            "meaning": "radiance coefficients in envmap's canonical axes (z up, right-handed)",
+            "coefficients": named(&windowed.coeffs),
+        },
+        "filament": {
+            "meaning": "Filament's pre-scaled shader form (cmgen --sh-shader, the sh of its KTX and sh.txt), GL axes (y up, cmgen --no-mirror): E(n)/pi = sh0 + sh1 y + sh2 z + sh3 x + sh4 yx + sh5 yz + sh6 (3z^2 - 1) + sh7 zx + sh8 (x^2 - y^2)",
+            "value": "E/pi",
+            "sh": windowed.filament_shader_form(),
+        },
+    });
+    serde_json::to_string_pretty(&m).unwrap_or_default()
+}
+
+/// The manifest: the input, the conventions, the rule, every level.
+pub fn manifest(
+    dir: &Path,
+    preset: &Preset,
+    provenance: &Provenance,
+    b: &Bake,
+    opts: &BakeOptions,
+) -> String {
+    let specular = b.chain.as_ref().map(|chain| {
+        let levels: Vec<serde_json::Value> = chain
+            .reports
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                serde_json::json!({
+                    "level": k,
+                    "file": level_file(dir, preset, k),
+                    "size": r.size,
+                    "perceptual_roughness": r.roughness,
+                    "alpha": r.roughness * r.roughness,
+                    "method": r.method,
+                    "samples": r.samples,
+                    "exact_source_level": r.source_level,
+                    "expected_relative_rms_error_smooth_light": estimated_error(r),
+                    "measured": r.measured.map(|m| serde_json::json!({
+                        "texels": m.texels,
+                        "relative_rms_error": m.relative_rms,
+                        "bias": m.bias,
+                        "seconds": m.seconds,
+                        "against": "the oracle: the input as given, piecewise constant over its own texels, by adaptive quadrature (envmap_render::filter::oracle)",
+                    })),
+                    "texels_clamped_at_zero": r.clamped,
+                    "seconds": r.seconds,
+                })
+            })
+            .collect();
+        serde_json::json!({
+            "integral": "LD(R) = ∫ L(l) D(h) (n·l)⁺ dl / ∫ D(h) (n·l)⁺ dl, N = V = R, GGX D, alpha = roughness²",
+            "value": "radiance (the prefiltered radiance LD, same units as the input)",
+            "roughness_rule": opts.rule.name(),
+            "roughness_rule_formula": opts.rule.formula(),
+            "base_cube_size": chain.base_size,
+            "fis_lod_bias": opts.lod_bias,
+            "bright_texels": {
+                "count": chain.bright.texels,
+                "points": chain.bright.points,
+                "energy_share": chain.bright.energy_share,
+                "energy_per_channel": chain.bright.energy,
+                "threshold": chain.bright.threshold,
+                "rule": format!("split from the input's own texels before any resampling: largest absolute channel above both its solid-angle-weighted 99th percentile and 4 × its solid-angle mean, at most {} texels (the largest); each cut into parts at most 1/4 of the narrowest level's lobe across, each part with its exact solid angle; added to every level by a tree over the parts (Barnes-Hut: a node added whole at its centre when at most 1/16 of the lobe across, or 1/32 of its distance from the lobe)", opts.bright_max),
+            },
+            "energy": {
+                "unit": "Σ Ω·L per channel (R, G, B) over texels with their exact solid angles",
+                "input": chain.energy.input,
+                "input_negative": chain.energy.negative,
+                "negative_share": chain.energy.negative_share(),
+                "negative_policy": "negative texels (lossy compression's ringing) are kept: every integral is of the data as given, so they cancel the overshoots they ring with; outputs are clamped at zero and counted (texels_clamped_at_zero)",
+                "base_cube": chain.energy.base,
+                "split": chain.energy.split,
+                "relative_gap": chain.energy.gap(),
+                "base_cube_method": format!("footprint average: each texel the mean of the input's bilinear reconstruction over {0}×{0} points of its footprint", chain.energy.footprint_samples),
+            },
+            "clamp": chain.clamp.map(|c| serde_json::json!({
+                "luminance": c.threshold,
+                "texels": c.texels,
+                "energy_removed": c.energy_removed,
+            })),
+            "preparation_seconds": chain.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
+            "levels": levels,
+        })
+    });
+    let m = serde_json::json!({
+        "envmap": crate::image::metadata::software(),
+        "input": provenance.input,
+        "axes": opts.axes.describe(AnyMapping::Cube),
+        "frame_to_canonical": frame_columns(opts.axes.frame(AnyMapping::Cube)),
+        "frame_to_canonical_note": "the cube files' x, y and z axes as columns in envmap's canonical axes (z up, right-handed); what `envmap render --env DIR` reads",
+        "layout": if preset.container == Container::Exr { preset.layout.name() } else { "one texture file per map: faces +X, -X, +Y, -Y, +Z, -Z, first texel top-left (KTX orientation rd), levels largest first" },
+        "container": preset.container.extension(),
+        "target": preset.target.map(Target::name),
+        "texel_format": (preset.container != Container::Exr).then(|| preset.texture.format.vk_name()),
+        "zstd_level": preset.texture.zstd,
+        "mirrored": preset.mirrored.then_some("x negated, as cmgen's default (Filament's shaders expect it)"),
+        "seconds": { "load": provenance.load_seconds, "bake": provenance.bake_seconds },
+        "specular": specular,
+        "irradiance": b.irradiance.as_ref().map(|i| serde_json::json!({
+            "file": if preset.container == Container::Exr { file_name(preset, "irradiance") } else { texture_name(dir, preset, preset.irradiance) },
+            "size": i.image.cell_size().0,
+            "value": opts.irradiance_scale.name(),
+            "value_note": "E/pi is the outgoing radiance of a white Lambertian surface (what engines expect); E = pi × that",
+            "method": i.method,
+            "exact_source_level": i.source_level,
+            "texels_clamped_at_zero": i.clamped,
+            "measured": b.checked.and_then(|c| c.irradiance).map(|m| serde_json::json!({
+                "texels": m.texels,
+                "relative_rms_error": m.relative_rms,
+                "bias": m.bias,
+                "against": "the oracle's E (scaled as value says) of the input itself",
+            })),
+        })),
+        "sh": {
+            "file": "sh.json",
+            "window": preset.sh_window.map(|_| b.sh_cutoff),
+            "measured_relative_error": b.checked.map(|c| c.sh9),
+        },
+        "dfg": b.dfg.as_ref().map(|t| serde_json::json!({
+            "files": {
+                "dfg.exr": "single scatter: R = scale, G = bias (F0·scale + bias)",
+                "dfg_multiscatter.exr": "Filament's multiscatter form: R = bias, G = scale + bias",
+            },
+            "size": t.size(),
+            "x": "column i: N·V = (i + 0.5) / size",
+            "y": "row j from the top: perceptual roughness = (j + 0.5) / size",
+            "visibility": "height-correlated Smith GGX",
+            "precision": "computed in f64 by quadrature, stored as f32",
+        })),
+        "stages_seconds": b.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
+    });
+    serde_json::to_string_pretty(&m).unwrap_or_default()
+}
+
+/// A frame's matrix as three columns (the file axes in canonical ones).
+fn frame_columns(f: envmap_core::Frame) -> [[f32; 3]; 3] {
+    let m = f.matrix();
+    [
+        m.x_axis.to_array(),
+        m.y_axis.to_array(),
+        m.z_axis.to_array(),
+    ]
+}
+
+/// The relative RMS error a level's method is measured to have
+/// (`docs/lighting.md`): 0 for the resampled and exact levels.
+pub fn estimated_error(r: &crate::filter::bake::LevelReport) -> Option<f64> {
+    (r.method == "sampled").then(|| crate::filter::bake::estimated_error(r.roughness, r.samples))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::format_g;
+
+    /// `%g` as C prints it (cmgen's `sh` key), on the values of a cmgen file.
+    #[test]
+    fn format_g_prints_as_c_does() {
+        for (v, want) in [
+            (1.00391_f32, "1.00391"),
+            (0.503_906, "0.503906"),
+            (-1.003_54e-7, "-1.00354e-07"),
+            (8.364_38e-11, "8.36438e-11"),
+            (0.0, "0"),
+            (-0.0, "-0"),
+            (0.028_810_7, "0.0288107"),
+            (123_456.0, "123456"),
+            (1_234_567.0, "1.23457e+06"),
+            (999_999.5, "1e+06"),
+            (0.000_1, "0.0001"),
+            (0.000_012_5, "1.25e-05"),
+            (2.5, "2.5"),
+        ] {
+            assert_eq!(format_g(v), want, "{v}");
+        }
+    }
+}

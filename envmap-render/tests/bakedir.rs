@@ -1,0 +1,195 @@
+//! The bake directory from the library: the files `bakedir::in_memory`
+//! makes equal, byte for byte, those `envmap bake --target …` writes, for
+//! every preset; the engine upload data equals the KTX2 file's levels.
+#![cfg(feature = "cli")]
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use envmap_core::AnyMapping;
+use envmap_render::bakedir::{self, Container, Preset, Provenance, Target};
+use envmap_render::environments::Builtin;
+use envmap_render::filter::bake::{bake, BakeOptions};
+use envmap_render::image::{FileAxes, Representation, TexelFormat};
+
+use common::{envmap, text};
+
+/// The fields that hold timings (different in every run).
+const TIMINGS: [&str; 3] = ["seconds", "load", "bake"];
+
+fn without_timings(v: &mut serde_json::Value) {
+    match v {
+        serde_json::Value::Object(m) => {
+            for k in TIMINGS {
+                m.remove(k);
+            }
+            m.values_mut().for_each(without_timings);
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(without_timings),
+        _ => {}
+    }
+}
+
+/// An OpenEXR file's header attributes (name → type and value) and what
+/// follows the header. The `exr` crate writes the custom attributes in a
+/// hash map's order, which differs from run to run; everything else is
+/// compared byte for byte.
+fn exr_parts(b: &[u8]) -> (BTreeMap<Vec<u8>, Vec<u8>>, &[u8]) {
+    assert_eq!(&b[..4], b"\x76\x2f\x31\x01", "OpenEXR magic");
+    let mut i = 8;
+    let mut attrs = BTreeMap::new();
+    let zero = |from: usize| from + b[from..].iter().position(|&c| c == 0).expect("NUL");
+    while b[i] != 0 {
+        let n = zero(i);
+        let t = zero(n + 1);
+        let size = u32::from_le_bytes(b[t + 1..t + 5].try_into().expect("size")) as usize;
+        let value = b[n + 1..t + 5 + size].to_vec();
+        attrs.insert(b[i..n].to_vec(), value);
+        i = t + 5 + size;
+    }
+    (attrs, &b[i + 1..])
+}
+
+/// `a` and `b` are the same file: bytes, or JSON without timings, or EXR
+/// with its attributes compared as a set.
+fn same(name: &str, a: &[u8], b: &[u8]) {
+    if name.ends_with(".json") {
+        let mut x: serde_json::Value = serde_json::from_slice(a).expect("json");
+        let mut y: serde_json::Value = serde_json::from_slice(b).expect("json");
+        without_timings(&mut x);
+        without_timings(&mut y);
+        assert_eq!(x, y, "{name}");
+    } else if name.ends_with(".exr") {
+        let (ha, da) = exr_parts(a);
+        let (hb, db) = exr_parts(b);
+        assert_eq!(ha, hb, "{name}: header");
+        assert!(da == db, "{name}: pixel data differs");
+    } else {
+        assert!(a == b, "{name}: {} against {} bytes", a.len(), b.len());
+    }
+}
+
+const ENV_SIZE: u32 = 32;
+
+fn source() -> envmap_render::EnvImage {
+    let repr = Representation::for_file(AnyMapping::Cube, FileAxes::default());
+    let (w, h) = repr
+        .atlas
+        .image_size_for_cell_width(ENV_SIZE)
+        .expect("size");
+    Builtin::Sky.image(repr, w, h).expect("sky")
+}
+
+#[test]
+fn in_memory_files_equal_what_the_command_writes_for_every_preset() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let src = source();
+    let name = format!("built-in sky (a cube of {ENV_SIZE}² faces)");
+    for target in [
+        None,
+        Some(Target::Bevy),
+        Some(Target::Gltf),
+        Some(Target::Filament),
+    ] {
+        let label = target.map_or("envmap", Target::name);
+        let out = dir.path().join(format!("ibl-{label}"));
+        let mut args = vec![
+            "bake".to_owned(),
+            "sky".to_owned(),
+            "--out".to_owned(),
+            out.to_string_lossy().into_owned(),
+            "--env-size".to_owned(),
+            ENV_SIZE.to_string(),
+            "--size".to_owned(),
+            "16".to_owned(),
+            "--irradiance-size".to_owned(),
+            "4".to_owned(),
+            "--dfg-size".to_owned(),
+            "8".to_owned(),
+            "-q".to_owned(),
+        ];
+        if let Some(t) = target {
+            args.extend(["--target".to_owned(), t.name().to_owned()]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = envmap(&args, dir.path());
+        assert!(o.status.success(), "{label}: {}", text(&o.stderr));
+
+        let mut preset = match target {
+            Some(t) => Preset::for_target(t, FileAxes::default()),
+            None => Preset::default(),
+        };
+        preset.size = 16;
+        preset.irradiance_size = 4;
+        preset.dfg_size = 8;
+        let opts = preset.bake_options(BakeOptions::default());
+        let baked = bake(&src, &opts, &|_, _| {}).expect("bake");
+        let files =
+            bakedir::in_memory(&out, &baked, &opts, &preset, &Provenance::new(name.clone()))
+                .expect("in memory");
+        let mut on_disk: Vec<String> = std::fs::read_dir(&out)
+            .expect("out")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        on_disk.sort();
+        let mut made: Vec<String> = files
+            .files
+            .iter()
+            .map(|f| f.path.to_string_lossy().into_owned())
+            .collect();
+        made.sort();
+        assert_eq!(made, on_disk, "{label}: the same files");
+        for f in &files.files {
+            let name = f.path.to_string_lossy();
+            let disk = std::fs::read(out.join(&f.path)).expect("read");
+            same(&format!("{label}/{name}"), &f.bytes, &disk);
+        }
+        // Nothing was written for the in-memory run.
+        assert!(!Path::new(&format!("ibl-{label}")).exists());
+    }
+}
+
+#[test]
+fn engine_upload_data_is_the_ktx2_files_levels() {
+    let src = source();
+    let mut preset = Preset::for_target(Target::Gltf, FileAxes::default());
+    preset.size = 16;
+    preset.irradiance_size = 4;
+    preset.dfg_size = 0;
+    assert_eq!(preset.container, Container::Ktx2);
+    let opts = preset.bake_options(BakeOptions::default());
+    let baked = bake(&src, &opts, &|_, _| {}).expect("bake");
+    let up = bakedir::engine_textures(&baked, &preset).expect("upload");
+    let spec = up.specular.expect("chain");
+    assert_eq!(spec.format, TexelFormat::Rgba16f);
+    assert_eq!(spec.format.wgpu_name(), Some("Rgba16Float"));
+    assert_eq!(
+        spec.levels.len(),
+        baked.chain.as_ref().expect("chain").levels.len()
+    );
+    let files = bakedir::in_memory(
+        Path::new("ibl"),
+        &baked,
+        &opts,
+        &preset,
+        &Provenance::new("sky"),
+    )
+    .expect("files");
+    let bytes = files.get("specular.ktx2").expect("specular.ktx2");
+    let reader = ktx2::Reader::new(bytes).expect("a KTX2 file");
+    let header = reader.header();
+    assert_eq!(header.face_count, 6);
+    assert_eq!(header.pixel_width, 16);
+    for (k, (level, ours)) in reader.levels().zip(&spec.levels).enumerate() {
+        assert_eq!(ours.faces.len(), 6);
+        assert_eq!(ours.width, 16 >> k);
+        assert!(level.data == ours.concatenated().as_slice(), "level {k}");
+    }
+    let irr = up.irradiance.expect("irradiance");
+    let bytes = files.get("diffuse.ktx2").expect("diffuse.ktx2");
+    let reader = ktx2::Reader::new(bytes).expect("a KTX2 file");
+    let level = reader.levels().next().expect("level 0");
+    assert!(level.data == irr.levels[0].concatenated().as_slice());
+}
