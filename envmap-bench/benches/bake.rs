@@ -64,10 +64,11 @@ fn bench(c: &mut Criterion) {
     .unwrap();
     let mut g = c.benchmark_group("bake/exact-cube256");
     g.sample_size(10);
-    let exact = BakeOptions {
-        size: 64,
-        exact: true,
-        ..BakeOptions::default()
+    let exact = {
+        let mut o = BakeOptions::default();
+        o.size = 64;
+        o.exact = true;
+        o
     };
     g.bench_function("chain64/2-threads", |b| {
         b.iter(|| {

@@ -105,13 +105,14 @@ fn main() {
         }
         println!("chain from {dir}: {} levels", levels.len());
     } else {
-        let opts = BakeOptions {
-            size,
-            samples: std::env::var("SAMPLES").ok().map(|s| s.parse().unwrap()),
-            exact: std::env::var("EXACT").is_ok(),
-            bright_max: std::env::var("SPLIT").map_or(16384, |s| s.parse().unwrap()),
-            lod_bias: std::env::var("LOD_BIAS").map_or(0.0, |s| s.parse().unwrap()),
-            ..BakeOptions::default()
+        let opts = {
+            let mut o = BakeOptions::default();
+            o.size = size;
+            o.samples = std::env::var("SAMPLES").ok().map(|s| s.parse().unwrap());
+            o.exact = std::env::var("EXACT").is_ok();
+            o.bright_max = std::env::var("SPLIT").map_or(16384, |s| s.parse().unwrap());
+            o.lod_bias = std::env::var("LOD_BIAS").map_or(0.0, |s| s.parse().unwrap());
+            o
         };
         let t = Instant::now();
         let b = bake(&src, &opts, &|_, _| {}).unwrap();

@@ -155,6 +155,18 @@ pub enum Error {
     #[error("cancelled")]
     Cancelled,
 
+    /// A file format this build of the library was made without (its
+    /// Cargo feature off; `envmap-render`'s defaults have every one).
+    #[error("{}: {format} files need envmap-render's `{feature}` feature, which this build was made without", .path.display())]
+    FormatDisabled {
+        /// The file.
+        path: PathBuf,
+        /// The format (`"OpenEXR"`, `"KTX2"`, ...).
+        format: &'static str,
+        /// The Cargo feature that has it.
+        feature: &'static str,
+    },
+
     /// An error that names no file, given the file it concerns.
     #[error("{}: {source}", .path.display())]
     InFile {
@@ -192,6 +204,7 @@ impl Error {
             | Error::MissingChannels { path, .. }
             | Error::CubeFaces { path, .. }
             | Error::WouldOverwriteInput { path }
+            | Error::FormatDisabled { path, .. }
             | Error::InFile { path, .. } => Some(path),
             Error::TooLarge { .. }
             | Error::Layout(_)

@@ -1,13 +1,14 @@
 //! Environment-map images and their files, filtering and conversion, the
 //! renderer, and the `envmap` command.
 //!
-//! The crate is four folders by concern, each using only the ones above it:
+//! The crate is five folders by concern, each using only the ones above it:
 //!
 //! | folder | what lives there | may use |
 //! | --- | --- | --- |
 //! | [`image`] | [`EnvImage`] and its [`Representation`], layouts, every file format ([`image::io`]: PNG/JPEG, Radiance HDR, OpenEXR, six-file cubes, safe writes) | `envmap-core` |
 //! | [`filter`] | sampling with each representation's edge rule ([`filter::sample`]), the one conversion loop ([`filter::convert`]) | `image`, `envmap-simd` |
 //! | [`scene`] | built-in environments, procedural environments, meshes, the renderer, the demo | `image`, `filter` |
+//! | [`bakedir`] | the bake directory: the engines' presets, its files written to a directory or into memory, and read back | `image`, `filter`, `scene` |
 //! | `cli` | the `envmap` command, one file per subcommand (feature `cli`, on by default) | everything |
 //!
 //! [`Error`] (in `error.rs`) is shared by all of them: every message names
@@ -18,9 +19,13 @@
 //! [`mesh`], [`render`](mod@render), [`demo`] and `text` (with `cli`) are
 //! the modules above under their old names.
 //!
-//! Features: `cli` (default) is the command line and its dependencies
-//! (clap, indicatif, signal-hook); an engine that embeds the library sets
-//! `default-features = false` and keeps everything else.
+//! Features, all on by default: `cli` (the command line: clap, indicatif,
+//! signal-hook), the file formats `exr`, `image` (PNG, JPEG, Radiance),
+//! `ktx2`, `zstd` (KTX2 supercompression; a C compiler), `dds`, `ktx1`, and
+//! `parallel` (rayon; without it the same results on the calling thread).
+//! An engine sets `default-features = false` and adds what it reads and
+//! writes: the in-memory core is always there (`docs/embedding.md`). A file
+//! of a format left out gives [`Error::FormatDisabled`].
 //!
 //! Conventions (axes, frames, layouts, image coordinates) are in
 //! `docs/conventions.md`; speed in `docs/performance.md`; what bad input gives
@@ -38,6 +43,7 @@ pub mod cli;
 pub mod error;
 pub mod filter;
 pub mod image;
+mod par;
 pub mod scene;
 
 pub use crate::error::{Error, Result};

@@ -354,10 +354,11 @@ fn a_baked_chain_survives_export_and_import_within_the_format_precision() {
     let repr = envmap_render::Representation::default_for(envmap_core::AnyMapping::Cube);
     let (w, h) = repr.atlas.image_size_for_cell_width(32).unwrap();
     let src = Builtin::Sky.image(repr, w, h).unwrap();
-    let opts = BakeOptions {
-        size: 16,
-        quality: Quality::Draft,
-        ..BakeOptions::default()
+    let opts = {
+        let mut o = BakeOptions::default();
+        o.size = 16;
+        o.quality = Quality::Draft;
+        o
     };
     let chain = specular_chain(&src, &opts, &|_, _| {}).unwrap();
     let tex = Texture::from_env(&chain.levels).unwrap();

@@ -280,16 +280,18 @@ fn sampled_levels_are_within_their_bound_of_the_exact_sum() {
     // environments).
     for env in [Builtin::Sky, Builtin::Room] {
         let src = env.image(cube_repr(), 6 * 128, 128).unwrap();
-        let opts = BakeOptions {
-            size: 64,
-            ..BakeOptions::default()
+        let opts = {
+            let mut o = BakeOptions::default();
+            o.size = 64;
+            o
         };
         let chain = specular_chain(&src, &opts, &|_, _| {}).unwrap();
         let exact = specular_chain(
             &src,
-            &BakeOptions {
-                exact: true,
-                ..opts.clone()
+            &{
+                let mut o = opts.clone();
+                o.exact = true;
+                o
             },
             &|_, _| {},
         )
@@ -313,9 +315,10 @@ fn sampled_levels_are_within_their_bound_of_the_exact_sum() {
 #[test]
 fn the_same_bytes_at_one_and_two_threads() {
     let src = Builtin::Sky.image(cube_repr(), 6 * 64, 64).unwrap();
-    let opts = BakeOptions {
-        size: 32,
-        ..BakeOptions::default()
+    let opts = {
+        let mut o = BakeOptions::default();
+        o.size = 32;
+        o
     };
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -338,9 +341,10 @@ fn the_same_bytes_at_one_and_two_threads() {
 
 #[test]
 fn bad_input_gives_a_clear_result() {
-    let opts = BakeOptions {
-        size: 16,
-        ..BakeOptions::default()
+    let opts = {
+        let mut o = BakeOptions::default();
+        o.size = 16;
+        o
     };
     // Negative texels (a lossy EXR's ringing beside a sun): integrated as
     // they are, outputs clamped at zero and counted.
@@ -358,9 +362,10 @@ fn bad_input_gives_a_clear_result() {
     .unwrap();
     let chain = specular_chain(
         &ringing,
-        &BakeOptions {
-            size: 64,
-            ..BakeOptions::default()
+        &{
+            let mut o = BakeOptions::default();
+            o.size = 64;
+            o
         },
         &|_, _| {},
     )
@@ -417,9 +422,10 @@ fn bad_input_gives_a_clear_result() {
     .unwrap();
     let chain = specular_chain(
         &sun,
-        &BakeOptions {
-            size: 32,
-            ..BakeOptions::default()
+        &{
+            let mut o = BakeOptions::default();
+            o.size = 32;
+            o
         },
         &|_, _| {},
     )
@@ -458,9 +464,10 @@ fn bad_input_gives_a_clear_result() {
     // Sizes that are not powers of two: each level halves (⌊n/2⌋).
     let chain = specular_chain(
         &sun,
-        &BakeOptions {
-            size: 24,
-            ..BakeOptions::default()
+        &{
+            let mut o = BakeOptions::default();
+            o.size = 24;
+            o
         },
         &|_, _| {},
     )

@@ -31,13 +31,14 @@ fn baked_to(
     let repr = Representation::default_for(AnyMapping::Cube);
     let (w, h) = repr.atlas.image_size_for_cell_width(face).unwrap();
     let env = fill(repr, w, h, f).unwrap();
-    let opts = BakeOptions {
-        size,
-        min_size,
-        axes: FileAxes::Frame(env.representation().frame),
-        irradiance_size: 32,
-        dfg_size: 64,
-        ..BakeOptions::default()
+    let opts = {
+        let mut o = BakeOptions::default();
+        o.size = size;
+        o.min_size = min_size;
+        o.axes = FileAxes::Frame(env.representation().frame);
+        o.irradiance_size = 32;
+        o.dfg_size = 64;
+        o
     };
     let b = bake(&env, &opts, &|_, _| {}).unwrap();
     let chain = b.chain.unwrap();

@@ -59,9 +59,10 @@ fn load_hdri(path: &Path) -> EnvImage {
 fn chain(src: &EnvImage, size: u32) -> SpecularChain {
     specular_chain(
         src,
-        &BakeOptions {
-            size,
-            ..BakeOptions::default()
+        &{
+            let mut o = BakeOptions::default();
+            o.size = size;
+            o
         },
         &|_, _| {},
     )
@@ -446,12 +447,13 @@ fn exact_irradiance_holds_a_sun() {
         for exact_irradiance in [false, true] {
             let b = bake(
                 &src,
-                &BakeOptions {
-                    size: 16,
-                    irradiance_size: 8,
-                    dfg_size: 0,
-                    exact_irradiance,
-                    ..BakeOptions::default()
+                &{
+                    let mut o = BakeOptions::default();
+                    o.size = 16;
+                    o.irradiance_size = 8;
+                    o.dfg_size = 0;
+                    o.exact_irradiance = exact_irradiance;
+                    o
                 },
                 &|_, _| {},
             )

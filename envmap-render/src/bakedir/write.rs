@@ -1,6 +1,6 @@
 //! The bake directory's writer: every file of a [`Bake`] as a [`Preset`]
 //! names it, staged into one [`Outputs`] run: to a directory together
-//! ([`write`]) or into memory ([`in_memory`]), by the same code.
+//! ([`write()`]) or into memory ([`in_memory`]), by the same code.
 
 use std::path::{Path, PathBuf};
 
@@ -12,7 +12,6 @@ use crate::filter::bake::{Bake, BakeOptions};
 use crate::filter::sh::{IrradianceScale, NAMES};
 use crate::image::convention::FileAxes;
 use crate::image::io::{ExrPrecision, MemoryFile, Outputs, SaveOptions};
-use crate::image::ktx1;
 use crate::image::{Clamped, EnvImage, Texture, TextureKind, TextureOptions, Upload};
 
 /// Where a bake came from, for its manifest.
@@ -38,7 +37,7 @@ impl Provenance {
     }
 }
 
-/// What [`write`] wrote.
+/// What [`write()`] wrote.
 #[derive(Clone, Debug, Default)]
 pub struct Written {
     /// The files, in the order they were staged.
@@ -47,7 +46,7 @@ pub struct Written {
     pub clamped: Vec<(PathBuf, Clamped)>,
 }
 
-/// What [`in_memory`] made: the files [`write`] would have written to its
+/// What [`in_memory`] made: the files [`write()`] would have written to its
 /// `dir`, each by its name in that directory.
 #[derive(Clone, Debug, Default)]
 pub struct BakeFiles {
@@ -104,14 +103,14 @@ pub fn write(
     result
 }
 
-/// The files [`write`] writes to a directory named `dir` (whose name gives
+/// The files [`write()`] writes to a directory named `dir` (whose name gives
 /// KTX 1 files theirs, as cmgen's), made in memory: nothing on disk is read
 /// or written. Their bytes equal the files' (the same encoders, through
 /// [`Outputs::in_memory`]).
 ///
 /// # Errors
 ///
-/// As [`write`], but for the file system's.
+/// As [`write()`], but for the file system's.
 pub fn in_memory(
     dir: &Path,
     bake: &Bake,
@@ -168,6 +167,26 @@ pub fn engine_textures(bake: &Bake, preset: &Preset) -> Result<EngineTextures> {
             .map(|i| upload(std::slice::from_ref(&i.image)))
             .transpose()?,
     })
+}
+
+/// A KTX 1 file with key/value pairs (cmgen's `sh`).
+fn ktx1_with_keys(
+    tex: &Texture,
+    preset: &Preset,
+    kv: &[(&str, &[u8])],
+    path: &Path,
+) -> Result<(Vec<u8>, Clamped)> {
+    #[cfg(feature = "ktx1")]
+    {
+        crate::image::ktx1::encode(tex, preset.texture.format, kv).map_err(|e| e.in_file(path))
+    }
+    #[cfg(not(feature = "ktx1"))]
+    {
+        let _ = (tex, preset, kv);
+        crate::image::io::FileFormat::Ktx
+            .check_enabled(path)
+            .map(|()| (Vec::new(), Clamped::default()))
+    }
 }
 
 /// Stages every file of `bake` into `run`, each at `dir`/name; returns what
@@ -228,8 +247,7 @@ fn stage(
             let tex = Texture::from_env(levels)?;
             let path = dir.join(name);
             let clamped = if preset.container == Container::Ktx {
-                let (bytes, c) =
-                    ktx1::encode(&tex, preset.texture.format, kv).map_err(|e| e.in_file(&path))?;
+                let (bytes, c) = ktx1_with_keys(&tex, preset, kv, &path)?;
                 run.stage_bytes(&path, &bytes)?;
                 c
             } else {

@@ -22,7 +22,7 @@ use std::time::Instant;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Atlas, ChartUv, Mapping};
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use crate::cancel;
 use crate::error::{Error, Result};
@@ -144,8 +144,11 @@ pub const EXACT_BUDGET: u64 = 1 << 28;
 /// draft, four times for high).
 pub const SAMPLE_BUDGET: u64 = 1 << 23;
 
-/// What to bake.
+/// What to bake. `#[non_exhaustive]`, so that options can be added without
+/// breaking callers: start from [`BakeOptions::default`] (or
+/// [`crate::bakedir::Preset::bake_options`]) and set the fields wanted.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct BakeOptions<'a> {
     /// The specular chain's level-0 face size. Default 512.
     pub size: u32,

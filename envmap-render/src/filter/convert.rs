@@ -18,12 +18,12 @@
 
 use std::sync::atomic::AtomicBool;
 
+use crate::par::*;
 use envmap_core::atlas::Turn;
 use envmap_core::glam::Mat3;
 use envmap_core::AnyMapping;
 use envmap_core::{Frame, Mapping};
 use envmap_simd::{Dir8, Fine, Mapping8, Uv8, LANES};
-use rayon::prelude::*;
 use wide::{f32x8, u32x8};
 
 use crate::cancel;
@@ -301,7 +301,7 @@ where
     // with N×N sub-samples (the scratch tile holds N² samples per texel)
     // and for small outputs, so that every thread gets several bands.
     const TILE: u32 = 32;
-    let threads = rayon::current_num_threads().max(1) as u32;
+    let threads = crate::par::current_num_threads().max(1) as u32;
     let band = (out.height() / (4 * threads)).clamp(8, 128 / n);
     // Rows of a cell are sampled eight points at a time through the `Ahead`
     // queue: one sample per texel straight into the output; N×N sub-samples,

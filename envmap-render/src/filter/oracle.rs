@@ -54,10 +54,10 @@
 //! SH9 is a sum over every texel split into m × m parts (`sh9(m)`): the
 //! basis is a quadratic polynomial, smooth everywhere.
 
+use crate::par::*;
 use envmap_core::texel::texel_center;
 use envmap_core::{ChartUv, Mapping};
 use glam::{DMat3, DVec3, Vec3};
-use rayon::prelude::*;
 
 use crate::filter::sh::{basis, Sh9, ShKind};
 use crate::filter::specular::lobe_width;
@@ -435,7 +435,7 @@ impl<'a> Oracle<'a> {
             (Rect { j1: m, ..rect }, Rect { j0: m, ..rect })
         };
         let (na, nb) = if w * h > 4096 {
-            rayon::join(|| self.build(a), || self.build(b))
+            crate::par::join(|| self.build(a), || self.build(b))
         } else {
             (self.build(a), self.build(b))
         };

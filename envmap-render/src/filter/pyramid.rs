@@ -28,10 +28,10 @@
 //! level 0). Eight points at a time ([`Trilinear::sample8`]) gives each lane
 //! exactly what [`Trilinear::sample`] gives it, bit for bit.
 
+use crate::par::*;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 use envmap_simd::Uv8;
-use rayon::prelude::*;
 use wide::{f32x4, f32x8, i32x8, u32x8};
 
 use crate::error::Result;

@@ -200,12 +200,12 @@
 
 use std::f64::consts::PI;
 
+use crate::par::*;
 use envmap_core::atlas::{Cell, Turn};
 use envmap_core::glam::{Mat3, Vec3};
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, ChartUv, Frame, Mapping};
 use envmap_simd::{Dir8, Exact, Mapping8, Uv8, LANES};
-use rayon::prelude::*;
 use wide::{f32x8, u32x8};
 
 use crate::error::Result;

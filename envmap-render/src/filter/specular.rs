@@ -49,11 +49,11 @@
 
 use std::sync::atomic::AtomicBool;
 
+use crate::par::*;
 use envmap_core::glam::Vec3;
 use envmap_core::texel::{texel_bounds, texel_center};
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 use envmap_simd::{Dir8, Fine, Mapping8, Uv8, LANES};
-use rayon::prelude::*;
 use wide::{f32x4, f32x8, u32x8};
 
 use crate::cancel;

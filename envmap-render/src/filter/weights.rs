@@ -12,9 +12,9 @@
 //! there the sum falls short of 4π by the slivers of disk those rim texels
 //! cover.
 
+use crate::par::*;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Mapping};
-use rayon::prelude::*;
 
 /// Texel solid angles of a representation's charts, `w × h` texels each;
 /// see the [module docs](self).

@@ -18,8 +18,6 @@ use std::io::{BufWriter, Cursor, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
-use tempfile::{NamedTempFile, TempPath};
-
 use crate::cancel::{self, Cancellable};
 use crate::error::{Error, Result};
 
@@ -112,13 +110,72 @@ impl Seek for Sink<'_> {
     }
 }
 
+/// A file at a hidden name beside its target, removed when dropped
+/// unless it was renamed over the target ([`TempFile::persist`]) or kept
+/// ([`TempFile::keep`]).
+#[derive(Debug)]
+pub(crate) struct TempFile {
+    /// Its name; empty once persisted or kept.
+    path: PathBuf,
+    /// The open file, if it was made by opening one.
+    file: Option<fs::File>,
+}
+
+impl TempFile {
+    fn file_mut(&mut self) -> std::io::Result<&mut fs::File> {
+        self.file
+            .as_mut()
+            .ok_or_else(|| std::io::Error::other("no open file"))
+    }
+
+    /// Renames the file over `target` (closing it first); on failure the
+    /// error, and the temporary file is removed.
+    fn persist(mut self, target: &Path) -> std::io::Result<()> {
+        self.file = None;
+        fs::rename(&self.path, target)?;
+        self.path = PathBuf::new();
+        Ok(())
+    }
+
+    /// Its name, no longer removed when dropped.
+    fn keep(mut self) -> PathBuf {
+        std::mem::take(&mut self.path)
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        self.file = None;
+        if !self.path.as_os_str().is_empty() {
+            let _ = fs::remove_file(&self.path);
+        }
+    }
+}
+
+/// A name no other process or thread is choosing at the same moment: a
+/// hash of the process, a counter and the clock under std's randomly keyed
+/// hasher, as 12 hex digits.
+fn random_tag() -> String {
+    use std::hash::{BuildHasher, Hasher};
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_u32(std::process::id());
+    h.write_u64(COUNTER.fetch_add(1, Ordering::Relaxed));
+    if let Ok(t) = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH) {
+        h.write_u128(t.as_nanos());
+    }
+    format!("{:012x}", h.finish() & 0xffff_ffff_ffff)
+}
+
 /// The hidden temporary name beside `path`: `.<name>.<random><suffix>`,
-/// through `make` (which creates the file at the name it is given).
-fn beside<F>(
+/// through `make` (which creates the file at the name it is given, failing
+/// with `AlreadyExists` if something is there: another name is tried).
+fn beside(
     path: &Path,
     suffix: &str,
-    make: impl FnMut(&Path) -> std::io::Result<F>,
-) -> Result<NamedTempFile<F>> {
+    mut make: impl FnMut(&Path) -> std::io::Result<Option<fs::File>>,
+) -> Result<TempFile> {
     let name = path.file_name().ok_or_else(|| {
         Error::write(
             path,
@@ -134,14 +191,24 @@ fn beside<F>(
         let e = std::io::Error::new(std::io::ErrorKind::NotFound, msg);
         return Err(Error::write(path, e));
     }
-    let mut prefix = std::ffi::OsString::from(".");
-    prefix.push(name);
-    prefix.push(".");
-    tempfile::Builder::new()
-        .prefix(&prefix)
-        .suffix(suffix)
-        .make_in(dir, make)
-        .map_err(|e| Error::write(path, plain_io_error(e)))
+    let mut last = None;
+    for _ in 0..64 {
+        let mut temp = std::ffi::OsString::from(".");
+        temp.push(name);
+        temp.push(".");
+        temp.push(random_tag());
+        temp.push(suffix);
+        let temp = dir.join(temp);
+        match make(&temp) {
+            Ok(file) => return Ok(TempFile { path: temp, file }),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
+            Err(e) => return Err(Error::write(path, e)),
+        }
+    }
+    Err(Error::write(
+        path,
+        last.unwrap_or_else(|| std::io::Error::other("no free temporary name")),
+    ))
 }
 
 /// A new temporary file beside `path`, filled by `write` (through a 1 MiB
@@ -151,35 +218,32 @@ pub(crate) fn write_temp(
     path: &Path,
     cancel: Option<&AtomicBool>,
     write: impl FnOnce(&mut TempWriter<'_>) -> Result<()>,
-) -> Result<NamedTempFile> {
+) -> Result<TempFile> {
     cancel::check(cancel)?;
     let mut temp = beside(path, ".tmp", |p| {
         let mut options = fs::OpenOptions::new();
         options.read(true).write(true).create_new(true);
         #[cfg(unix)]
         {
-            // As an ordinary new file: 0666 less the umask (not tempfile's 0600).
+            // As an ordinary new file: 0666 less the umask.
             use std::os::unix::fs::OpenOptionsExt;
             options.mode(0o666);
         }
-        options.open(p)
+        options.open(p).map(Some)
     })?;
     let written = (|| {
-        let mut out = BufWriter::with_capacity(
-            1 << 20,
-            Cancellable::new(Sink::File(temp.as_file_mut()), cancel),
-        );
+        let file = temp.file_mut().map_err(|e| Error::write(path, e))?;
+        let mut out = BufWriter::with_capacity(1 << 20, Cancellable::new(Sink::File(file), cancel));
         write(&mut out)?;
         out.flush().map_err(|e| Error::write(path, e))
     })();
     cancel::or_cancelled(written, cancel)?;
-    temp.as_file()
-        .sync_all()
-        .map_err(|e| Error::write(path, e))?;
+    let file = temp.file_mut().map_err(|e| Error::write(path, e))?;
+    file.sync_all().map_err(|e| Error::write(path, e))?;
     // Replacing a file keeps its permissions.
     if let Ok(meta) = fs::metadata(path) {
         if meta.is_file() {
-            let _ = temp.as_file().set_permissions(meta.permissions());
+            let _ = file.set_permissions(meta.permissions());
         }
     }
     Ok(temp)
@@ -204,33 +268,10 @@ fn write_memory(
     Ok(buf.into_inner())
 }
 
-/// The operating system's error inside one of `tempfile`'s, which adds the
-/// temporary file's name (of no interest to the user, who named the target).
-fn plain_io_error(e: std::io::Error) -> std::io::Error {
-    if e.get_ref().is_none() {
-        return e; // a plain operating-system error
-    }
-    // tempfile's wrapper displays as "<error> at path \"<temporary file>\"".
-    let msg = e.to_string();
-    let inner = msg
-        .rsplit_once(" at path ")
-        .map_or(msg.as_str(), |(m, _)| m);
-    let code = inner
-        .strip_suffix(')')
-        .and_then(|m| m.rsplit_once("(os error "))
-        .and_then(|(_, n)| n.parse::<i32>().ok());
-    match code {
-        Some(code) => std::io::Error::from_raw_os_error(code),
-        None => std::io::Error::new(e.kind(), inner.to_owned()),
-    }
-}
-
 /// Renames a finished temporary file over `path`; on failure the temporary
 /// file is removed.
-pub(crate) fn persist(temp: NamedTempFile, path: &Path) -> Result<()> {
-    temp.persist(path)
-        .map(drop)
-        .map_err(|e| Error::write(path, plain_io_error(e.error)))
+pub(crate) fn persist(temp: TempFile, path: &Path) -> Result<()> {
+    temp.persist(path).map_err(|e| Error::write(path, e))
 }
 
 /// The files of one run, written to temporary files as they are staged and
@@ -263,7 +304,7 @@ pub struct Outputs<'a> {
 /// A staged output: its complete temporary file, or its bytes.
 #[derive(Debug)]
 enum Staged {
-    File(NamedTempFile),
+    File(TempFile),
     Bytes(Vec<u8>),
 }
 
@@ -388,7 +429,7 @@ impl<'a> Outputs<'a> {
                     .into(),
             ));
         }
-        let staged: Vec<(NamedTempFile, PathBuf)> = self
+        let staged: Vec<(TempFile, PathBuf)> = self
             .staged
             .into_iter()
             .filter_map(|(s, t)| match s {
@@ -405,7 +446,7 @@ impl<'a> Outputs<'a> {
         }
         // A second name for every existing target, made before any rename,
         // from which it can be put back.
-        let mut backups: Vec<Option<TempPath>> = Vec::with_capacity(staged.len());
+        let mut backups: Vec<Option<TempFile>> = Vec::with_capacity(staged.len());
         for (_, target) in &staged {
             backups.push(if target.is_file() {
                 Some(backup(target)?)
@@ -416,7 +457,7 @@ impl<'a> Outputs<'a> {
         let n = staged.len();
         for (k, (temp, target)) in staged.into_iter().enumerate() {
             if let Err(e) = temp.persist(&target) {
-                let failed = plain_io_error(e.error);
+                let failed = e;
                 return Err(roll_back(&targets[..k], &mut backups, &target, failed, n));
             }
         }
@@ -426,9 +467,11 @@ impl<'a> Outputs<'a> {
 }
 
 /// A second name beside `target` for the same file (a hard link, or a copy).
-fn backup(target: &Path) -> Result<TempPath> {
+fn backup(target: &Path) -> Result<TempFile> {
     let made = beside(target, ".old", |p| {
-        fs::hard_link(target, p).or_else(|_| fs::copy(target, p).map(drop))
+        fs::hard_link(target, p)
+            .or_else(|_| fs::copy(target, p).map(drop))
+            .map(|()| None)
     })
     .map_err(|e| {
         Error::write(
@@ -438,14 +481,14 @@ fn backup(target: &Path) -> Result<TempPath> {
             )),
         )
     })?;
-    Ok(made.into_temp_path())
+    Ok(made)
 }
 
 /// Puts back the targets already replaced (`done`, in order) after the
 /// rename over `failed_target` failed; returns the error to report.
 fn roll_back(
     done: &[PathBuf],
-    backups: &mut [Option<TempPath>],
+    backups: &mut [Option<TempFile>],
     failed_target: &Path,
     failed: std::io::Error,
     n: usize,
@@ -453,11 +496,11 @@ fn roll_back(
     let mut not_restored = Vec::new();
     for (target, b) in done.iter().zip(backups.iter_mut()) {
         match b.take() {
-            Some(old) => match fs::rename(&old, target) {
+            Some(old) => match fs::rename(&old.path, target) {
                 // Its name now belongs to the target again: nothing to remove.
                 Ok(()) => drop(old.keep()),
                 Err(e) => {
-                    let kept = old.keep().unwrap_or_default();
+                    let kept = old.keep();
                     not_restored.push(format!(
                         "{} could not be restored ({e}; its old contents are in {})",
                         target.display(),

@@ -7,18 +7,8 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::image::envimage::{check_size, RgbImage};
-use crate::image::io::{decode_error, FileFormat, Source, SourceFormat, View};
+use crate::image::io::{decode_error, ExrPrecision, FileFormat, Source, SourceFormat, View};
 use crate::image::metadata;
-
-/// Sample type of OpenEXR output.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum ExrPrecision {
-    /// 32-bit float: every value kept bit for bit.
-    #[default]
-    F32,
-    /// 16-bit half float: half the size; values above 65504 become infinite.
-    F16,
-}
 
 fn exr_has(header: &::exr::meta::header::Header, name: &str) -> bool {
     header.channels.list.iter().any(|c| c.name.eq(name))

@@ -62,11 +62,13 @@
 //! [`NonFinite`]).
 
 use std::fs::File;
+#[cfg(any(feature = "exr", feature = "image"))]
 use std::io::BufReader;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
+#[cfg(feature = "image")]
 use ::image::{DynamicImage, ImageDecoder, ImageReader};
 use envmap_core::AnyMapping;
 
@@ -74,21 +76,36 @@ use crate::cancel::{self, Cancellable};
 use crate::error::{Error, Result};
 use crate::image::atomic::TempWriter;
 use crate::image::convention::FileAxes;
-use crate::image::envimage::{check_size, EnvImage, RgbImage, DEFAULT_MAX_TEXELS};
+#[cfg(feature = "image")]
+use crate::image::envimage::check_size;
+use crate::image::envimage::{EnvImage, RgbImage, DEFAULT_MAX_TEXELS};
+#[cfg(feature = "exr")]
+use crate::image::exr;
 use crate::image::face_ops::FaceTransforms;
 use crate::image::layout::{resolve, Layout, Representation};
 use crate::image::metadata::FileMetadata;
 use crate::image::texel::Clamped;
 use crate::image::texture::{self, Texture, TextureKind, TextureOptions};
-use crate::image::{exr, faces, hdr, metadata, png_jpeg};
+use crate::image::{faces, metadata};
+#[cfg(feature = "image")]
+use crate::image::{hdr, png_jpeg};
 
 pub use crate::image::atomic::{MemoryFile, Outputs};
-pub use crate::image::exr::ExrPrecision;
 pub use crate::image::faces::{
     face_name, face_of_name, face_paths, face_paths_named, is_face_pattern, FaceName, FaceNames,
     FACE_PLACEHOLDER,
 };
 pub use crate::image::srgb::{linear_to_srgb, linear_to_srgb8, srgb_to_linear};
+
+/// Sample type of OpenEXR output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ExrPrecision {
+    /// 32-bit float: every value kept bit for bit.
+    #[default]
+    F32,
+    /// 16-bit half float: half the size; values above 65504 become infinite.
+    F16,
+}
 
 /// An image file format, chosen by extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -148,6 +165,50 @@ impl FileFormat {
             FileFormat::Ktx2 => "KTX2",
             FileFormat::Dds => "DDS",
             FileFormat::Ktx => "KTX 1",
+        }
+    }
+
+    /// The Cargo feature of `envmap-render` that reads and writes the
+    /// format: `image` (PNG, JPEG, Radiance), `exr`, `ktx2`, `dds`, `ktx1`.
+    #[must_use]
+    pub const fn feature(self) -> &'static str {
+        match self {
+            FileFormat::Png | FileFormat::Jpeg | FileFormat::Hdr => "image",
+            FileFormat::Exr => "exr",
+            FileFormat::Ktx2 => "ktx2",
+            FileFormat::Dds => "dds",
+            FileFormat::Ktx => "ktx1",
+        }
+    }
+
+    /// Whether this build reads and writes the format (its
+    /// [`FileFormat::feature`] on).
+    #[must_use]
+    pub const fn is_enabled(self) -> bool {
+        match self {
+            FileFormat::Png | FileFormat::Jpeg | FileFormat::Hdr => cfg!(feature = "image"),
+            FileFormat::Exr => cfg!(feature = "exr"),
+            FileFormat::Ktx2 => cfg!(feature = "ktx2"),
+            FileFormat::Dds => cfg!(feature = "dds"),
+            FileFormat::Ktx => cfg!(feature = "ktx1"),
+        }
+    }
+
+    /// [`Error::FormatDisabled`] for `path` unless the format
+    /// [`is enabled`](FileFormat::is_enabled).
+    ///
+    /// # Errors
+    ///
+    /// The format's feature is off.
+    pub fn check_enabled(self, path: &Path) -> Result<()> {
+        if self.is_enabled() {
+            Ok(())
+        } else {
+            Err(Error::FormatDisabled {
+                path: path.to_path_buf(),
+                format: self.name(),
+                feature: self.feature(),
+            })
         }
     }
 
@@ -345,8 +406,36 @@ fn guarded<T>(path: &Path, format: FileFormat, f: impl FnOnce() -> Result<T>) ->
     })
 }
 
-/// What the readers read: the file, failing once the cancel flag is set.
-pub(super) type Source<'a> = Cancellable<'a, File>;
+/// What the readers read: the file (or the caller's bytes), failing once
+/// the cancel flag is set.
+pub(super) type Source<'a> = Cancellable<'a, Input<'a>>;
+
+/// A reader's bytes: a file, or a buffer in memory ([`load_from_memory`]).
+#[derive(Debug)]
+pub(crate) enum Input<'a> {
+    /// An open file.
+    File(File),
+    /// The caller's bytes.
+    Memory(std::io::Cursor<&'a [u8]>),
+}
+
+impl std::io::Read for Input<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        match self {
+            Input::File(f) => f.read(buf),
+            Input::Memory(m) => m.read(buf),
+        }
+    }
+}
+
+impl std::io::Seek for Input<'_> {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        match self {
+            Input::File(f) => f.seek(pos),
+            Input::Memory(m) => m.seek(pos),
+        }
+    }
+}
 
 fn open<'a>(path: &Path, cancel: Option<&'a AtomicBool>) -> Result<Source<'a>> {
     let file = File::open(path).map_err(|e| Error::read(path, e))?;
@@ -357,7 +446,7 @@ fn open<'a>(path: &Path, cancel: Option<&'a AtomicBool>) -> Result<Source<'a>> {
         )),
         _ => Ok(file),
     }?;
-    Ok(Cancellable::new(file, cancel))
+    Ok(Cancellable::new(Input::File(file), cancel))
 }
 
 /// The size of an image file, from its header alone.
@@ -367,19 +456,27 @@ pub fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
         let t = texture::read(path, u64::MAX, None)?;
         return Ok(level0_size(&t));
     }
+    format.check_enabled(path)?;
     let file = open(path, None)?;
+    #[allow(unreachable_patterns)]
     guarded(path, format, || match format {
+        #[cfg(feature = "exr")]
         FileFormat::Exr => {
             let meta = ::exr::meta::MetaData::read_from_buffered(BufReader::new(file), false)
                 .map_err(|e| decode_error(path, format, e))?;
             let header = exr::rgb_header(path, &meta)?;
             exr::exr_size(path, header)
         }
-        _ => {
+        #[cfg(feature = "image")]
+        FileFormat::Png | FileFormat::Jpeg | FileFormat::Hdr => {
             let reader = ImageReader::with_format(BufReader::new(file), image_format(format));
             reader
                 .into_dimensions()
                 .map_err(|e| decode_error(path, format, e))
+        }
+        _ => {
+            drop(file);
+            Err(Error::Input(format!("{}: no decoder", path.display())))
         }
     })
 }
@@ -400,15 +497,80 @@ pub fn read_rgb(
         return Ok(texture_level0(t, format));
     }
     let file = open(path, cancel)?;
+    decode_rgb(path, format, file, max_texels, cancel)
+}
+
+/// Decodes an image file's bytes from `file` (named `path` in errors).
+fn decode_rgb(
+    path: &Path,
+    format: FileFormat,
+    file: Source<'_>,
+    max_texels: u64,
+    cancel: Option<&AtomicBool>,
+) -> Result<(RgbImage, SourceFormat)> {
+    format.check_enabled(path)?;
+    #[allow(unreachable_patterns)]
     let read = guarded(path, format, || match format {
+        #[cfg(feature = "exr")]
         FileFormat::Exr => exr::read(path, file, max_texels),
+        #[cfg(feature = "image")]
         FileFormat::Hdr => hdr::read(path, file, max_texels),
+        #[cfg(feature = "image")]
         FileFormat::Png | FileFormat::Jpeg => png_jpeg::read(path, file, format, max_texels),
-        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => unreachable!("read above"),
+        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => Err(Error::Input(format!(
+            "{}: texture files are read whole (texture::decode)",
+            path.display()
+        ))),
+        _ => {
+            drop((file, max_texels));
+            Err(Error::Input(format!("{}: no decoder", path.display())))
+        }
     });
     cancel::or_cancelled(read, cancel)
 }
 
+/// Loads an environment map from a file's bytes already in memory (an
+/// asset packed in a game, a download): the format from `name`'s extension
+/// (`"studio.hdr"`), which also names it in errors; everything else as
+/// [`load_detailed`] (the representation from `opts`, the file's own tags,
+/// else its aspect ratio). Nothing on disk is read. A six-file cube is not
+/// read this way (load each face and assemble them, or use files).
+///
+/// ```
+/// use envmap_render::io::{load_from_memory, LoadOptions};
+/// // A 2 × 1 Radiance file: a latlong of two texels.
+/// let mut hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n".to_vec();
+/// hdr.extend_from_slice(&[128, 128, 128, 129, 128, 128, 128, 129]);
+/// let loaded = load_from_memory(&hdr, "tiny.hdr", &LoadOptions::default())?;
+/// assert_eq!((loaded.image.width(), loaded.image.height()), (2, 1));
+/// assert_eq!(loaded.image.pixels()[0], [1.0, 1.0, 1.0]);
+/// # Ok::<(), envmap_render::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`load_detailed`]: an unknown extension, a file that does not decode
+/// or is larger than `opts.max_texels`, a size no mapping fits,
+/// [`Error::Cancelled`].
+pub fn load_from_memory(bytes: &[u8], name: &str, opts: &LoadOptions) -> Result<Loaded> {
+    let path = Path::new(name);
+    cancel::check(opts.cancel)?;
+    let format = FileFormat::from_path(path)?;
+    let (rgb, source) = if format.is_texture() {
+        let t = guarded(path, format, || {
+            texture::decode(path, bytes, opts.max_texels)
+        })?;
+        texture_level0(t, format)
+    } else {
+        let source = Cancellable::new(Input::Memory(std::io::Cursor::new(bytes)), opts.cancel);
+        decode_rgb(path, format, source, opts.max_texels, opts.cancel)?
+    };
+    let mut loaded = finish_load(path, rgb, source, opts)?;
+    loaded.files.clear();
+    Ok(loaded)
+}
+
+#[cfg(feature = "image")]
 fn image_format(format: FileFormat) -> ::image::ImageFormat {
     match format {
         FileFormat::Png => ::image::ImageFormat::Png,
@@ -453,6 +615,7 @@ fn texture_level0(t: texture::TextureFile, format: FileFormat) -> (RgbImage, Sou
 
 /// Decodes a PNG, JPEG or Radiance file with the `image` crate, after
 /// checking its size from the header against `max_texels`.
+#[cfg(feature = "image")]
 pub(super) fn decode_with_image(
     path: &Path,
     file: Source<'_>,
@@ -476,6 +639,7 @@ pub(super) fn decode_with_image(
 
 /// Interleaved samples with `channels` per texel → RGB (grey replicated,
 /// alpha dropped).
+#[cfg(feature = "image")]
 pub(super) fn expand<T: Copy>(raw: &[T], channels: usize, f: impl Fn(T) -> f32) -> Vec<[f32; 3]> {
     if channels < 3 {
         raw.chunks_exact(channels)
@@ -518,7 +682,19 @@ pub fn load_detailed(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<Loade
     if loads_six_files(path, opts) {
         return faces::load(path, opts);
     }
-    let (mut rgb, source) = read_rgb(path, opts.max_texels, opts.cancel)?;
+    let (rgb, source) = read_rgb(path, opts.max_texels, opts.cancel)?;
+    finish_load(path, rgb, source, opts)
+}
+
+/// A decoded file made an [`EnvImage`]: non-finite texels, the
+/// representation (the caller's, the file's, the aspect ratio's), the face
+/// transforms.
+fn finish_load(
+    path: &Path,
+    mut rgb: RgbImage,
+    source: SourceFormat,
+    opts: &LoadOptions,
+) -> Result<Loaded> {
     let replaced = apply_non_finite(&mut rgb.pixels, opts.non_finite);
     let metadata = FileMetadata::from_tags(&source.tags);
     let (w, h) = (rgb.width, rgb.height);
@@ -569,6 +745,7 @@ pub fn load_detailed(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<Loade
 
 /// A borrowed RGB image to encode.
 #[derive(Clone, Copy)]
+#[cfg_attr(not(any(feature = "exr", feature = "image")), allow(dead_code))]
 pub(super) struct View<'a> {
     pub(super) width: u32,
     pub(super) height: u32,
@@ -722,20 +899,30 @@ pub(super) fn encode(
     opts: &SaveOptions,
     out: &mut TempWriter<'_>,
 ) -> Result<()> {
+    format.check_enabled(path)?;
+    #[allow(unreachable_patterns)]
     match format {
+        #[cfg(feature = "image")]
         FileFormat::Png | FileFormat::Jpeg => {
             png_jpeg::encode(path, format, view, opts.exposure, out)
         }
+        #[cfg(feature = "image")]
         FileFormat::Hdr => hdr::encode(path, view, out),
+        #[cfg(feature = "exr")]
         FileFormat::Exr => exr::encode(path, view, opts.exr_precision, out),
         FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => Err(Error::Input(
             "texture files are staged whole (Outputs::stage_texture)".into(),
         )
         .in_file(path)),
+        _ => {
+            let _ = (view, opts, out);
+            Err(Error::Input(format!("{}: no encoder", path.display())))
+        }
     }
 }
 
 /// An encoder's error: a write error when it was I/O, an encoding one otherwise.
+#[cfg(feature = "image")]
 pub(super) fn encode_error(path: &Path, format: FileFormat, e: ::image::ImageError) -> Error {
     match e {
         ::image::ImageError::IoError(io) => Error::write(path, io),

@@ -36,7 +36,7 @@
 
 use std::path::Path;
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use crate::error::{Error, Result};
 use crate::image::envimage::RgbImage;
@@ -208,7 +208,7 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
                 let c = tex.pack_level_into(p, format, &mut raw);
                 compress(&raw, level).map(|z| (z, c))
             };
-            let (first, rest) = rayon::join(
+            let (first, rest) = crate::par::join(
                 || one(0),
                 || {
                     (1..n)
@@ -301,7 +301,7 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
 #[cfg(feature = "zstd")]
 fn compress(raw: &[u8], level: i32) -> std::io::Result<Vec<u8>> {
     use zstd::zstd_safe::CParameter;
-    let workers = rayon::current_num_threads().min(raw.len() >> 20) as u32;
+    let workers = crate::par::current_num_threads().min(raw.len() >> 20) as u32;
     let mut c = zstd::bulk::Compressor::new(level)?;
     if workers > 1 {
         c.set_parameter(CParameter::NbWorkers(workers))?;

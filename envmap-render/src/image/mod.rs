@@ -29,17 +29,23 @@
 
 mod atomic;
 pub mod convention;
+#[cfg(feature = "dds")]
 pub mod dds;
 mod envimage;
+#[cfg(feature = "exr")]
 mod exr;
 pub mod face_ops;
 mod faces;
+#[cfg(feature = "image")]
 mod hdr;
 pub mod io;
+#[cfg(feature = "ktx1")]
 pub mod ktx1;
+#[cfg(feature = "ktx2")]
 pub mod ktx2;
 pub mod layout;
 pub mod metadata;
+#[cfg(feature = "image")]
 mod png_jpeg;
 mod srgb;
 pub mod texel;

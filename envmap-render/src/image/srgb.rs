@@ -54,6 +54,7 @@ fn srgb8_thresholds() -> &'static [f32; 255] {
     })
 }
 
+#[cfg(feature = "image")]
 pub(super) fn srgb8_lut() -> &'static [f32; 256] {
     static T: OnceLock<[f32; 256]> = OnceLock::new();
     T.get_or_init(|| {
@@ -65,6 +66,7 @@ pub(super) fn srgb8_lut() -> &'static [f32; 256] {
     })
 }
 
+#[cfg(feature = "image")]
 pub(super) fn srgb16_lut() -> &'static [f32] {
     static T: OnceLock<Vec<f32>> = OnceLock::new();
     T.get_or_init(|| {

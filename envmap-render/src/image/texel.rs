@@ -16,9 +16,6 @@
 //! filtering spreads as NaN), below zero for the unsigned formats, and NaN
 //! (written as 0). RGBA32F stores every f32 as is.
 
-use half::f16;
-use half::slice::HalfFloatSliceExt;
-
 /// A texel format a GPU samples directly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TexelFormat {
@@ -50,6 +47,15 @@ pub struct Clamped {
     pub below: u64,
     /// NaN components, written as 0.
     pub nan: u64,
+}
+
+impl std::iter::Sum for Clamped {
+    fn sum<I: Iterator<Item = Clamped>>(iter: I) -> Clamped {
+        iter.fold(Clamped::default(), |mut a, b| {
+            a.add(b);
+            a
+        })
+    }
 }
 
 impl Clamped {
@@ -333,7 +339,7 @@ impl TexelFormat {
     ///
     /// If `out` has another length.
     pub fn pack_into(self, texels: &[[f32; 3]], out: &mut [u8]) -> Clamped {
-        use rayon::prelude::*;
+        use crate::par::*;
         const BLOCK: usize = 16 * 1024;
         assert_eq!(out.len(), texels.len() * self.bytes(), "packed length");
         if texels.len() <= BLOCK {
@@ -343,10 +349,7 @@ impl TexelFormat {
             .par_chunks(BLOCK)
             .zip(out.par_chunks_mut(BLOCK * self.bytes()))
             .map(|(t, o)| self.pack_block(t, o))
-            .reduce(Clamped::default, |mut a, b| {
-                a.add(b);
-                a
-            })
+            .sum()
     }
 
     /// [`TexelFormat::pack_into`] on one thread.
@@ -360,7 +363,7 @@ impl TexelFormat {
                 const RUN: usize = 256;
                 let ch = n / 2;
                 let mut f = [0f32; 4 * RUN];
-                let mut h = [f16::ZERO; 4 * RUN];
+                let mut h = [0u16; 4 * RUN];
                 for (t, o) in texels.chunks(RUN).zip(out.chunks_mut(RUN * n)) {
                     let k = t.len() * ch;
                     for (i, px) in t.iter().enumerate() {
@@ -371,9 +374,9 @@ impl TexelFormat {
                             f[i * 4 + 3] = 1.0;
                         }
                     }
-                    h[..k].convert_from_f32_slice(&f[..k]);
+                    f16::from_f32_slice(&f[..k], &mut h[..k]);
                     for (b, v) in o.chunks_exact_mut(2).zip(&h[..k]) {
-                        b.copy_from_slice(&v.to_bits().to_le_bytes());
+                        b.copy_from_slice(&v.to_le_bytes());
                     }
                 }
             }
@@ -405,7 +408,7 @@ impl TexelFormat {
     /// alpha.
     #[must_use]
     pub fn unpack(self, bytes: &[u8]) -> Vec<[f32; 3]> {
-        use rayon::prelude::*;
+        use crate::par::*;
         const BLOCK: usize = 16 * 1024;
         let n = self.bytes();
         let mut out = vec![[0f32; 3]; bytes.len() / n];
@@ -427,14 +430,14 @@ impl TexelFormat {
             TexelFormat::Rgba16f | TexelFormat::Rgb16f => {
                 const RUN: usize = 256;
                 let ch = n / 2;
-                let mut h = [f16::ZERO; 4 * RUN];
+                let mut h = [0u16; 4 * RUN];
                 let mut f = [0f32; 4 * RUN];
                 for (b, o) in bytes.chunks(RUN * n).zip(out.chunks_mut(RUN)) {
                     let k = o.len() * ch;
                     for (v, c) in h[..k].iter_mut().zip(b.chunks_exact(2)) {
-                        *v = f16::from_bits(u16::from_le_bytes([c[0], c[1]]));
+                        *v = u16::from_le_bytes([c[0], c[1]]);
                     }
-                    h[..k].convert_to_f32_slice(&mut f[..k]);
+                    f16::to_f32_slice(&h[..k], &mut f[..k]);
                     for (i, px) in o.iter_mut().enumerate() {
                         *px = [f[i * ch], f[i * ch + 1], f[i * ch + 2]];
                     }
@@ -479,7 +482,126 @@ fn clamp_counted(v: f32, lo: f32, hi: f32, c: &mut Clamped) -> f32 {
 /// nearest even (`half`).
 #[must_use]
 pub fn pack_f16(v: f32, c: &mut Clamped) -> u16 {
-    f16::from_f32(clamp_counted(v, -F16_MAX, F16_MAX, c)).to_bits()
+    f16::from_f32(clamp_counted(v, -F16_MAX, F16_MAX, c))
+}
+
+/// binary16 conversions (IEEE 754-2008 §3.6; rounding to nearest, ties to
+/// even): the `half` crate's, which use the CPU's F16C where it has it,
+/// in builds with a format that stores half floats (`exr`, `ktx2`, `dds`,
+/// `ktx1`); otherwise envmap's own, which agree with `half`'s bit for bit
+/// (`own_f16_conversion_is_halfs` below; NaN payloads aside).
+pub(crate) mod f16 {
+    #[cfg(any(feature = "exr", feature = "ktx2", feature = "dds", feature = "ktx1"))]
+    mod imp {
+        use half::slice::{HalfBitsSliceExt, HalfFloatSliceExt};
+
+        pub(crate) fn from_f32(v: f32) -> u16 {
+            half::f16::from_f32(v).to_bits()
+        }
+
+        pub(crate) fn from_f32_slice(f: &[f32], out: &mut [u16]) {
+            let out: &mut [half::f16] = out.reinterpret_cast_mut();
+            out.convert_from_f32_slice(f);
+        }
+
+        pub(crate) fn to_f32_slice(h: &[u16], out: &mut [f32]) {
+            let h: &[half::f16] = h.reinterpret_cast();
+            h.convert_to_f32_slice(out);
+        }
+    }
+
+    #[cfg(not(any(feature = "exr", feature = "ktx2", feature = "dds", feature = "ktx1")))]
+    mod imp {
+        pub(crate) fn from_f32(v: f32) -> u16 {
+            super::own_from_f32(v)
+        }
+
+        pub(crate) fn from_f32_slice(f: &[f32], out: &mut [u16]) {
+            for (o, &v) in out.iter_mut().zip(f) {
+                *o = super::own_from_f32(v);
+            }
+        }
+
+        pub(crate) fn to_f32_slice(h: &[u16], out: &mut [f32]) {
+            for (o, &v) in out.iter_mut().zip(h) {
+                *o = super::own_to_f32(v);
+            }
+        }
+    }
+
+    pub(crate) use imp::{from_f32, from_f32_slice, to_f32_slice};
+
+    /// f32 → binary16 bits, rounded to nearest, ties to even; beyond
+    /// 65504 (after rounding) infinite; NaN stays NaN.
+    #[cfg_attr(
+        any(feature = "exr", feature = "ktx2", feature = "dds", feature = "ktx1"),
+        allow(dead_code)
+    )]
+    pub(crate) fn own_from_f32(v: f32) -> u16 {
+        let x = v.to_bits();
+        let sign = ((x >> 16) & 0x8000) as u16;
+        let exp = ((x >> 23) & 0xff) as i32;
+        let man = x & 0x7f_ffff;
+        if exp == 0xff {
+            let nan = if man != 0 {
+                0x200 | (man >> 13) as u16
+            } else {
+                0
+            };
+            return sign | 0x7c00 | nan;
+        }
+        let e = exp - 127 + 15;
+        if e >= 0x1f {
+            return sign | 0x7c00;
+        }
+        if e <= 0 {
+            // Subnormal (or zero) in binary16: the 24-bit significand
+            // shifted right by 14 − e, rounded to nearest even.
+            if e < -10 {
+                return sign;
+            }
+            let m = man | 0x80_0000;
+            let shift = (14 - e) as u32;
+            let rest = m & ((1 << shift) - 1);
+            let halfway = 1 << (shift - 1);
+            let mut h = m >> shift;
+            if rest > halfway || (rest == halfway && h & 1 == 1) {
+                h += 1;
+            }
+            return sign | h as u16;
+        }
+        let rest = man & 0x1fff;
+        let mut h = ((e as u32) << 10) | (man >> 13);
+        // A carry out of the mantissa raises the exponent (to infinity past
+        // the largest finite value), as it should.
+        if rest > 0x1000 || (rest == 0x1000 && h & 1 == 1) {
+            h += 1;
+        }
+        sign | h as u16
+    }
+
+    /// binary16 bits → f32, exactly.
+    #[cfg_attr(
+        any(feature = "exr", feature = "ktx2", feature = "dds", feature = "ktx1"),
+        allow(dead_code)
+    )]
+    pub(crate) fn own_to_f32(h: u16) -> f32 {
+        let sign = u32::from(h & 0x8000) << 16;
+        let exp = u32::from((h >> 10) & 0x1f);
+        let man = u32::from(h & 0x3ff);
+        let bits = match (exp, man) {
+            (0, 0) => sign,
+            (0, m) => {
+                // m × 2⁻²⁴, normalised: its top bit p (0–9) is the
+                // implicit one.
+                let p = 31 - m.leading_zeros();
+                sign | ((p + 103) << 23) | ((m << (23 - p)) & 0x7f_ffff)
+            }
+            (0x1f, m) => sign | 0x7f80_0000 | (m << 13),
+            (e, m) => sign | ((e + 112) << 23) | (m << 13),
+        };
+        f32::from_bits(bits)
+    }
 }
 
 /// ⌊log₂ v⌋ for a positive finite f32, exactly (from its bits).
@@ -728,7 +850,54 @@ mod tests {
             TexelFormat::Rgba16f.unpack(&out),
             vec![[65504.0, -65504.0, 65504.0]]
         );
-        assert_eq!(&out[6..8], &f16::ONE.to_bits().to_le_bytes());
+        assert_eq!(&out[6..8], &0x3c00u16.to_le_bytes());
+    }
+
+    /// envmap's own binary16 conversions (for builds without `half`) give
+    /// `half`'s bits: every binary16 value back to f32, and f32 values
+    /// spread over every exponent (a stride through all 2³² bit patterns)
+    /// and every rounding case near the binary16 grid to binary16.
+    #[test]
+    #[cfg(any(feature = "exr", feature = "ktx2", feature = "dds", feature = "ktx1"))]
+    fn own_f16_conversion_is_halfs() {
+        use super::f16::{own_from_f32, own_to_f32};
+        for h in 0..=u16::MAX {
+            let want = half::f16::from_bits(h).to_f32();
+            let got = own_to_f32(h);
+            if want.is_nan() {
+                assert!(got.is_nan(), "{h:#06x}");
+            } else {
+                assert_eq!(got.to_bits(), want.to_bits(), "{h:#06x}");
+            }
+        }
+        let check = |v: f32| {
+            let want = half::f16::from_f32(v).to_bits();
+            let got = own_from_f32(v);
+            if v.is_nan() {
+                assert!(got & 0x7c00 == 0x7c00 && got & 0x3ff != 0, "{v:e}");
+            } else {
+                assert_eq!(got, want, "{v:e} ({:#010x})", v.to_bits());
+            }
+        };
+        for b in (0..=u32::MAX).step_by(4099) {
+            check(f32::from_bits(b));
+        }
+        // Each binary16 value, the midpoints beside it and one f32 ulp
+        // either side of those: the ties and their neighbours.
+        for h in 0..0x7c00u16 {
+            let v = half::f16::from_bits(h).to_f32();
+            let next = half::f16::from_bits(h + 1).to_f32();
+            let mid = f32::midpoint(v, next);
+            for x in [
+                v,
+                mid,
+                f32::from_bits(mid.to_bits() - 1),
+                f32::from_bits(mid.to_bits() + 1),
+            ] {
+                check(x);
+                check(-x);
+            }
+        }
     }
 
     /// A deterministic stream of values spread over many octaves.

@@ -18,6 +18,7 @@ use envmap_core::{AnyMapping, Atlas};
 
 use crate::error::{Error, Result};
 use crate::image::envimage::{EnvImage, RgbImage};
+use crate::image::io::FileFormat;
 use crate::image::layout::{resolve, Representation};
 use crate::image::texel::{Clamped, TexelFormat};
 
@@ -554,12 +555,7 @@ pub fn read(
     crate::cancel::check(cancel)?;
     let container = container_of(path);
     if container == Some("KTX 1") {
-        return Err(Error::Decode {
-            path: path.to_path_buf(),
-            format: "KTX 1",
-            message: "KTX 1 files are written (for Filament), not read; read its KTX2 or DDS twin"
-                .into(),
-        });
+        return Err(ktx1_is_written(path));
     }
     let len = std::fs::metadata(path)
         .map_err(|e| Error::read(path, e))?
@@ -575,14 +571,48 @@ pub fn read(
     }
     let bytes = std::fs::read(path).map_err(|e| Error::read(path, e))?;
     crate::cancel::check(cancel)?;
-    match container {
-        Some("KTX2") => crate::image::ktx2::decode(path, &bytes, max_texels),
-        Some("DDS") => crate::image::dds::decode(path, &bytes, max_texels),
-        _ => Err(Error::Input(format!(
+    decode(path, &bytes, max_texels)
+}
+
+/// The error for reading a KTX 1 file.
+fn ktx1_is_written(path: &Path) -> Error {
+    Error::Decode {
+        path: path.to_path_buf(),
+        format: "KTX 1",
+        message: "KTX 1 files are written (for Filament), not read; read its KTX2 or DDS twin"
+            .into(),
+    }
+}
+
+/// Decodes a KTX2 or DDS file's `bytes` (the container from `path`'s
+/// extension, which also names it in errors), as [`read`] does a file.
+///
+/// # Errors
+///
+/// Another extension (KTX 1 included: written, not read); what the
+/// container's decoder finds wrong; a texture above `max_texels`.
+pub fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile> {
+    let _ = (bytes, max_texels);
+    match container_of(path) {
+        #[cfg(feature = "ktx2")]
+        Some("KTX2") => crate::image::ktx2::decode(path, bytes, max_texels),
+        #[cfg(feature = "dds")]
+        Some("DDS") => crate::image::dds::decode(path, bytes, max_texels),
+        Some("KTX 1") => Err(ktx1_is_written(path)),
+        Some(_) => Err(disabled(path)),
+        None => Err(Error::Input(format!(
             "{}: not a KTX2 or DDS file name",
             path.display()
         ))),
     }
+}
+
+/// [`Error::FormatDisabled`] for a texture file whose feature is off.
+fn disabled(path: &Path) -> Error {
+    FileFormat::from_path(path)
+        .and_then(|f| f.check_enabled(path))
+        .err()
+        .unwrap_or_else(|| Error::Input(format!("{}: no codec", path.display())))
 }
 
 /// The bytes of `tex` as the file `path` names (KTX2, DDS or KTX 1 by
@@ -592,21 +622,27 @@ pub fn read(
 ///
 /// Another extension; what the format's encoder refuses.
 pub fn encode(tex: &Texture, path: &Path, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
+    let _ = (tex, opts);
     let r = match container_of(path) {
+        #[cfg(feature = "ktx2")]
         Some("KTX2") => crate::image::ktx2::encode(tex, opts),
+        #[cfg(feature = "dds")]
         Some("DDS") => {
             no_zstd(opts, "DDS")?;
             crate::image::dds::encode(tex, opts.format)
         }
+        #[cfg(feature = "ktx1")]
         Some("KTX 1") => {
             no_zstd(opts, "KTX 1")?;
             crate::image::ktx1::encode(tex, opts.format, &[])
         }
-        _ => Err(Error::Input("not a KTX2, DDS or KTX file name".into())),
+        Some(_) => return Err(disabled(path)),
+        None => Err(Error::Input("not a KTX2, DDS or KTX file name".into())),
     };
     r.map_err(|e| e.in_file(path))
 }
 
+#[cfg(any(feature = "dds", feature = "ktx1"))]
 fn no_zstd(opts: TextureOptions, container: &str) -> Result<()> {
     match opts.zstd {
         Some(_) => Err(Error::Input(format!(

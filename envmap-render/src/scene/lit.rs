@@ -480,7 +480,7 @@ impl EnvSampling {
     /// grid (at least 8 × 4) in parallel.
     #[must_use]
     pub fn new(radiance: &(dyn Fn(Vec3) -> [f32; 3] + Sync), width: u32) -> Self {
-        use rayon::prelude::*;
+        use crate::par::*;
         const SUB: usize = 4;
         let width = width.max(8) as usize;
         let height = width / 2;

@@ -1,10 +1,10 @@
 //! Environments defined by a function of direction, evaluated into any
 //! representation.
 
+use crate::par::*;
 use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_center;
 use envmap_core::ChartUv;
-use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::image::{EnvImage, Representation};

@@ -81,11 +81,11 @@
 
 use std::sync::atomic::AtomicBool;
 
+use crate::par::*;
 use envmap_core::glam::{Mat3, Vec3};
 use envmap_core::AnyMapping;
 use envmap_core::{reflect_view, ChartUv};
 use envmap_simd::{forward_slice, Dir8, Fine, Mapping8, Uv8, LANES};
-use rayon::prelude::*;
 use wide::f32x8;
 
 use crate::cancel;
