@@ -165,6 +165,22 @@ impl Default for Preset {
     }
 }
 
+/// `axes` with z negated: the y-up left-handed world of a y-up one (and
+/// back), any other frame times diag(1, 1, −1).
+#[must_use]
+pub fn z_negated(axes: FileAxes) -> FileAxes {
+    use crate::image::convention::World;
+    match axes {
+        FileAxes::Convention(c, World::YUp) => FileAxes::Convention(c, World::YUpLh),
+        FileAxes::Convention(c, World::YUpLh) => FileAxes::Convention(c, World::YUp),
+        other => {
+            let f = other.frame(envmap_core::AnyMapping::Cube);
+            let m = f.matrix() * Mat3::from_diagonal(Vec3::new(1.0, 1.0, -1.0));
+            FileAxes::Frame(Frame::from_mat3(m).unwrap_or(f))
+        }
+    }
+}
+
 /// The GL world with x negated: the axes of cmgen's default (mirrored)
 /// cube files (`CubemapUtils::mirrorCubemap` samples the source at
 /// (−x, y, z)).
@@ -188,9 +204,15 @@ impl Preset {
         match target {
             // Bevy's shipped maps (pisa_*_rgb9e5_zstd.ktx2) and its runtime
             // generator: 512² specular with roughness = mip / (mips − 1),
-            // 32² diffuse, one level; E5B9G9R9 + zstd; a standard KTX cube
-            // (Bevy negates z itself when it samples).
+            // 32² diffuse, one level; E5B9G9R9 + zstd. Bevy reads a cube at
+            // (x, y, −z) of its world direction (`skybox.wgsl`,
+            // `environment_map.wgsl`: "cube maps are left-handed"), so the
+            // cube is written in its world with z negated: Bevy then shows
+            // the environment as envmap renders it (measured on lavapipe,
+            // integrations/bevy/tests/headless.rs: 78 dB; the cube in the
+            // world's own axes shows it mirrored, 18 dB).
             Target::Bevy => Self {
+                axes: z_negated(axes),
                 dfg_size: 0,
                 container: Container::Ktx2,
                 texture: TextureOptions {
@@ -278,5 +300,30 @@ impl Preset {
             )));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::convention::{Convention, World};
+    use envmap_core::AnyMapping;
+
+    /// Bevy's axes are the world's with z negated, however they are named.
+    #[test]
+    fn bevys_axes_negate_z() {
+        let gl = FileAxes::Convention(Convention::Envmap, World::YUp);
+        let bevy = Preset::for_target(Target::Bevy, gl).axes;
+        assert_eq!(bevy, FileAxes::Convention(Convention::Envmap, World::YUpLh));
+        let want =
+            gl.frame(AnyMapping::Cube).matrix() * Mat3::from_diagonal(Vec3::new(1.0, 1.0, -1.0));
+        let got = bevy.frame(AnyMapping::Cube).matrix();
+        assert!(got.abs_diff_eq(want, 1e-6), "{got:?} against {want:?}");
+        let z = FileAxes::Convention(Convention::Envmap, World::ZUp);
+        let zb = z_negated(z).frame(AnyMapping::Cube).matrix();
+        let zw =
+            z.frame(AnyMapping::Cube).matrix() * Mat3::from_diagonal(Vec3::new(1.0, 1.0, -1.0));
+        assert!(zb.abs_diff_eq(zw, 1e-6));
+        assert_eq!(z_negated(z_negated(gl)), gl);
     }
 }

@@ -30,7 +30,7 @@ pub(crate) struct BakeArgs {
     /// Output directory (created if missing; every file of the bake is renamed into it together at the end).
     #[arg(long)]
     pub(crate) out: PathBuf,
-    /// Engine preset: bevy (E5B9G9R9 + zstd KTX2: 512² specular, 32² diffuse), gltf (glTF-IBL-Sampler's RGBA16F KTX2 outputs and BRDF LUT), filament (cmgen's KTX 1 files: <dir>_ibl.ktx, <dir>_skybox.ktx, sh.txt). Sets the format, sizes, levels, roughness rule and orientation; any flag given still overrides its part. See docs/engines.md.
+    /// Engine preset: bevy (E5B9G9R9 + zstd KTX2: 512² specular, 32² diffuse, the cube in Bevy's world with z negated, as Bevy samples it), gltf (glTF-IBL-Sampler's RGBA16F KTX2 outputs and BRDF LUT), filament (cmgen's KTX 1 files: <dir>_ibl.ktx, <dir>_skybox.ktx, sh.txt). Sets the format, sizes, levels, roughness rule and orientation; any flag given still overrides its part. See docs/engines.md.
     #[arg(long, value_parser = parse_target)]
     pub(crate) target: Option<Target>,
     /// Container of the maps: exr (the default without --target: one file per level), ktx2, dds (the whole chain in one file), ktx (KTX 1).

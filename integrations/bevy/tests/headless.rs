@@ -1,0 +1,290 @@
+//! envmap's maps in Bevy, rendered headless on a Vulkan device (Mesa's
+//! lavapipe in CI) and held to envmap's own renders.
+//!
+//! A machine without a Vulkan adapter fails these tests with Bevy's own
+//! message; set `ENVMAP_BEVY_SKIP_GPU=1` to skip them there (a line says so).
+//!
+//! Pictures of each comparison are written to `target/headless/` (PNG,
+//! exposure 0) for a person to look at.
+
+use std::path::PathBuf;
+
+use bevy::light::GlobalAmbientLight;
+use bevy::prelude::*;
+use envmap_bevy::headless::{self, Frame, View};
+use envmap_bevy::{bake_image, EnvironmentImages};
+use envmap_core::AnyMapping;
+use envmap_render::image::{Representation, TexelFormat};
+use envmap_render::mesh::Mesh as EnvMesh;
+use envmap_render::procedural::fill;
+use envmap_render::render::{render, Camera, EnvSource, RenderOptions};
+use envmap_render::{EnvImage, RgbImage};
+
+fn skip() -> bool {
+    if std::env::var_os("ENVMAP_BEVY_SKIP_GPU").is_some() {
+        eprintln!("ENVMAP_BEVY_SKIP_GPU is set: the Bevy render test is skipped");
+        return true;
+    }
+    false
+}
+
+/// Bevy's world (GL: y up, right-handed) in envmap's canonical axes (z up).
+fn to_canonical(v: Vec3) -> envmap_core::glam::Vec3 {
+    envmap_core::glam::Vec3::new(v.x, -v.z, v.y)
+}
+
+/// A smooth environment with no symmetry, given in Bevy's world: a colour
+/// gradient along each axis, a warm blob towards +x, a cool one towards
+/// −z, bands of latitude and longitude. A mirror or a turn moves every
+/// feature.
+fn pattern(d: Vec3) -> [f32; 3] {
+    let d = d.normalize();
+    let blob = |c: Vec3, w: f32| (-(1.0 - d.dot(c.normalize())) / w).exp();
+    let lat = (d.y * 6.0).sin() * 0.5 + 0.5;
+    let lon = (d.z.atan2(d.x) * 3.0).cos() * 0.5 + 0.5;
+    let a = blob(Vec3::new(1.0, 0.3, 0.2), 0.05);
+    let b = blob(Vec3::new(-0.2, 0.1, -1.0), 0.08);
+    [
+        0.2 + 0.6 * (0.5 + 0.5 * d.x) + 2.0 * a + 0.1 * lat,
+        0.2 + 0.6 * (0.5 + 0.5 * d.y) + 0.8 * a + 0.3 * b + 0.1 * lon,
+        0.2 + 0.6 * (0.5 + 0.5 * d.z) + 2.0 * b + 0.1 * lat * lon,
+    ]
+}
+
+/// `f` (of a Bevy-world direction) as a 1024 × 512 latlong in envmap's
+/// canonical frame.
+fn environment(f: impl Fn(Vec3) -> [f32; 3] + Sync) -> EnvImage {
+    fill(
+        Representation::default_for(AnyMapping::LatLong),
+        1024,
+        512,
+        |c: envmap_core::glam::Vec3| f(Vec3::new(c.x, c.z, -c.y)),
+    )
+    .expect("environment")
+}
+
+/// envmap's own render of the background seen by `view` (the object, a
+/// small sphere, behind the camera).
+fn envmap_background(env: &EnvImage, view: View, size: u32) -> RgbImage {
+    let mut sphere = EnvMesh::sphere(0.01, 8, 4);
+    let behind = to_canonical(view.eye - (view.target - view.eye).normalize() * 5.0);
+    for p in &mut sphere.positions {
+        *p += behind;
+    }
+    let cam = Camera {
+        eye: to_canonical(view.eye),
+        target: to_canonical(view.target),
+        up: envmap_core::glam::Vec3::Z,
+        fov_y_deg: view.fov_y_deg,
+    };
+    let opts = RenderOptions {
+        width: size,
+        height: size,
+        ..RenderOptions::default()
+    };
+    render(&sphere, EnvSource::Map(env), &cam, &opts).expect("envmap render")
+}
+
+/// Bevy's skybox of `images` seen by `view`.
+fn bevy_skybox(images: EnvironmentImages, view: View, size: u32) -> Frame {
+    let mut app = headless::app();
+    let world = app.world_mut();
+    let (camera, target) = headless::spawn_camera(world, view, size, size);
+    let (_, sky) = images.into_components(&mut world.resource_mut::<Assets<Image>>(), 1.0);
+    world.entity_mut(camera).insert(sky);
+    headless::capture(&mut app, &target, 3).expect("a frame from Bevy")
+}
+
+/// PSNR (dB) of `got` against `want`, the peak `want`'s largest channel.
+fn psnr(got: &[[f32; 3]], want: &[[f32; 3]]) -> f64 {
+    assert_eq!(got.len(), want.len());
+    let peak = want
+        .iter()
+        .flatten()
+        .fold(0f64, |m, &v| m.max(f64::from(v)));
+    let mse = got
+        .iter()
+        .zip(want)
+        .flat_map(|(a, b)| (0..3).map(move |c| (f64::from(a[c]) - f64::from(b[c])).powi(2)))
+        .sum::<f64>()
+        / (3 * got.len()) as f64;
+    10.0 * (peak * peak / mse).log10()
+}
+
+/// Writes `pixels` as a PNG under `target/headless/` for a person to look at.
+fn keep(name: &str, size: u32, pixels: &[[f32; 3]]) {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/headless");
+    let _ = std::fs::create_dir_all(&dir);
+    let img = RgbImage {
+        width: size,
+        height: size,
+        pixels: pixels.to_vec(),
+    };
+    let _ = envmap_render::io::write_rgb(
+        &img,
+        dir.join(name),
+        &envmap_render::io::SaveOptions::default(),
+    );
+}
+
+const SIZE: u32 = 160;
+
+fn views() -> [View; 2] {
+    [
+        View {
+            eye: Vec3::ZERO,
+            target: Vec3::new(1.0, 0.25, -0.6),
+            fov_y_deg: 70.0,
+        },
+        View {
+            eye: Vec3::new(0.3, 0.1, 0.2),
+            target: Vec3::new(-0.7, -0.4, 1.0),
+            fov_y_deg: 70.0,
+        },
+    ]
+}
+
+/// The skybox of Bevy's preset, as Bevy draws it, equals envmap's render
+/// of the same background; the same files mirrored or turned do not.
+#[test]
+fn the_skybox_is_the_environment_as_envmap_renders_it() {
+    if skip() {
+        return;
+    }
+    let env = environment(pattern);
+    let baked = bake_image(&env, 256).expect("bake");
+    let mirrored =
+        bake_image(&environment(|d| pattern(Vec3::new(-d.x, d.y, d.z))), 256).expect("bake");
+    let zmirror =
+        bake_image(&environment(|d| pattern(Vec3::new(d.x, d.y, -d.z))), 256).expect("bake");
+    let turned =
+        bake_image(&environment(|d| pattern(Vec3::new(d.z, d.y, -d.x))), 256).expect("bake");
+    for (k, view) in views().into_iter().enumerate() {
+        let want = envmap_background(&env, view, SIZE);
+        keep(&format!("skybox{k}-envmap.png"), SIZE, &want.pixels);
+        let mut results = Vec::new();
+        for (name, bake, format) in [
+            ("rgba16f", &baked, TexelFormat::Rgba16f),
+            ("rgb9e5", &baked, TexelFormat::E5b9g9r9),
+            ("mirrored", &mirrored, TexelFormat::Rgba16f),
+            ("turned", &turned, TexelFormat::Rgba16f),
+            ("zmirror", &zmirror, TexelFormat::Rgba16f),
+        ] {
+            let images = EnvironmentImages::from_bake(bake, format).expect("images");
+            let got = bevy_skybox(images, view, SIZE).rgb();
+            keep(&format!("skybox{k}-bevy-{name}.png"), SIZE, &got);
+            let p = psnr(&got, &want.pixels);
+            eprintln!("view {k}: Bevy's skybox ({name}) against envmap's render: {p:.1} dB");
+            results.push((name, p));
+        }
+        for (name, p) in results {
+            match name {
+                "rgba16f" | "rgb9e5" => assert!(p >= 40.0, "view {k}, {name}: {p:.1} dB"),
+                _ => assert!(p < 25.0, "view {k}, {name} should not match: {p:.1} dB"),
+            }
+        }
+    }
+}
+
+/// A white diffuse sphere in a constant environment of radiance L renders
+/// L where it faces the camera: the diffuse map's E/π is what Bevy expects.
+#[test]
+fn a_white_diffuse_sphere_in_a_constant_environment_renders_its_radiance() {
+    if skip() {
+        return;
+    }
+    const L: f32 = 0.5;
+    let env = environment(|_| [L, L, L]);
+    let baked = bake_image(&env, 64).expect("bake");
+    let images = EnvironmentImages::from_bake(&baked, TexelFormat::Rgba16f).expect("images");
+    let mut app = headless::app();
+    let world = app.world_mut();
+    world.insert_resource(GlobalAmbientLight::NONE);
+    let view = View {
+        eye: Vec3::new(0.0, 0.0, 4.0),
+        target: Vec3::ZERO,
+        fov_y_deg: 30.0,
+    };
+    let (camera, target) = headless::spawn_camera(world, view, SIZE, SIZE);
+    let (light, sky) = images.into_components(&mut world.resource_mut::<Assets<Image>>(), 1.0);
+    world.entity_mut(camera).insert((light, sky));
+    let mesh = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Sphere::new(1.0).mesh().uv(64, 32));
+    let material = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: Color::WHITE,
+            perceptual_roughness: 1.0,
+            metallic: 0.0,
+            reflectance: 0.0,
+            ..default()
+        });
+    world.spawn((Mesh3d(mesh), MeshMaterial3d(material), Transform::default()));
+    let frame = headless::capture(&mut app, &target, 3).expect("a frame");
+    let rgb = frame.rgb();
+    keep("furnace-bevy.png", SIZE, &rgb);
+    // The centre (N·V ≈ 1) and the background.
+    let at = |x: u32, y: u32| rgb[(y * SIZE + x) as usize];
+    let centre = at(SIZE / 2, SIZE / 2);
+    let corner = at(2, 2);
+    eprintln!("constant sky L = {L}: sphere centre {centre:?}, background {corner:?}");
+    for c in 0..3 {
+        assert!((corner[c] - L).abs() < 2e-3 * L, "background {corner:?}");
+        assert!(
+            (centre[c] - L).abs() < 0.03 * L,
+            "sphere centre {centre:?} against {L}"
+        );
+    }
+}
+
+/// [`envmap_bevy::EnvmapPlugin`] bakes a 2048 × 1024 HDRI (its `.hdr`
+/// file's bytes) to a 256² chain on the task pool while the app keeps
+/// rendering frames, then gives the camera its light and skybox.
+#[test]
+fn the_plugin_bakes_off_the_main_thread_while_the_app_runs() {
+    if skip() {
+        return;
+    }
+    use envmap_bevy::{BakeEnvironment, BakedEnvironment, EnvmapPlugin};
+    use envmap_render::io::{Outputs, SaveOptions};
+    let sky = envmap_render::environments::Builtin::Sky
+        .image(Representation::default_for(AnyMapping::LatLong), 2048, 1024)
+        .expect("sky");
+    let mut run = Outputs::in_memory(None);
+    run.stage_image(&sky, "sky.hdr", &SaveOptions::default())
+        .expect("encode");
+    let bytes = run.into_memory().expect("bytes").remove(0).bytes;
+    let mut app = headless::app_with(|a| {
+        a.add_plugins(EnvmapPlugin);
+    });
+    let view = View {
+        eye: Vec3::ZERO,
+        target: Vec3::NEG_Z,
+        fov_y_deg: 60.0,
+    };
+    let (camera, _target) = headless::spawn_camera(app.world_mut(), view, 64, 64);
+    let mut request = BakeEnvironment::new(bytes, "sky.hdr");
+    request.size = 256;
+    app.world_mut().entity_mut(camera).insert(request);
+    let start = std::time::Instant::now();
+    let mut frames = 0u32;
+    let baked = loop {
+        app.update();
+        frames += 1;
+        if let Some(b) = app.world().get::<BakedEnvironment>(camera) {
+            break b.clone();
+        }
+        assert!(start.elapsed().as_secs() < 120, "no bake after {frames} frames");
+    };
+    eprintln!(
+        "2048 × 1024 HDRI → 256² chain in Bevy: baked in {:.0} ms on the task pool, {frames} frames rendered meanwhile ({:.0} ms wall)",
+        baked.seconds * 1e3,
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    assert_eq!(baked.error, None);
+    assert!(frames > 1, "the app should keep running while it bakes");
+    let e = app.world().entity(camera);
+    assert!(e.contains::<bevy::light::EnvironmentMapLight>());
+    assert!(e.contains::<bevy::light::Skybox>());
+}
