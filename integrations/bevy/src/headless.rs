@@ -59,9 +59,22 @@ pub fn app() -> App {
 
 /// [`app`] with more plugins, added by `more` before the app is finished.
 pub fn app_with(more: impl FnOnce(&mut App)) -> App {
+    build(None, more)
+}
+
+/// [`app`] whose `AssetServer` reads files under `root`.
+pub fn app_with_assets(root: impl Into<String>) -> App {
+    build(Some(root.into()), |_| {})
+}
+
+fn build(asset_root: Option<String>, more: impl FnOnce(&mut App)) -> App {
     let mut app = App::new();
     app.add_plugins(
         DefaultPlugins
+            .set(AssetPlugin {
+                file_path: asset_root.unwrap_or_else(|| AssetPlugin::default().file_path),
+                ..default()
+            })
             .set(WindowPlugin {
                 primary_window: None,
                 exit_condition: ExitCondition::DontExit,
