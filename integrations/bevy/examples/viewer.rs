@@ -7,8 +7,9 @@
 //!
 //! Without a file, envmap's built-in sky. `--screenshot` renders one frame
 //! headless (no window; a Vulkan device, lavapipe will do), writes it as a
-//! PNG (linear radiance, sRGB-encoded, no tonemapping) and exits. Without it
-//! the viewer opens a window, which needs the crate's `window` feature.
+//! PNG (linear radiance, sRGB-encoded, no tonemapping) and exits. A
+//! windowed mode is not built yet (the crate leaves out Bevy's window
+//! features to keep its build small): `--screenshot` is required.
 
 use std::path::PathBuf;
 
