@@ -596,12 +596,40 @@ fn envmaps_maps_are_closer_to_exact_maps_than_bevys_generated_ones() {
     if skip() {
         return;
     }
-    use bevy::light::GeneratedEnvironmentMapLight;
-    use envmap_render::filter::bake::{bake, BakeOptions};
-    const S: u32 = 96;
     let src = envmap_render::environments::Builtin::Sky
         .image(Representation::default_for(AnyMapping::LatLong), 1024, 512)
         .expect("sky");
+    maps_against_exact(&src, "sky");
+}
+
+/// The same on real HDRIs with suns (`ENVMAP_REAL_HDRIS=DIR`, the files of
+/// `scripts/fetch-hdris.sh`; skipped with a line otherwise): park.exr,
+/// sky.exr, sunrise.exr.
+#[test]
+fn on_real_hdris_envmaps_maps_are_closer_to_exact_maps_than_bevys() {
+    let Some(dir) = std::env::var_os("ENVMAP_REAL_HDRIS") else {
+        eprintln!("ENVMAP_REAL_HDRIS is not set: the real-HDRI map comparison is skipped");
+        return;
+    };
+    if skip() {
+        return;
+    }
+    for name in ["park.exr", "sky.exr", "sunrise.exr"] {
+        let path = PathBuf::from(&dir).join(name);
+        let src = envmap_render::io::load(&path, &envmap_render::io::LoadOptions::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        maps_against_exact(&src, name);
+    }
+}
+
+/// Metal spheres in Bevy with envmap's default maps and with Bevy's
+/// `GeneratedEnvironmentMapLight`, each against Bevy with envmap's exact
+/// maps; asserts envmap's are closer at every roughness.
+fn maps_against_exact(src: &EnvImage, name: &str) {
+    use bevy::light::GeneratedEnvironmentMapLight;
+    use envmap_render::filter::bake::{bake, BakeOptions};
+    const S: u32 = 96;
+    let src = src.clone();
     let size = 128;
     let preset = envmap_bevy::bevy_preset(size);
     let default_maps = bake_image(&src, size).expect("bake");
@@ -644,14 +672,14 @@ fn envmaps_maps_are_closer_to_exact_maps_than_bevys_generated_ones() {
                 20,
             )
         };
-        keep(&format!("maps-{k}-exact.png"), S, &truth);
-        keep(&format!("maps-{k}-envmap.png"), S, &ours);
-        keep(&format!("maps-{k}-generated.png"), S, &generated);
+        keep(&format!("maps-{name}-{k}-exact.png"), S, &truth);
+        keep(&format!("maps-{name}-{k}-envmap.png"), S, &ours);
+        keep(&format!("maps-{name}-{k}-generated.png"), S, &generated);
         let want = masked(&truth, &inside);
         let (eo, bo) = rel_rms_bias(&masked(&ours, &inside), &want);
         let (eg, bg) = rel_rms_bias(&masked(&generated, &inside), &want);
         eprintln!(
-            "sky, metal roughness {roughness:.2}, against Bevy with exact maps: envmap's maps {:.2} % RMS ({:+.2} %), GeneratedEnvironmentMapLight {:.2} % RMS ({:+.2} %)",
+            "{name}, metal roughness {roughness:.2}, against Bevy with exact maps: envmap's maps {:.2} % RMS ({:+.2} %), GeneratedEnvironmentMapLight {:.2} % RMS ({:+.2} %)",
             100.0 * eo,
             100.0 * bo,
             100.0 * eg,
@@ -662,7 +690,7 @@ fn envmaps_maps_are_closer_to_exact_maps_than_bevys_generated_ones() {
     for (r, eo, eg) in rows {
         assert!(
             eo < eg,
-            "roughness {r}: envmap's maps {eo:.4} against Bevy's generated {eg:.4}"
+            "{name}, roughness {r}: envmap's maps {eo:.4} against Bevy's generated {eg:.4}"
         );
     }
 }
