@@ -889,7 +889,7 @@ fn assert_envmaps_maps_are_closer(name: &str, rows: &[Row], to_truth: bool) {
 /// and plastic: Bevy lit by envmap's maps is closer than Bevy's own runtime
 /// filtering to Bevy with exact maps at every roughness; with the sun, also
 /// to the ground truth of Bevy's model. (On the smooth pattern Bevy's
-/// generated maps are within 0.3–2.6 % of the exact ones, far inside the
+/// generated maps are within 0.26–2.6 % of the exact ones, inside the
 /// split sum's own error there, so which of the two lands nearer the
 /// ground truth is a matter of how their small errors fall against that
 /// larger one; the table in docs/engines.md shows it.)
