@@ -489,7 +489,8 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
 
 /// The files `--target bevy` writes, loaded by Bevy's own `AssetServer`
 /// (its KTX2 loader, zstd through `zstd_rust`), are the images envmap-bevy
-/// makes in memory: format, size, layers, mips, cube view and bytes.
+/// makes in memory: format, size, layers, mips, cube view and bytes; for
+/// the preset's RGB9E5 + zstd and for RGBA16F with and without zstd.
 #[test]
 fn the_asset_server_loads_the_preset_files_as_the_images_made_in_memory() {
     if skip() {
@@ -501,24 +502,36 @@ fn the_asset_server_loads_the_preset_files_as_the_images_made_in_memory() {
     let dir = std::env::temp_dir().join(format!("envmap-bevy-assets-{}", std::process::id()));
     let env = environment(pattern);
     let baked = bake_image(&env, 64).expect("bake");
-    let preset = envmap_bevy::bevy_preset(64);
-    let opts = preset.bake_options(BakeOptions::default());
-    bakedir::write(
-        &dir,
-        &baked,
-        &opts,
-        &preset,
-        &Provenance::new("pattern"),
-        &envmap_render::io::SaveOptions::default(),
-    )
-    .expect("write");
+    let cases = [
+        ("rgb9e5-zstd", TexelFormat::E5b9g9r9, Some(3)),
+        ("rgba16f-zstd", TexelFormat::Rgba16f, Some(3)),
+        ("rgba16f", TexelFormat::Rgba16f, None),
+    ];
+    for (sub, format, zstd) in cases {
+        let mut preset = envmap_bevy::bevy_preset(64);
+        preset.texture.format = format;
+        preset.texture.zstd = zstd;
+        let opts = preset.bake_options(BakeOptions::default());
+        bakedir::write(
+            &dir.join(sub),
+            &baked,
+            &opts,
+            &preset,
+            &Provenance::new("pattern"),
+            &envmap_render::io::SaveOptions::default(),
+        )
+        .expect("write");
+    }
     let mut app = headless::app_with_assets(dir.to_string_lossy());
     let server = app.world().resource::<AssetServer>().clone();
-    let specular: Handle<Image> = server.load("specular.ktx2");
-    let diffuse: Handle<Image> = server.load("diffuse.ktx2");
+    let handles: Vec<(String, Handle<Image>)> = cases
+        .iter()
+        .flat_map(|(sub, ..)| ["specular.ktx2", "diffuse.ktx2"].map(|f| format!("{sub}/{f}")))
+        .map(|path| (path.clone(), server.load(path)))
+        .collect();
     for _ in 0..600 {
         app.update();
-        let states = [server.load_state(&specular), server.load_state(&diffuse)];
+        let states: Vec<LoadState> = handles.iter().map(|(_, h)| server.load_state(h)).collect();
         if let Some(LoadState::Failed(e)) =
             states.iter().find(|s| matches!(s, LoadState::Failed(_)))
         {
@@ -529,44 +542,44 @@ fn the_asset_server_loads_the_preset_files_as_the_images_made_in_memory() {
         }
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
-    let ours = EnvironmentImages::from_bake(&baked, TexelFormat::E5b9g9r9).expect("images");
     let images = app.world().resource::<Assets<Image>>();
-    for (name, handle, mine) in [
-        ("specular.ktx2", &specular, &ours.specular),
-        ("diffuse.ktx2", &diffuse, &ours.diffuse),
-    ] {
-        let loaded = images
-            .get(handle)
-            .unwrap_or_else(|| panic!("{name} not loaded"));
-        let (a, b) = (&mine.texture_descriptor, &loaded.texture_descriptor);
-        eprintln!(
-            "AssetServer: {name} is {:?}, {}×{}×{} layers, {} mips, view {:?}",
-            b.format,
-            b.size.width,
-            b.size.height,
-            b.size.depth_or_array_layers,
-            b.mip_level_count,
-            loaded
-                .texture_view_descriptor
-                .as_ref()
-                .and_then(|v| v.dimension)
-        );
-        assert_eq!(
-            (a.format, a.size, a.mip_level_count),
-            (b.format, b.size, b.mip_level_count),
-            "{name}"
-        );
-        assert_eq!(
-            mine.texture_view_descriptor
-                .as_ref()
-                .and_then(|v| v.dimension),
-            loaded
-                .texture_view_descriptor
-                .as_ref()
-                .and_then(|v| v.dimension),
-            "{name}: view"
-        );
-        assert!(mine.data == loaded.data, "{name}: bytes differ");
+    for (k, (_, format, _)) in cases.iter().enumerate() {
+        let ours = EnvironmentImages::from_bake(&baked, *format).expect("images");
+        for (j, mine) in [&ours.specular, &ours.diffuse].into_iter().enumerate() {
+            let (name, handle) = &handles[2 * k + j];
+            let loaded = images
+                .get(handle)
+                .unwrap_or_else(|| panic!("{name} not loaded"));
+            let (a, b) = (&mine.texture_descriptor, &loaded.texture_descriptor);
+            eprintln!(
+                "AssetServer: {name} is {:?}, {}×{}×{} layers, {} mips, view {:?}",
+                b.format,
+                b.size.width,
+                b.size.height,
+                b.size.depth_or_array_layers,
+                b.mip_level_count,
+                loaded
+                    .texture_view_descriptor
+                    .as_ref()
+                    .and_then(|v| v.dimension)
+            );
+            assert_eq!(
+                (a.format, a.size, a.mip_level_count),
+                (b.format, b.size, b.mip_level_count),
+                "{name}"
+            );
+            assert_eq!(
+                mine.texture_view_descriptor
+                    .as_ref()
+                    .and_then(|v| v.dimension),
+                loaded
+                    .texture_view_descriptor
+                    .as_ref()
+                    .and_then(|v| v.dimension),
+                "{name}: view"
+            );
+            assert!(mine.data == loaded.data, "{name}: bytes differ");
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
