@@ -69,26 +69,29 @@ pub fn app_with_assets(root: impl Into<String>) -> App {
 
 fn build(asset_root: Option<String>, more: impl FnOnce(&mut App)) -> App {
     let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(AssetPlugin {
-                file_path: asset_root.unwrap_or_else(|| AssetPlugin::default().file_path),
+    let plugins = DefaultPlugins
+        .set(AssetPlugin {
+            file_path: asset_root.unwrap_or_else(|| AssetPlugin::default().file_path),
+            ..default()
+        })
+        .set(WindowPlugin {
+            primary_window: None,
+            exit_condition: ExitCondition::DontExit,
+            ..default()
+        })
+        .set(RenderPlugin {
+            render_creation: RenderCreation::Automatic(Box::new(WgpuSettings {
+                backends: Some(Backends::VULKAN),
                 ..default()
-            })
-            .set(WindowPlugin {
-                primary_window: None,
-                exit_condition: ExitCondition::DontExit,
-                ..default()
-            })
-            .set(RenderPlugin {
-                render_creation: RenderCreation::Automatic(Box::new(WgpuSettings {
-                    backends: Some(Backends::VULKAN),
-                    ..default()
-                })),
-                synchronous_pipeline_compilation: true,
-                ..default()
-            }),
-    );
+            })),
+            synchronous_pipeline_compilation: true,
+            ..default()
+        });
+    // With the `window` feature, winit would open a display and run its
+    // own loop: a headless app leaves it out.
+    #[cfg(feature = "window")]
+    let plugins = plugins.disable::<bevy::winit::WinitPlugin>();
+    app.add_plugins(plugins);
     more(&mut app);
     while app.plugins_state() == PluginsState::Adding {
         bevy::tasks::tick_global_task_pools_on_main_thread();

@@ -16,6 +16,13 @@
 //!   camera and the bake runs on Bevy's `AsyncComputeTaskPool`; when it is
 //!   done the camera gets its `EnvironmentMapLight` and `Skybox`.
 //!
+//! # Features
+//!
+//! `window` (default): Bevy's winit on X11 with mouse and keyboard, for the
+//! `viewer` example's window. Without it (`default-features = false`) the
+//! crate is the library and the [`headless`] harness, and Bevy is built
+//! without a windowing backend.
+//!
 //! # Conventions
 //!
 //! Bevy's world is y up, right-handed (GL's), and Bevy reads a cube at
