@@ -166,6 +166,41 @@ impl TextureFlags {
     }
 }
 
+/// How files are written, shared by `convert`, `bake` and `render`.
+#[derive(clap::Args, Clone, Copy, Debug)]
+pub(crate) struct WriteFlags {
+    /// Compression of .exr outputs: auto (the default: none for f32, rle for f16), none, rle, zips, zip, piz, pxr24 (lossy for f32), b44, b44a (lossy, f16 only). Lossless codecs save 25–55 % of a real f32 photograph at 10–20 times the write time (docs/performance.md).
+    #[arg(long, value_parser = parse_exr_compression)]
+    pub(crate) exr_compression: Option<crate::image::io::ExrCompression>,
+    /// When outputs are flushed to the disk before they are renamed into place: replacing (the default: when an existing file is replaced, so that a power loss cannot leave neither), always, never. Every output is written to a temporary file and renamed either way.
+    #[arg(long, value_parser = parse_sync)]
+    pub(crate) sync: Option<crate::image::io::SyncPolicy>,
+}
+
+impl WriteFlags {
+    /// `base` with these flags' choices.
+    pub(crate) fn over<'a>(
+        &self,
+        base: crate::image::io::SaveOptions<'a>,
+    ) -> crate::image::io::SaveOptions<'a> {
+        crate::image::io::SaveOptions {
+            exr_compression: self.exr_compression.unwrap_or(base.exr_compression),
+            sync: self.sync.unwrap_or(base.sync),
+            ..base
+        }
+    }
+}
+
+/// `--exr-compression`: a codec's name.
+pub(crate) fn parse_exr_compression(s: &str) -> Result<crate::image::io::ExrCompression, String> {
+    s.parse().map_err(|e: crate::error::Error| e.to_string())
+}
+
+/// `--sync`: a sync policy's name.
+pub(crate) fn parse_sync(s: &str) -> Result<crate::image::io::SyncPolicy, String> {
+    s.parse().map_err(|e: crate::error::Error| e.to_string())
+}
+
 /// `--format`: a texel format's name.
 pub(crate) fn parse_texel_format(s: &str) -> Result<crate::image::TexelFormat, String> {
     crate::image::TexelFormat::parse(s).map_err(|e| e.to_string())

@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use crate::bakedir::{self, Container, Preset, Provenance, Target};
 use crate::cli::args::{
     load_error, parse_convention, parse_layout, parse_mapping, parse_world, set_threads,
-    warn_clamped, warn_replaced, CliResult, TextureFlags,
+    warn_clamped, warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
 use crate::filter::bake::{bake, chain_sizes, Bake, BakeOptions, Quality};
 use crate::filter::sh::{IrradianceScale, ShWindow};
@@ -38,6 +38,8 @@ pub(crate) struct BakeArgs {
     pub(crate) container: Option<Container>,
     #[command(flatten)]
     pub(crate) texture: TextureFlags,
+    #[command(flatten)]
+    pub(crate) write: WriteFlags,
     /// --target filament: do not mirror the cube (cmgen mirrors by default: its files hold the environment seen with x negated, which Filament's shaders undo; --no-mirror matches cmgen --no-mirror).
     #[arg(long)]
     pub(crate) no_mirror: bool,
@@ -318,7 +320,7 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
     let save = SaveOptions {
         inputs: inputs.clone(),
         cancel: Some(stop),
-        ..SaveOptions::default()
+        ..a.write.over(SaveOptions::default())
     };
     let written = bakedir::write(&a.out, &baked, &opts, &plan, &provenance, &save)
         .map_err(|e| e.to_string())?;

@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use crate::cli::args::{
     load_error, output_size, parse_convention, parse_face_names, parse_face_transforms,
     parse_layout, parse_mapping, parse_rotation, parse_world, set_threads, warn_clamped,
-    warn_replaced, CliResult, TextureFlags,
+    warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
 use crate::filter::convert::{auto_samples, convert, ConvertOptions};
 use crate::filter::pyramid::Pyramid;
@@ -94,6 +94,8 @@ pub(crate) struct ConvertArgs {
     pub(crate) half: bool,
     #[command(flatten)]
     pub(crate) texture: TextureFlags,
+    #[command(flatten)]
+    pub(crate) write: WriteFlags,
     /// For .ktx2, .dds and .ktx outputs: add the mip chain, each level the solid-angle-weighted 2×2 box filter of the one above (the bake's pyramid), down to 1×1 for a cube (a 2D chain stops where a level's size leaves the ⌊W/2ᵖ⌋ × ⌊H/2ᵖ⌋ rule).
     #[arg(long)]
     pub(crate) mips: bool,
@@ -282,6 +284,7 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         content: None,
         texture: a.texture.over(TextureOptions::default()),
         cancel: Some(stop),
+        ..a.write.over(SaveOptions::default())
     };
     stage(format!("saving {}", a.output.display()));
     let t2 = Instant::now();

@@ -10,7 +10,7 @@ use envmap_core::AnyMapping;
 
 use crate::cli::args::{
     load_error, output_size, parse_convention, parse_mapping, parse_mode, parse_vec3, parse_world,
-    warn_replaced, CliResult,
+    warn_replaced, CliResult, WriteFlags,
 };
 use crate::filter::sample::Filter;
 use crate::image::convention::{Convention, FileAxes, World};
@@ -113,6 +113,8 @@ pub(crate) struct RenderArgs {
     /// Exposure in stops for PNG output.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub(crate) exposure: f32,
+    #[command(flatten)]
+    pub(crate) write: WriteFlags,
     /// Largest environment image accepted, in millions of texels.
     #[arg(long, default_value_t = 268)]
     pub(crate) max_megatexels: u64,
@@ -314,7 +316,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     let sopts = SaveOptions {
         exposure: a.exposure,
         cancel: Some(stop),
-        ..SaveOptions::default()
+        ..a.write.over(SaveOptions::default())
     };
     crate::image::io::write_rgb(&img, &a.output, &sopts).map_err(|e| e.to_string())?;
     eprintln!(

@@ -20,6 +20,7 @@ use std::sync::atomic::AtomicBool;
 
 use crate::cancel::{self, Cancellable};
 use crate::error::{Error, Result};
+use crate::image::io::SyncPolicy;
 
 /// Checks a target before any encoding: not a directory (so that a six-file
 /// write does not fail halfway through its renames), not one of `inputs`
@@ -212,11 +213,13 @@ fn beside(
 }
 
 /// A new temporary file beside `path`, filled by `write` (through a 1 MiB
-/// buffer) and synced to disk; on error, or once `cancel` is set, it is
+/// buffer) and synced to disk as `sync` says (a target that exists now is
+/// one being replaced); on error, or once `cancel` is set, it is
 /// removed and the error returned ([`Error::Cancelled`] for the latter).
 pub(crate) fn write_temp(
     path: &Path,
     cancel: Option<&AtomicBool>,
+    sync: SyncPolicy,
     write: impl FnOnce(&mut TempWriter<'_>) -> Result<()>,
 ) -> Result<TempFile> {
     cancel::check(cancel)?;
@@ -239,7 +242,10 @@ pub(crate) fn write_temp(
     })();
     cancel::or_cancelled(written, cancel)?;
     let file = temp.file_mut().map_err(|e| Error::write(path, e))?;
-    file.sync_all().map_err(|e| Error::write(path, e))?;
+    let replacing = fs::symlink_metadata(path).is_ok();
+    if sync == SyncPolicy::Always || (sync == SyncPolicy::Replacing && replacing) {
+        file.sync_all().map_err(|e| Error::write(path, e))?;
+    }
     // Replacing a file keeps its permissions.
     if let Ok(meta) = fs::metadata(path) {
         if meta.is_file() {
@@ -299,6 +305,8 @@ pub struct Outputs<'a> {
     cancel: Option<&'a AtomicBool>,
     /// An in-memory run ([`Outputs::in_memory`]).
     memory: bool,
+    /// When the temporary files are synced.
+    sync: SyncPolicy,
 }
 
 /// A staged output: its complete temporary file, or its bytes.
@@ -330,7 +338,16 @@ impl<'a> Outputs<'a> {
             overwrite_input,
             cancel,
             memory: false,
+            sync: SyncPolicy::Replacing,
         }
+    }
+
+    /// The run with outputs synced to the disk as `sync` says (the default
+    /// [`SyncPolicy::Replacing`]).
+    #[must_use]
+    pub fn with_sync(mut self, sync: SyncPolicy) -> Self {
+        self.sync = sync;
+        self
     }
 
     /// A run that encodes every staged file into memory: the paths are
@@ -382,7 +399,7 @@ impl<'a> Outputs<'a> {
         let staged = if self.memory {
             Staged::Bytes(write_memory(target, self.cancel, write)?)
         } else {
-            Staged::File(write_temp(target, self.cancel, write)?)
+            Staged::File(write_temp(target, self.cancel, self.sync, write)?)
         };
         self.staged.push((staged, target.to_path_buf()));
         Ok(())
