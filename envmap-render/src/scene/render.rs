@@ -531,7 +531,13 @@ fn render_map(
             // Lit materials: shaded here, per pixel (per vertex: from lookup
             // points interpolated across the triangle); the lookups below
             // then fill only the background.
-            let mut lit: Vec<Option<[f32; 3]>> = vec![None; px.len()];
+            // (A mirror has no lit pixels: nothing to hold.)
+            let mirror = matches!(opts.shading, Shading::Mirror);
+            let mut lit: Vec<Option<[f32; 3]>> = if mirror {
+                Vec::new()
+            } else {
+                vec![None; px.len()]
+            };
             if let (
                 Some(ls),
                 Shading::SplitSum {
@@ -621,12 +627,16 @@ fn render_map(
             // angle it turns through from one pixel to the next.
             // Only the pixels that need them: the background (when shown)
             // and mirror hits; `need[j]` is the pixel of lookup `j`.
-            let need: Vec<usize> = (0..px.len())
-                .filter(|&k| match hits[k] {
-                    None => opts.background,
-                    Some(_) => lit[k].is_none(),
-                })
-                .collect();
+            let need: Vec<usize> = if mirror && opts.background {
+                (0..px.len()).collect()
+            } else {
+                (0..px.len())
+                    .filter(|&k| match hits[k] {
+                        None => opts.background,
+                        Some(_) => lit.get(k).is_none_or(Option::is_none),
+                    })
+                    .collect()
+            };
             let mut dirs = Vec::with_capacity(need.len());
             let mut spread = vec![0.0f32; if trilinear.is_some() { need.len() } else { 0 }];
             let mut fres = vec![1.0f32; need.len()];
@@ -692,6 +702,9 @@ fn render_map(
                     }
                 }
             } else {
+                if mirror {
+                    px.fill([0.0; 3]);
+                }
                 for (out, l) in px.iter_mut().zip(&lit) {
                     *out = l.unwrap_or([0.0; 3]);
                 }
@@ -891,6 +904,7 @@ fn lod8(texels: &TexelWeights, q: &Uv8, spread: &[f32]) -> f32x8 {
 
 /// The interpolated unit normal at a hit and the unit vector from it to
 /// the eye.
+#[inline(always)]
 fn surface(mesh: &Mesh, hit: &Hit, view: &View) -> (Vec3, Vec3) {
     let [a, b, c] = mesh.triangles[hit.tri as usize].map(|i| i as usize);
     let n = (mesh.normals[a] * hit.w[0] + mesh.normals[b] * hit.w[1] + mesh.normals[c] * hit.w[2])
