@@ -108,15 +108,16 @@ pub enum ExrPrecision {
 }
 
 /// How OpenEXR output is compressed. Measured on this project's machines
-/// (`docs/performance.md`): on f32 radiance, RLE saves nothing (float
-/// mantissas do not repeat) and the lossless codecs save 25–55 % on a real
-/// photograph at 10–20 times the time of an uncompressed write; on f16,
-/// RLE and ZIP shrink smooth maps several times over.
+/// (`docs/performance.md`): on f32 radiance, RLE shrinks only runs of equal
+/// values (the empty half of a cube cross: half the file, at about twice
+/// the time of an uncompressed write) and the other lossless codecs save
+/// 25–55 % on a real photograph at 10–20 times the time; on f16, RLE and
+/// ZIP shrink smooth maps several times over.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ExrCompression {
     /// The default: [`ExrCompression::None`] for f32 samples (written and
     /// read at memory speed), [`ExrCompression::Rle`] for f16 (lossless,
-    /// about as fast, and it does shrink half floats).
+    /// fast, and it does shrink half floats).
     #[default]
     Auto,
     /// Uncompressed scan lines.
