@@ -11,7 +11,8 @@ use envmap_render::io::{
 };
 use envmap_render::layout::{detect, resolve};
 use envmap_render::{
-    load, save, EnvImage, Error, Layout, LoadOptions, Representation, RgbImage, SaveOptions,
+    convert, load, save, ConvertOptions, EnvImage, Error, Layout, LoadOptions, Representation,
+    RgbImage, SaveOptions,
 };
 
 mod common;
@@ -729,4 +730,90 @@ fn face_paths_are_named_after_cube_faces() {
     let p = face_paths(Path::new("out/sky.hdr")).unwrap();
     assert_eq!(p[0], Path::new("out/sky_+x.hdr"));
     assert_eq!(p[5], Path::new("out/sky_-z.hdr"));
+}
+
+/// A conversion saved as it is made (`Outputs::stage_streamed`) gives the
+/// file that converting first and saving after gives: every mapping kind
+/// that is written row by row (cube cross, latlong, octahedral, sphere),
+/// each block height (1 and 16 scan lines, PIZ's 32), both precisions; and
+/// the forms that cannot stream (six files, turned cube faces, a Radiance
+/// HDR) fall back to the whole image with the same result.
+#[test]
+fn a_streamed_conversion_saves_what_convert_then_save_saves() {
+    use envmap_render::convert::Streamed;
+    use envmap_render::image::face_ops::{FaceTransforms, FaceTurn};
+    use envmap_render::io::{ExrCompression, Outputs};
+    let src = latlong(96, -0.5, 40.0);
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let copts = ConvertOptions::default();
+    let check = |repr: Representation, (w, h): (u32, u32), name: &str, opts: &SaveOptions| {
+        let want = convert(&src, repr, w, h, &copts, None).unwrap();
+        let a = dir.join(format!("whole-{name}"));
+        let b = dir.join(format!("streamed-{name}"));
+        let a_files = save(&want, &a, opts).unwrap();
+        let stream = Streamed::new(&src, repr, w, h, &copts, None).unwrap();
+        let mut run = Outputs::new(opts);
+        run.stage_streamed(&stream, &b, opts).unwrap();
+        let b_files = run.commit().unwrap();
+        assert_eq!(a_files.len(), b_files.len(), "{name}");
+        let load_opts = LoadOptions {
+            face_transforms: opts.face_transforms,
+            ..LoadOptions::default()
+        };
+        let x = load(&a_files[0], &load_opts).unwrap();
+        let y = load(&b_files[0], &load_opts).unwrap();
+        assert_eq!(x.representation(), y.representation(), "{name}");
+        assert_eq!((x.width(), x.height()), (y.width(), y.height()), "{name}");
+        for (k, (p, q)) in x.pixels().iter().zip(y.pixels()).enumerate() {
+            assert_eq!(
+                p.map(f32::to_bits),
+                q.map(f32::to_bits),
+                "{name}: texel {k}"
+            );
+        }
+    };
+    let cube = Representation::default_for(AnyMapping::Cube);
+    let cube_size = cube.atlas.image_size_for_cell_width(24).unwrap();
+    let cases = [
+        (cube, cube_size),
+        (Representation::default_for(AnyMapping::LatLong), (64, 32)),
+        (
+            Representation::default_for(AnyMapping::Octahedral),
+            (40, 40),
+        ),
+        (Representation::default_for(AnyMapping::SphereMap), (37, 37)),
+        (
+            Representation::default_for(AnyMapping::DualParaboloid),
+            (48, 24),
+        ),
+    ];
+    for (repr, size) in cases {
+        for compression in [
+            ExrCompression::None,
+            ExrCompression::Zip,
+            ExrCompression::Piz,
+        ] {
+            for precision in [ExrPrecision::F32, ExrPrecision::F16] {
+                let opts = SaveOptions {
+                    exr_compression: compression,
+                    exr_precision: precision,
+                    ..SaveOptions::default()
+                };
+                let name = format!("{}-{compression:?}-{precision:?}.exr", repr.mapping);
+                check(repr, size, &name, &opts);
+            }
+        }
+    }
+    let turned = SaveOptions {
+        face_transforms: FaceTransforms::default().with(CubeFace::PosY, FaceTurn::ROT90),
+        ..SaveOptions::default()
+    };
+    check(cube, cube_size, "turned.exr", &turned);
+    let six = SaveOptions {
+        six_files: true,
+        ..SaveOptions::default()
+    };
+    check(cube, cube_size, "six-{face}.exr", &six);
+    check(cube, cube_size, "cube.hdr", &SaveOptions::default());
 }

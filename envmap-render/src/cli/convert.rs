@@ -13,7 +13,7 @@ use crate::cli::args::{
     parse_layout, parse_mapping, parse_rotation, parse_world, set_threads, warn_clamped,
     warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
-use crate::filter::convert::{auto_samples, convert, ConvertOptions};
+use crate::filter::convert::{auto_samples, convert, ConvertOptions, Streamed};
 use crate::filter::pyramid::Pyramid;
 use crate::filter::sample::Filter;
 use crate::image::convention::{Convention, FileAxes, World};
@@ -259,16 +259,6 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
             bar.set_position(n);
         }
     };
-    stage(format!("converting to {} {w}×{h}", repr.mapping));
-    let t1 = Instant::now();
-    let out = convert(&src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
-    let t_convert = t1.elapsed();
-    // The input is no longer needed: free it before encoding, which may
-    // need buffers of its own.
-    let (src_w, src_h, src_mapping) = (src.width(), src.height(), src.mapping());
-    let src_axes = metadata::identify(src_mapping, src.representation().frame);
-    drop(src);
-    bar.finish_and_clear();
     let sopts = SaveOptions {
         exposure: a.exposure,
         exr_precision: if a.half {
@@ -286,49 +276,85 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         cancel: Some(stop),
         ..a.write.over(SaveOptions::default())
     };
-    stage(format!("saving {}", a.output.display()));
-    let t2 = Instant::now();
-    let written = if is_texture {
-        let levels = if a.mips {
-            Pyramid::new(out, 1)
-                .map_err(|e| e.to_string())?
-                .levels()
-                .to_vec()
-        } else {
-            vec![out]
-        };
-        let tex = Texture::from_env(&levels).map_err(|e| e.in_file(&a.output).to_string())?;
-        let mut run = Outputs::new(&sopts);
-        let clamped = run
-            .stage_texture(&tex, &a.output, sopts.texture)
-            .map_err(|e| e.to_string())?;
-        warn_clamped(&a.output, sopts.texture.format, clamped);
-        texture_summary = Some(format!(
-            "{} level{}, {}{}",
-            tex.level_count(),
-            if tex.level_count() == 1 { "" } else { "s" },
-            sopts.texture.format.name(),
-            sopts
-                .texture
-                .zstd
-                .map(|l| format!(", zstd {l}"))
-                .unwrap_or_default()
+    let (src_w, src_h, src_mapping) = (src.width(), src.height(), src.mapping());
+    let src_axes = metadata::identify(src_mapping, src.representation().frame);
+    let streams = matches!(FileFormat::from_path(&a.output), Ok(FileFormat::Exr));
+    let (times, written) = if streams {
+        // OpenEXR is written as the rows are made: no whole converted image
+        // in memory, and the conversion overlaps the compression and writes.
+        stage(format!(
+            "converting to {} {w}×{h} and saving {}",
+            repr.mapping,
+            a.output.display()
         ));
-        run.commit().map_err(|e| e.to_string())?
+        let t1 = Instant::now();
+        let stream =
+            Streamed::new(&src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
+        let mut run = Outputs::new(&sopts);
+        run.stage_streamed(&stream, &a.output, &sopts)
+            .map_err(|e| e.to_string())?;
+        bar.finish_and_clear();
+        let written = run.commit().map_err(|e| e.to_string())?;
+        let t = t1.elapsed().as_secs_f64() * 1e3;
+        (format!("convert and save {t:.0} ms"), written)
     } else {
-        save(&out, &a.output, &sopts).map_err(|e| e.to_string())?
+        stage(format!("converting to {} {w}×{h}", repr.mapping));
+        let t1 = Instant::now();
+        let out = convert(&src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
+        let t_convert = t1.elapsed();
+        // The input is no longer needed: free it before encoding, which may
+        // need buffers of its own.
+        drop(src);
+        bar.finish_and_clear();
+        stage(format!("saving {}", a.output.display()));
+        let t2 = Instant::now();
+        let written = if is_texture {
+            let levels = if a.mips {
+                Pyramid::new(out, 1)
+                    .map_err(|e| e.to_string())?
+                    .levels()
+                    .to_vec()
+            } else {
+                vec![out]
+            };
+            let tex = Texture::from_env(&levels).map_err(|e| e.in_file(&a.output).to_string())?;
+            let mut run = Outputs::new(&sopts);
+            let clamped = run
+                .stage_texture(&tex, &a.output, sopts.texture)
+                .map_err(|e| e.to_string())?;
+            warn_clamped(&a.output, sopts.texture.format, clamped);
+            texture_summary = Some(format!(
+                "{} level{}, {}{}",
+                tex.level_count(),
+                if tex.level_count() == 1 { "" } else { "s" },
+                sopts.texture.format.name(),
+                sopts
+                    .texture
+                    .zstd
+                    .map(|l| format!(", zstd {l}"))
+                    .unwrap_or_default()
+            ));
+            run.commit().map_err(|e| e.to_string())?
+        } else {
+            save(&out, &a.output, &sopts).map_err(|e| e.to_string())?
+        };
+        let (c, s) = (
+            t_convert.as_secs_f64() * 1e3,
+            t2.elapsed().as_secs_f64() * 1e3,
+        );
+        (format!("convert {c:.0} ms, save {s:.0} ms"), written)
     };
-    let t_save = t2.elapsed();
     if !a.quiet {
         eprintln!(
-            "{} {}×{} {} -> {} {}×{} {} ({}, {}×{} samples): load {:.0} ms, convert {:.0} ms, save {:.0} ms",
+            "{} {}×{} {} -> {} {}×{} {} ({}, {}×{} samples): load {:.0} ms, {}",
             a.input.display(),
             src_w,
             src_h,
             src_mapping,
-            written
-                .first()
-                .map_or_else(|| a.output.display().to_string(), |p| p.display().to_string()),
+            written.first().map_or_else(
+                || a.output.display().to_string(),
+                |p| p.display().to_string()
+            ),
             w,
             h,
             repr.mapping,
@@ -339,8 +365,7 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
             samples,
             samples,
             t_load.as_secs_f64() * 1e3,
-            t_convert.as_secs_f64() * 1e3,
-            t_save.as_secs_f64() * 1e3,
+            times,
         );
         if let Some(t) = &texture_summary {
             eprintln!("  texture: {t}");

@@ -473,7 +473,20 @@ pub(super) fn encode<W: Write + Seek>(
             let chunks: Vec<::exr::error::Result<(usize, ::exr::block::chunk::Chunk)>> = batch
                 .par_iter()
                 .map(|&(i, index)| {
-                    let data = block_bytes(view.pixels, w, index, &order, sample);
+                    let data = match view.stream {
+                        None => block_bytes(view.pixels, w, index, &order, sample),
+                        Some(stream) => {
+                            // The block's rows made now, and encoded.
+                            let (y0, bh) = (index.pixel_position.y(), index.pixel_size.height());
+                            let mut rows = vec![[0.0f32; 3]; bh * w];
+                            stream.rows(y0 as u32, &mut rows);
+                            let at = ::exr::block::BlockIndex {
+                                pixel_position: ::exr::math::Vec2(0, 0),
+                                ..index
+                            };
+                            block_bytes(&rows, w, at, &order, sample)
+                        }
+                    };
                     ::exr::block::UncompressedBlock { index, data }
                         .compress_to_chunk(&meta.headers)
                         .map(|c| (i, c))

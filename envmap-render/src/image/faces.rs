@@ -422,6 +422,7 @@ pub(super) fn stage(
             width: face.width,
             height: face.height,
             pixels: &face.pixels,
+            stream: None,
             tags: &tags,
             description: &description,
         };

@@ -74,6 +74,7 @@ use envmap_core::AnyMapping;
 
 use crate::cancel::{self, Cancellable};
 use crate::error::{Error, Result};
+use crate::filter::convert::Streamed;
 use crate::image::atomic::TempWriter;
 use crate::image::convention::FileAxes;
 #[cfg(feature = "image")]
@@ -89,6 +90,7 @@ use crate::image::texture::{self, Texture, TextureKind, TextureOptions};
 use crate::image::{faces, metadata};
 #[cfg(feature = "image")]
 use crate::image::{hdr, png_jpeg};
+use crate::par::*;
 
 pub use crate::image::atomic::{MemoryFile, Outputs};
 pub use crate::image::faces::{
@@ -899,6 +901,10 @@ pub(super) struct View<'a> {
     pub(super) width: u32,
     pub(super) height: u32,
     pub(super) pixels: &'a [[f32; 3]],
+    /// Instead of `pixels` (then empty): the rows made on demand, for a
+    /// format that writes rows as it goes (OpenEXR); see
+    /// [`Outputs::stage_streamed`].
+    pub(super) stream: Option<&'a Streamed<'a>>,
     /// What the file says about itself where its format has a place
     /// ([`crate::image::metadata`]): the `envmap.*` tags and a description.
     pub(super) tags: &'a [(String, String)],
@@ -975,6 +981,7 @@ impl<'a> Outputs<'a> {
             width: image.width(),
             height: image.height(),
             pixels: image.pixels(),
+            stream: None,
             tags: &tags,
             description: &description,
         };
@@ -1012,6 +1019,59 @@ impl<'a> Outputs<'a> {
             width: image.width,
             height: image.height,
             pixels: &image.pixels,
+            stream: None,
+            tags: &tags,
+            description: &description,
+        };
+        self.stage_with(path, |out| encode(path, format, view, opts, out))
+    }
+}
+
+impl<'a> Outputs<'a> {
+    /// Stages the image `stream` makes, as [`Outputs::stage_image`] would
+    /// stage it once made: an OpenEXR file (one file, its cube faces not
+    /// turned) is written as the rows are made, a batch of scan-line blocks
+    /// at a time, so the converted image is never whole in memory; every
+    /// other file is made whole first and staged as usual.
+    ///
+    /// # Errors
+    ///
+    /// As [`Outputs::stage_image`].
+    pub fn stage_streamed(
+        &mut self,
+        stream: &Streamed<'_>,
+        path: impl AsRef<Path>,
+        opts: &SaveOptions,
+    ) -> Result<()> {
+        let path = path.as_ref();
+        let format = FileFormat::from_path(path)?;
+        let repr = *stream.representation();
+        let streams = format == FileFormat::Exr
+            && cfg!(feature = "exr")
+            && !opts.six_files
+            && !is_face_pattern(path)
+            && (opts.face_transforms.is_identity() || repr.mapping != AnyMapping::Cube);
+        if !streams {
+            let mut image = EnvImage::new(stream.width(), stream.height(), repr)?;
+            let w = stream.width() as usize;
+            let band = 16 * w;
+            image
+                .pixels_mut()
+                .par_chunks_mut(band)
+                .enumerate()
+                .for_each(|(k, rows)| stream.rows((k * 16) as u32, rows));
+            return self.stage_image(&image, path, opts);
+        }
+        let (tags, description) = metadata::with_content(
+            metadata::tags(&repr, None, None),
+            metadata::description(&repr, None, None),
+            opts.content.as_deref(),
+        );
+        let view = View {
+            width: stream.width(),
+            height: stream.height(),
+            pixels: &[],
+            stream: Some(stream),
             tags: &tags,
             description: &description,
         };
