@@ -1,0 +1,1 @@
+// envmap shaders: the image-based-lighting lookups (to be written).

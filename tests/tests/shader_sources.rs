@@ -1,0 +1,444 @@
+//! Tier 0 of the shader tests, no GPU needed: every WGSL module of
+//! `envmap-core/shaders/` parsed and validated by naga; the GLSL 4.50,
+//! GLSL ES 3.00 and HLSL written from it by naga equal the committed files
+//! (`ENVMAP_BLESS_SHADERS=1` rewrites them); every public name survives the
+//! translation unchanged; and, where `glslangValidator` is installed, the
+//! GLSL compiles as GLSL 4.50 and GLSL ES 3.00 and the HLSL as HLSL
+//! (`-D`; shader model 5 features only).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use envmap_core::shaders::{MODULES, WGSL_FILES};
+
+/// The directory of the WGSL files.
+fn shader_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../envmap-core/shaders")
+}
+
+/// A module's WGSL: its files concatenated.
+fn module_source(files: &[&str]) -> String {
+    files
+        .iter()
+        .map(|f| {
+            WGSL_FILES
+                .iter()
+                .find(|(name, _)| name == f)
+                .unwrap_or_else(|| panic!("{f} is not in WGSL_FILES"))
+                .1
+        })
+        .collect()
+}
+
+fn parse(name: &str, src: &str) -> (naga::Module, naga::valid::ModuleInfo) {
+    let module = naga::front::wgsl::parse_str(src)
+        .unwrap_or_else(|e| panic!("{name}: WGSL does not parse:\n{}", e.emit_to_string(src)));
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::empty(),
+    )
+    .validate(&module)
+    .unwrap_or_else(|e| panic!("{name}: WGSL does not validate:\n{}", e.emit_to_string(src)));
+    (module, info)
+}
+
+/// The entry point the translations need (naga writes a module for one
+/// entry point), removed from their text afterwards.
+const ENTRY: &str = "envmap_generated_entry";
+
+#[derive(Clone, Copy, Debug)]
+enum Lang {
+    Glsl450,
+    GlslEs300,
+    Hlsl,
+}
+
+impl Lang {
+    const ALL: [Lang; 3] = [Lang::Glsl450, Lang::GlslEs300, Lang::Hlsl];
+    fn dir(self) -> &'static str {
+        match self {
+            Lang::Glsl450 => "glsl450",
+            Lang::GlslEs300 => "glsl300es",
+            Lang::Hlsl => "hlsl",
+        }
+    }
+    fn ext(self) -> &'static str {
+        match self {
+            Lang::Hlsl => "hlsl",
+            _ => "glsl",
+        }
+    }
+    fn describe(self) -> &'static str {
+        match self {
+            Lang::Glsl450 => "GLSL 4.50",
+            Lang::GlslEs300 => "GLSL ES 3.00",
+            Lang::Hlsl => "HLSL (shader model 5.0)",
+        }
+    }
+}
+
+/// The translation of a module's WGSL, as committed: no version line, no
+/// entry point, a header saying what it is.
+fn translate(name: &str, files: &[&str], lang: Lang) -> String {
+    let wgsl = module_source(files);
+    // GLSL ES 3.00 has no compute shaders: its entry point is a fragment one.
+    let entry = match lang {
+        Lang::GlslEs300 => format!("\n@fragment\nfn {ENTRY}() {{}}\n"),
+        _ => format!("\n@compute @workgroup_size(1)\nfn {ENTRY}() {{}}\n"),
+    };
+    let src = format!("{wgsl}{entry}");
+    let (module, info) = parse(name, &src);
+    let mut out = String::new();
+    match lang {
+        Lang::Glsl450 | Lang::GlslEs300 => {
+            let version = match lang {
+                Lang::Glsl450 => naga::back::glsl::Version::Desktop(450),
+                _ => naga::back::glsl::Version::Embedded {
+                    version: 300,
+                    is_webgl: false,
+                },
+            };
+            let options = naga::back::glsl::Options {
+                version,
+                writer_flags: naga::back::glsl::WriterFlags::INCLUDE_UNUSED_ITEMS,
+                ..naga::back::glsl::Options::default()
+            };
+            let pipeline = naga::back::glsl::PipelineOptions {
+                shader_stage: match lang {
+                    Lang::GlslEs300 => naga::ShaderStage::Fragment,
+                    _ => naga::ShaderStage::Compute,
+                },
+                entry_point: ENTRY.into(),
+                multiview: None,
+            };
+            let mut w = naga::back::glsl::Writer::new(
+                &mut out,
+                &module,
+                &info,
+                &options,
+                &pipeline,
+                naga::proc::BoundsCheckPolicies::default(),
+            )
+            .unwrap_or_else(|e| panic!("{name}: naga's GLSL writer: {e}"));
+            w.write()
+                .unwrap_or_else(|e| panic!("{name}: naga's GLSL writer: {e}"));
+        }
+        Lang::Hlsl => {
+            let options = naga::back::hlsl::Options {
+                shader_model: naga::back::hlsl::ShaderModel::V5_0,
+                ..naga::back::hlsl::Options::default()
+            };
+            let pipeline = naga::back::hlsl::PipelineOptions { entry_point: None };
+            let mut w = naga::back::hlsl::Writer::new(&mut out, &options, &pipeline);
+            w.write(&module, &info, None)
+                .unwrap_or_else(|e| panic!("{name}: naga's HLSL writer: {e}"));
+        }
+    }
+    out
+}
+
+/// The generator's header of a generated file.
+fn header(name: &str, files: &[&str], lang: Lang) -> String {
+    let mut h = String::new();
+    let _ = writeln!(
+        h,
+        "// envmap shaders, {}: {name} (from {}).",
+        lang.describe(),
+        files.join(", ")
+    );
+    let _ = writeln!(
+        h,
+        "// Written by naga {} from the WGSL in envmap-core/shaders/ (the source, with every",
+        NAGA_VERSION
+    );
+    let _ = writeln!(
+        h,
+        "// formula, source and comment): do not edit; after changing the WGSL run"
+    );
+    let _ = writeln!(
+        h,
+        "// ENVMAP_BLESS_SHADERS=1 cargo test --release -p envmap-tests --test shader_sources"
+    );
+    let _ = writeln!(
+        h,
+        "// A library: no #version line and no entry point (docs/shaders.md)."
+    );
+    h
+}
+
+/// naga's version, as Cargo.lock has it (written into the headers).
+const NAGA_VERSION: &str = "29.0.4";
+
+/// `text` with the entry point `translate` added removed, and the lines a
+/// library must not carry (the version, the compute stage's extension and
+/// workgroup size): what the committed files hold, after [`header`].
+fn library_text(name: &str, text: &str, lang: Lang) -> String {
+    let (cut, expected_tail) = match lang {
+        Lang::Hlsl => (
+            "[numthreads(1, 1, 1)]\n",
+            format!("[numthreads(1, 1, 1)]\nvoid {ENTRY}()\n{{\n    return;\n}}\n"),
+        ),
+        _ => (
+            "void main() {\n",
+            "void main() {\n    return;\n}\n".to_string(),
+        ),
+    };
+    let at = text
+        .rfind(cut)
+        .unwrap_or_else(|| panic!("{name}: no entry point in naga's {}", lang.describe()));
+    assert_eq!(
+        text[at..].trim_end(),
+        expected_tail.trim_end(),
+        "{name}: naga's {} ends otherwise than expected: the generator needs updating",
+        lang.describe()
+    );
+    let mut out = String::new();
+    for line in text[..at].lines() {
+        let drop = line.starts_with("#version")
+            || line.starts_with("#extension GL_ARB_compute_shader")
+            || line.starts_with("layout(local_size_x");
+        if !drop {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    // One newline at the end, none at the start.
+    format!("{}\n", out.trim())
+}
+
+/// Every generated file's path and expected text.
+fn generated() -> Vec<(PathBuf, String)> {
+    let mut v = Vec::new();
+    for (name, files) in MODULES {
+        for lang in Lang::ALL {
+            let raw = translate(name, files, lang);
+            let text = format!(
+                "{}{}",
+                header(name, files, lang),
+                library_text(name, &raw, lang)
+            );
+            let path = shader_dir()
+                .join("generated")
+                .join(lang.dir())
+                .join(format!("{name}.{}", lang.ext()));
+            v.push((path, text));
+        }
+    }
+    v
+}
+
+/// Every module of `MODULES` and every file alone where it stands alone
+/// (common.wgsl) parses and validates.
+#[test]
+fn wgsl_parses_and_validates() {
+    let (_, common) = WGSL_FILES[0];
+    parse("common.wgsl", common);
+    for (name, files) in MODULES {
+        let src = module_source(files);
+        parse(name, &src);
+    }
+    // ALL_WGSL is the whole list in order.
+    let all: String = WGSL_FILES.iter().map(|(_, t)| *t).collect();
+    assert_eq!(all, envmap_core::shaders::ALL_WGSL);
+    parse("ALL_WGSL", envmap_core::shaders::ALL_WGSL);
+    // Every file is in some module, and every module's files are in order.
+    for (file, _) in WGSL_FILES {
+        assert!(
+            MODULES.iter().any(|(_, fs)| fs.contains(&file)),
+            "{file} is in no module"
+        );
+    }
+    let order: Vec<&str> = WGSL_FILES.iter().map(|(f, _)| *f).collect();
+    for (name, files) in MODULES {
+        let idx: Vec<usize> = files
+            .iter()
+            .map(|f| order.iter().position(|o| o == f).expect("listed"))
+            .collect();
+        assert!(
+            idx.windows(2).all(|w| w[0] < w[1]),
+            "{name}: files out of order"
+        );
+    }
+}
+
+/// The committed GLSL and HLSL are what naga writes from today's WGSL;
+/// `ENVMAP_BLESS_SHADERS=1` rewrites them.
+#[test]
+fn generated_files_are_current() {
+    let bless = std::env::var("ENVMAP_BLESS_SHADERS").is_ok_and(|v| v == "1");
+    // The headers name the naga that wrote the files: the one Cargo.lock has.
+    let lock = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../Cargo.lock"))
+        .expect("Cargo.lock");
+    assert!(
+        lock.contains(&format!("name = \"naga\"\nversion = \"{NAGA_VERSION}\"")),
+        "Cargo.lock's naga is not {NAGA_VERSION}: update NAGA_VERSION and bless the files"
+    );
+    let mut stale = Vec::new();
+    for (path, text) in generated() {
+        let on_disk = std::fs::read_to_string(&path).unwrap_or_default();
+        if on_disk != text {
+            if bless {
+                std::fs::write(&path, &text)
+                    .unwrap_or_else(|e| panic!("writing {}: {e}", path.display()));
+                println!("rewrote {}", path.display());
+            } else {
+                stale.push(path.display().to_string());
+            }
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "generated shader files are stale (the WGSL changed, or naga did): {}\nrun \
+         ENVMAP_BLESS_SHADERS=1 cargo test --release -p envmap-tests --test shader_sources \
+         and commit the result",
+        stale.join(", ")
+    );
+    // The constants are those files (compiled in when the crate was built).
+    for (name, glsl, es, hlsl) in envmap_core::shaders::GENERATED {
+        for (lang, text) in [
+            (Lang::Glsl450, glsl),
+            (Lang::GlslEs300, es),
+            (Lang::Hlsl, hlsl),
+        ] {
+            let path = shader_dir()
+                .join("generated")
+                .join(lang.dir())
+                .join(format!("{name}.{}", lang.ext()));
+            if !bless {
+                assert_eq!(
+                    std::fs::read_to_string(&path).unwrap_or_default(),
+                    text,
+                    "{}: the constant differs from the file (rebuild)",
+                    path.display()
+                );
+            }
+        }
+    }
+}
+
+/// The names a WGSL text declares at module scope: functions, structs and
+/// constants.
+fn declared_names(src: &str) -> Vec<String> {
+    let mut names = Vec::new();
+    for line in src.lines() {
+        for kw in ["fn ", "struct ", "const "] {
+            if let Some(rest) = line.strip_prefix(kw) {
+                let name: String = rest
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                    .collect();
+                names.push(name);
+            }
+        }
+    }
+    names
+}
+
+/// Every module-scope name keeps its prefix and survives naga unchanged in
+/// every language, so an engine calls the GLSL and HLSL by the WGSL's names.
+#[test]
+fn names_survive_translation() {
+    for (file, text) in WGSL_FILES {
+        for name in declared_names(text) {
+            assert!(
+                name.starts_with("envmap_")
+                    || name.starts_with("Envmap")
+                    || name.starts_with("ENVMAP_"),
+                "{file}: {name} lacks the envmap prefix"
+            );
+            assert!(
+                !name.ends_with(|c: char| c.is_ascii_digit()),
+                "{file}: {name} ends in a digit (naga would append an underscore)"
+            );
+        }
+    }
+    for (name, glsl, es, hlsl) in envmap_core::shaders::GENERATED {
+        let files = MODULES.iter().find(|(n, _)| *n == name).expect("module").1;
+        for file in files {
+            let text = WGSL_FILES.iter().find(|(f, _)| f == file).expect("file").1;
+            for ident in declared_names(text) {
+                for (lang, out) in [("GLSL 4.50", glsl), ("GLSL ES 3.00", es), ("HLSL", hlsl)] {
+                    let found = out.match_indices(ident.as_str()).any(|(i, _)| {
+                        let after = out[i + ident.len()..].chars().next().unwrap_or(' ');
+                        !(after.is_ascii_alphanumeric() || after == '_')
+                    });
+                    assert!(found, "{name}: {ident} is missing or renamed in the {lang}");
+                }
+            }
+        }
+    }
+}
+
+/// `glslangValidator`, if it is on the PATH.
+fn glslang() -> Option<PathBuf> {
+    let ok = std::process::Command::new("glslangValidator")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    ok.then(|| PathBuf::from("glslangValidator"))
+}
+
+/// The generated GLSL compiles as GLSL 4.50 (compute) and GLSL ES 3.00
+/// (fragment), the HLSL as HLSL (glslang's HLSL front end, compute), each
+/// wrapped in the smallest shader around it.
+#[test]
+fn generated_files_compile_with_glslang() {
+    let Some(tool) = glslang() else {
+        let ci = std::env::var_os("CI").is_some()
+            || std::env::var("ENVMAP_REQUIRE_GPU").is_ok_and(|v| v == "1");
+        assert!(
+            !ci,
+            "glslangValidator is not installed (Debian: apt-get install glslang-tools); .ci/run installs it"
+        );
+        eprintln!(
+            "glslangValidator is not installed (Debian: glslang-tools): the GLSL and HLSL compile checks are skipped"
+        );
+        return;
+    };
+    let dir = std::env::temp_dir().join(format!("envmap-shaders-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let mut failures = Vec::new();
+    for (name, glsl, es, hlsl) in envmap_core::shaders::GENERATED {
+        let cases = [
+            (
+                "glsl450",
+                format!("#version 450\n{glsl}\nlayout(local_size_x = 1) in;\nvoid main() {{}}\n"),
+                vec!["-S", "comp"],
+            ),
+            (
+                "glsl300es",
+                format!("#version 300 es\n{es}\nvoid main() {{}}\n"),
+                vec!["-S", "frag"],
+            ),
+            (
+                "hlsl",
+                format!("{hlsl}\n[numthreads(1, 1, 1)]\nvoid main() {{}}\n"),
+                vec!["-D", "-V", "-S", "comp", "-e", "main", "-o", "/dev/null"],
+            ),
+        ];
+        for (lang, text, args) in cases {
+            let path = dir.join(format!("{name}.{lang}"));
+            std::fs::write(&path, text).expect("a temporary file");
+            let out = std::process::Command::new(&tool)
+                .args(&args)
+                .arg(&path)
+                .output()
+                .expect("running glslangValidator");
+            if !out.status.success() {
+                failures.push(format!(
+                    "{name} ({lang}):\n{}{}",
+                    String::from_utf8_lossy(&out.stdout),
+                    String::from_utf8_lossy(&out.stderr)
+                ));
+            } else {
+                println!("{name} ({lang}): glslangValidator {} ok", args.join(" "));
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        failures.is_empty(),
+        "glslangValidator refused:\n{}",
+        failures.join("\n")
+    );
+}
