@@ -575,3 +575,130 @@ fn every_mapping_on_the_gpu_against_the_core() {
         all_failures.join("\n")
     );
 }
+
+/// `envmap_atan2f` on the device within the bound its emulation under
+/// WGSL's rules gives (tier 0, `shader_sources.rs`), and the device's own
+/// built-ins within what WGSL's accuracy rules allow them (so the portable
+/// bounds of docs/shaders.md hold on it), each measured against f64 and
+/// printed: atan2 (4096 ULP), sin and cos (2⁻¹¹ absolute on [−π, π]),
+/// sqrt and inverseSqrt (inverseSqrt 2 ULP, sqrt inherited from
+/// 1/inverseSqrt: 4.5 ULP); asin and acos are printed only (WGSL inherits
+/// their bound from atan2(x, sqrt(1 − x²)), unbounded in absolute terms at
+/// ±1), to say why the shaders do not call them.
+#[test]
+fn atan2f_and_the_device_builtins() {
+    let Some(g) = gpu("shader built-ins") else {
+        return;
+    };
+    let n = 200_000usize;
+    let mut input = Vec::with_capacity(2 * n);
+    for k in 0..n {
+        let t = (k as f64 + 0.5) / n as f64;
+        // (y, x) round the circle at radius 10^(−3…3), and a sin/cos
+        // argument in [−π, π] and an asin argument in [−1, 1] from the same t.
+        let a = -std::f64::consts::PI + std::f64::consts::TAU * t;
+        let r = 10f64.powf(-3.0 + 6.0 * ((k * 7919) % n) as f64 / n as f64);
+        input.extend([
+            (r * a.sin()) as f32,
+            (r * a.cos()) as f32,
+            a as f32,
+            (-1.0 + 2.0 * t) as f32,
+        ]);
+    }
+    let src = format!(
+        "{ALL_WGSL}\n{INDEX_WGSL}
+@group(0) @binding(0) var<storage, read> xs: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> out: array<vec4<f32>>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
+    let i = test_index(gid);
+    if i >= arrayLength(&xs) {{
+        return;
+    }}
+    let p = xs[i];
+    out[2u * i] = vec4<f32>(envmap_atan2f(p.x, p.y), atan2(p.x, p.y), sin(p.z), cos(p.z));
+    out[2u * i + 1u] = vec4<f32>(asin(p.w), acos(p.w), sqrt(abs(p.z)), inverseSqrt(abs(p.z)));
+}}
+"
+    );
+    let out = g.run(
+        &src,
+        "main",
+        &[
+            Binding::Input(&gpu::bytes_f32(&input)),
+            Binding::Output(32 * n as u64),
+        ],
+        n as u32,
+    );
+    let o = f32s(&out[0]);
+    let ulp = |x: f64| {
+        f64::from(f32::EPSILON)
+            * 2f64.powi(x.abs().max(f64::from(f32::MIN_POSITIVE)).log2().floor() as i32)
+    };
+    let names = [
+        "envmap_atan2f (rad)",
+        "atan2 (ULP)",
+        "sin (abs)",
+        "cos (abs)",
+        "asin (rad)",
+        "acos (rad)",
+        "sqrt (ULP)",
+        "inverseSqrt (ULP)",
+    ];
+    let mut worst = [(0.0f64, 0usize); 8];
+    for k in 0..n {
+        let [y, x, a, s] = [
+            input[4 * k],
+            input[4 * k + 1],
+            input[4 * k + 2],
+            input[4 * k + 3],
+        ]
+        .map(f64::from);
+        let want = [
+            y.atan2(x),
+            y.atan2(x),
+            a.sin(),
+            a.cos(),
+            s.asin(),
+            s.acos(),
+            a.abs().sqrt(),
+            1.0 / a.abs().sqrt(),
+        ];
+        for j in 0..8 {
+            let got = f64::from(o[8 * k + j]);
+            let err = (got - want[j]).abs();
+            let e = match j {
+                1 | 6 | 7 => err / ulp(want[j]),
+                _ => err,
+            };
+            let e = if e.is_nan() && want[j].is_finite() {
+                f64::INFINITY
+            } else {
+                e
+            };
+            if e > worst[j].0 {
+                worst[j] = (e, k);
+            }
+        }
+    }
+    for (name, (e, k)) in names.iter().zip(&worst) {
+        println!(
+            "device {name}: worst {e:.3e} at input {:?}",
+            &input[4 * k..4 * k + 4]
+        );
+    }
+    assert!(worst[0].0 <= 3.5e-7, "envmap_atan2f: {:?}", worst[0]);
+    assert!(
+        worst[1].0 <= 4096.0,
+        "the device's atan2 breaks WGSL's 4096 ULP: {:?}",
+        worst[1]
+    );
+    assert!(
+        worst[2].0 <= 2f64.powi(-11) && worst[3].0 <= 2f64.powi(-11),
+        "sin/cos beyond 2^-11"
+    );
+    assert!(
+        worst[6].0 <= 4.5 && worst[7].0 <= 2.0,
+        "sqrt/inverseSqrt beyond WGSL's bounds"
+    );
+}

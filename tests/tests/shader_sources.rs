@@ -442,3 +442,152 @@ fn generated_files_compile_with_glslang() {
         failures.join("\n")
     );
 }
+
+/// `envmap_atan_unit` of common.wgsl in f32, as a device may evaluate it:
+/// each Horner step `p·u + c` rounded twice, or fused into one rounding.
+fn atan_unit(z: f32, fused: bool) -> f32 {
+    let c = envmap_simd::approx::coeffs::ATAN_EXACT;
+    let u = z * z;
+    let mut p = c[7];
+    for &k in c[..7].iter().rev() {
+        p = if fused { p.mul_add(u, k) } else { p * u + k };
+    }
+    if fused {
+        z.mul_add(u * p, z)
+    } else {
+        z + z * (u * p)
+    }
+}
+
+/// `envmap_atan2f` of common.wgsl in f32, with the quotient `num / den`
+/// moved `ulps` representable values (WGSL allows a division 2.5 ULP).
+fn atan2f(y: f32, x: f32, ulps: i32, fused: bool) -> f32 {
+    let (ax, ay) = (x.abs(), y.abs());
+    let swap = ay > ax;
+    let (num, den) = if swap { (ax, ay) } else { (ay, ax) };
+    let mut z = if den > 0.0 { num / den } else { 0.0 };
+    if z > 0.0 {
+        z = f32::from_bits((z.to_bits() as i32 + ulps) as u32).min(1.0);
+    }
+    let p = atan_unit(z, fused);
+    let half_pi = std::f32::consts::FRAC_PI_2;
+    let a = match (swap, x.is_sign_negative()) {
+        (true, false) => half_pi - p,
+        (true, true) => half_pi + p,
+        (false, false) => p,
+        (false, true) => std::f32::consts::PI - p,
+    };
+    a.copysign(y)
+}
+
+/// The bound docs/shaders.md states for `envmap_atan2f` under WGSL's
+/// accuracy rules (radians).
+const ATAN2F_PORTABLE_BOUND: f64 = 3.5e-7;
+
+/// common.wgsl's atan2 carries envmap-simd's exact-tier coefficients, and
+/// its error, swept over z = min/max in [0, 1] (every 997th f32) in all
+/// four octants and both signs of y, stays within the stated bound with
+/// exact f32 arithmetic and with what WGSL allows a device: a quotient up
+/// to 2 ULP off (2.5 ULP, in representable steps) and the Horner steps
+/// fused or not.
+#[test]
+fn atan2f_meets_its_bound_under_the_spec_rules() {
+    // The WGSL's literals are the coefficients, exactly.
+    let common = envmap_core::shaders::COMMON_WGSL;
+    let mut at = 0;
+    for c in envmap_simd::approx::coeffs::ATAN_EXACT.iter().rev() {
+        let text = rust_decimal_of(c.abs());
+        let found = common[at..]
+            .find(&text)
+            .unwrap_or_else(|| panic!("common.wgsl lacks the coefficient {c} ({text}) in order"));
+        at += found + text.len();
+    }
+    let mut exact = (0.0f64, (0.0f32, 0.0f32));
+    let mut spec = (0.0f64, (0.0f32, 0.0f32));
+    let one = 1.0f32.to_bits();
+    let mut bits = 0u32;
+    while bits <= one {
+        let z = f32::from_bits(bits);
+        for (y, x) in [
+            (z, 1.0f32),
+            (1.0, z),
+            (z, -1.0),
+            (1.0, -z),
+            (-z, 1.0),
+            (-1.0, -z),
+        ] {
+            let want = f64::from(y).atan2(f64::from(x));
+            let e = (f64::from(atan2f(y, x, 0, false)) - want).abs();
+            if e > exact.0 {
+                exact = (e, (y, x));
+            }
+            for ulps in -2..=2 {
+                for fused in [false, true] {
+                    let e = (f64::from(atan2f(y, x, ulps, fused)) - want).abs();
+                    if e > spec.0 {
+                        spec = (e, (y, x));
+                    }
+                }
+            }
+        }
+        bits += 997;
+    }
+    println!(
+        "envmap_atan2f: exact f32 arithmetic {:.3e} rad at (y, x) = {:?}; as WGSL allows (quotient ±2 ulp, Horner fused or not) {:.3e} rad at {:?}",
+        exact.0, exact.1, spec.0, spec.1
+    );
+    assert!(spec.0 <= ATAN2F_PORTABLE_BOUND, "{spec:?}");
+}
+
+/// The exact decimal expansion of an f32 (every f32 is a finite binary
+/// fraction), as the WGSL files write their constants.
+fn rust_decimal_of(x: f32) -> String {
+    // x = m · 2^e exactly; m · 5^(-e) · 10^e written out.
+    let bits = x.to_bits();
+    let exp = ((bits >> 23) & 0xff) as i32;
+    let mut m = u128::from(bits & 0x7f_ffff);
+    let mut e = exp - 150;
+    if exp == 0 {
+        e = -149;
+    } else {
+        m |= 1 << 23;
+    }
+    if e >= 0 {
+        return format!("{}", m << e);
+    }
+    // m / 2^-e = m · 5^-e / 10^-e.
+    let k = (-e) as u32;
+    let mut digits = num_mul_pow5(m, k);
+    while digits.len() <= k as usize {
+        digits.insert(0, '0');
+    }
+    let point = digits.len() - k as usize;
+    let s = format!("{}.{}", &digits[..point], &digits[point..]);
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// m · 5^k in decimal (arbitrary precision, small k).
+fn num_mul_pow5(m: u128, k: u32) -> String {
+    let mut d: Vec<u32> = m
+        .to_string()
+        .bytes()
+        .rev()
+        .map(|b| u32::from(b - b'0'))
+        .collect();
+    for _ in 0..k {
+        let mut carry = 0;
+        for x in &mut d {
+            let v = *x * 5 + carry;
+            *x = v % 10;
+            carry = v / 10;
+        }
+        while carry > 0 {
+            d.push(carry % 10);
+            carry /= 10;
+        }
+    }
+    d.iter()
+        .rev()
+        .map(|x| char::from(b'0' + *x as u8))
+        .collect()
+}
