@@ -255,10 +255,10 @@ fn envmap_dfg_load(t: texture_2d<f32>, n_dot_v: f32, roughness: f32) -> vec2<f32
 /// The bilinear footprint of coordinate u in a row of n texels
 /// (texel.rs bilinear_footprint): x = u n - 1/2 clamped to [-1/2, n - 1/2];
 /// the first texel floor(x) (possibly -1), the second one more (possibly
-/// n), and the weight of the second.
+/// n), and f, the weight of the second.
 struct EnvmapFootprint {
-    i0: i32,
-    i1: i32,
+    first: i32,
+    second: i32,
     f: f32,
 }
 
@@ -307,10 +307,10 @@ fn envmap_latlong_bilinear(t: texture_2d<f32>, uv: vec2<f32>, level: i32) -> vec
     let fu = envmap_bilinear_footprint(uv.x, size.x);
     let fv = envmap_bilinear_footprint(uv.y, size.y);
     return envmap_blend(
-        envmap_latlong_texel(t, fu.i0, fv.i0, level),
-        envmap_latlong_texel(t, fu.i1, fv.i0, level),
-        envmap_latlong_texel(t, fu.i0, fv.i1, level),
-        envmap_latlong_texel(t, fu.i1, fv.i1, level),
+        envmap_latlong_texel(t, fu.first, fv.first, level),
+        envmap_latlong_texel(t, fu.second, fv.first, level),
+        envmap_latlong_texel(t, fu.first, fv.second, level),
+        envmap_latlong_texel(t, fu.second, fv.second, level),
         fu.f,
         fv.f,
     );
@@ -342,10 +342,10 @@ fn envmap_octahedral_bilinear(t: texture_2d<f32>, uv: vec2<f32>, level: i32) -> 
     let fu = envmap_bilinear_footprint(uv.x, size.x);
     let fv = envmap_bilinear_footprint(uv.y, size.y);
     return envmap_blend(
-        envmap_octahedral_texel(t, fu.i0, fv.i0, level),
-        envmap_octahedral_texel(t, fu.i1, fv.i0, level),
-        envmap_octahedral_texel(t, fu.i0, fv.i1, level),
-        envmap_octahedral_texel(t, fu.i1, fv.i1, level),
+        envmap_octahedral_texel(t, fu.first, fv.first, level),
+        envmap_octahedral_texel(t, fu.second, fv.first, level),
+        envmap_octahedral_texel(t, fu.first, fv.second, level),
+        envmap_octahedral_texel(t, fu.second, fv.second, level),
         fu.f,
         fv.f,
     );
@@ -399,10 +399,10 @@ fn envmap_cube_bilinear(t: texture_2d_array<f32>, c: EnvmapChartUv, level: i32) 
     let fu = envmap_bilinear_footprint(c.uv.x, size.x);
     let fv = envmap_bilinear_footprint(c.uv.y, size.y);
     return envmap_blend(
-        envmap_cube_texel(t, c.chart, fu.i0, fv.i0, level),
-        envmap_cube_texel(t, c.chart, fu.i1, fv.i0, level),
-        envmap_cube_texel(t, c.chart, fu.i0, fv.i1, level),
-        envmap_cube_texel(t, c.chart, fu.i1, fv.i1, level),
+        envmap_cube_texel(t, c.chart, fu.first, fv.first, level),
+        envmap_cube_texel(t, c.chart, fu.second, fv.first, level),
+        envmap_cube_texel(t, c.chart, fu.first, fv.second, level),
+        envmap_cube_texel(t, c.chart, fu.second, fv.second, level),
         fu.f,
         fv.f,
     );

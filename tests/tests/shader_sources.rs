@@ -316,32 +316,46 @@ fn generated_files_are_current() {
     }
 }
 
-/// The names a WGSL text declares at module scope: functions, structs and
-/// constants.
-fn declared_names(src: &str) -> Vec<String> {
+/// The names a WGSL text declares at module scope (functions, structs and
+/// constants), and the members of its structs (an engine's code names them
+/// too), each with whether it is a member.
+fn declared_names(src: &str) -> Vec<(String, bool)> {
+    let ident = |s: &str| -> String {
+        s.chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect()
+    };
     let mut names = Vec::new();
+    let mut in_struct = false;
     for line in src.lines() {
+        if in_struct {
+            if line.starts_with('}') {
+                in_struct = false;
+            } else if let Some((member, _)) = line.trim().split_once(':') {
+                names.push((ident(member), true));
+            }
+            continue;
+        }
         for kw in ["fn ", "struct ", "const "] {
             if let Some(rest) = line.strip_prefix(kw) {
-                let name: String = rest
-                    .chars()
-                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
-                    .collect();
-                names.push(name);
+                names.push((ident(rest), false));
+                in_struct = kw == "struct ";
             }
         }
     }
     names
 }
 
-/// Every module-scope name keeps its prefix and survives naga unchanged in
-/// every language, so an engine calls the GLSL and HLSL by the WGSL's names.
+/// Every module-scope name keeps its prefix, and it and every struct
+/// member survive naga unchanged in every language, so an engine calls the
+/// GLSL and HLSL by the WGSL's names.
 #[test]
 fn names_survive_translation() {
     for (file, text) in WGSL_FILES {
-        for name in declared_names(text) {
+        for (name, member) in declared_names(text) {
             assert!(
-                name.starts_with("envmap_")
+                member
+                    || name.starts_with("envmap_")
                     || name.starts_with("Envmap")
                     || name.starts_with("ENVMAP_"),
                 "{file}: {name} lacks the envmap prefix"
@@ -356,7 +370,7 @@ fn names_survive_translation() {
         let files = MODULES.iter().find(|(n, _)| *n == name).expect("module").1;
         for file in files {
             let text = WGSL_FILES.iter().find(|(f, _)| f == file).expect("file").1;
-            for ident in declared_names(text) {
+            for (ident, _) in declared_names(text) {
                 for (lang, out) in [("GLSL 4.50", glsl), ("GLSL ES 3.00", es), ("HLSL", hlsl)] {
                     let found = out.match_indices(ident.as_str()).any(|(i, _)| {
                         let after = out[i + ident.len()..].chars().next().unwrap_or(' ');
@@ -592,4 +606,64 @@ fn num_mul_pow5(m: u128, k: u32) -> String {
         .rev()
         .map(|x| char::from(b'0' + *x as u8))
         .collect()
+}
+
+/// Bevy's way in (docs/shaders.md): the library registered under
+/// `#define_import_path envmap` and a material's shader importing from it,
+/// composed by naga_oil (the composer Bevy 0.19 uses) into one module that
+/// naga validates.
+#[test]
+fn bevy_imports_compose() {
+    use naga_oil::compose::{ComposableModuleDescriptor, Composer, NagaModuleDescriptor};
+    let library = format!(
+        "#define_import_path envmap\n{}",
+        envmap_core::shaders::ALL_WGSL
+    );
+    let mut composer = Composer::default();
+    let added = composer
+        .add_composable_module(ComposableModuleDescriptor {
+            source: &library,
+            file_path: "envmap.wgsl",
+            ..ComposableModuleDescriptor::default()
+        })
+        .map(drop);
+    added.unwrap_or_else(|e| {
+        panic!(
+            "naga_oil refuses the library: {}",
+            e.emit_to_string(&composer)
+        )
+    });
+    let material = "
+#import envmap::{envmap_octahedral_chain, envmap_roughness_to_lod_linear, envmap_sh9_irradiance_over_pi, envmap_cube_forward, ENVMAP_INVALID_CHART}
+
+@group(0) @binding(0) var chain: texture_2d<f32>;
+
+@fragment
+fn fragment(@location(0) n: vec3<f32>) -> @location(0) vec4<f32> {
+    var sh: array<vec3<f32>, 9>;
+    sh[0] = vec3<f32>(1.0);
+    let ld = envmap_octahedral_chain(chain, 9, n, envmap_roughness_to_lod_linear(0.5, 9.0));
+    let e = envmap_sh9_irradiance_over_pi(sh, n);
+    let face = envmap_cube_forward(n).chart;
+    return vec4<f32>(ld + e, select(1.0, 0.0, face == ENVMAP_INVALID_CHART));
+}
+";
+    let module = composer
+        .make_naga_module(NagaModuleDescriptor {
+            source: material,
+            file_path: "material.wgsl",
+            ..NagaModuleDescriptor::default()
+        })
+        .unwrap_or_else(|e| {
+            panic!(
+                "naga_oil cannot compose the import: {}",
+                e.emit_to_string(&composer)
+            )
+        });
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::empty(),
+    )
+    .validate(&module)
+    .expect("the composed module validates");
 }

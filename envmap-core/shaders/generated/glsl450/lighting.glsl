@@ -18,8 +18,8 @@ struct EnvmapCubeFace {
     float ma;
 };
 struct EnvmapFootprint {
-    int i0_;
-    int i1_;
+    int first;
+    int second;
     float f;
 };
 struct EnvmapLevels {
@@ -744,10 +744,10 @@ vec3 envmap_latlong_bilinear(sampler2D t_2, vec2 uv_2, int level_1) {
     ivec2 size_4 = ivec2(uvec2(textureSize(t_2, level_1).xy));
     EnvmapFootprint _e7 = envmap_bilinear_footprint(uv_2.x, size_4.x);
     EnvmapFootprint _e10 = envmap_bilinear_footprint(uv_2.y, size_4.y);
-    vec3 _e13 = envmap_latlong_texel(t_2, _e7.i0_, _e10.i0_, level_1);
-    vec3 _e16 = envmap_latlong_texel(t_2, _e7.i1_, _e10.i0_, level_1);
-    vec3 _e19 = envmap_latlong_texel(t_2, _e7.i0_, _e10.i1_, level_1);
-    vec3 _e22 = envmap_latlong_texel(t_2, _e7.i1_, _e10.i1_, level_1);
+    vec3 _e13 = envmap_latlong_texel(t_2, _e7.first, _e10.first, level_1);
+    vec3 _e16 = envmap_latlong_texel(t_2, _e7.second, _e10.first, level_1);
+    vec3 _e19 = envmap_latlong_texel(t_2, _e7.first, _e10.second, level_1);
+    vec3 _e22 = envmap_latlong_texel(t_2, _e7.second, _e10.second, level_1);
     vec3 _e25 = envmap_blend(_e13, _e16, _e19, _e22, _e7.f, _e10.f);
     return _e25;
 }
@@ -802,10 +802,10 @@ vec3 envmap_octahedral_bilinear(sampler2D t_4, vec2 uv_3, int level_3) {
     ivec2 size_6 = ivec2(uvec2(textureSize(t_4, level_3).xy));
     EnvmapFootprint _e7 = envmap_bilinear_footprint(uv_3.x, size_6.x);
     EnvmapFootprint _e10 = envmap_bilinear_footprint(uv_3.y, size_6.y);
-    vec3 _e13 = envmap_octahedral_texel(t_4, _e7.i0_, _e10.i0_, level_3);
-    vec3 _e16 = envmap_octahedral_texel(t_4, _e7.i1_, _e10.i0_, level_3);
-    vec3 _e19 = envmap_octahedral_texel(t_4, _e7.i0_, _e10.i1_, level_3);
-    vec3 _e22 = envmap_octahedral_texel(t_4, _e7.i1_, _e10.i1_, level_3);
+    vec3 _e13 = envmap_octahedral_texel(t_4, _e7.first, _e10.first, level_3);
+    vec3 _e16 = envmap_octahedral_texel(t_4, _e7.second, _e10.first, level_3);
+    vec3 _e19 = envmap_octahedral_texel(t_4, _e7.first, _e10.second, level_3);
+    vec3 _e22 = envmap_octahedral_texel(t_4, _e7.second, _e10.second, level_3);
     vec3 _e25 = envmap_blend(_e13, _e16, _e19, _e22, _e7.f, _e10.f);
     return _e25;
 }
@@ -878,10 +878,10 @@ vec3 envmap_cube_bilinear(sampler2DArray t_7, EnvmapChartUv c_6, int level_6) {
     ivec2 size_9 = ivec2(uvec2(textureSize(t_7, level_6).xy));
     EnvmapFootprint _e8 = envmap_bilinear_footprint(c_6.uv.x, size_9.x);
     EnvmapFootprint _e12 = envmap_bilinear_footprint(c_6.uv.y, size_9.y);
-    vec3 _e16 = envmap_cube_texel(t_7, c_6.chart, _e8.i0_, _e12.i0_, level_6);
-    vec3 _e20 = envmap_cube_texel(t_7, c_6.chart, _e8.i1_, _e12.i0_, level_6);
-    vec3 _e24 = envmap_cube_texel(t_7, c_6.chart, _e8.i0_, _e12.i1_, level_6);
-    vec3 _e28 = envmap_cube_texel(t_7, c_6.chart, _e8.i1_, _e12.i1_, level_6);
+    vec3 _e16 = envmap_cube_texel(t_7, c_6.chart, _e8.first, _e12.first, level_6);
+    vec3 _e20 = envmap_cube_texel(t_7, c_6.chart, _e8.second, _e12.first, level_6);
+    vec3 _e24 = envmap_cube_texel(t_7, c_6.chart, _e8.first, _e12.second, level_6);
+    vec3 _e28 = envmap_cube_texel(t_7, c_6.chart, _e8.second, _e12.second, level_6);
     vec3 _e31 = envmap_blend(_e16, _e20, _e24, _e28, _e8.f, _e12.f);
     return _e31;
 }

@@ -22,8 +22,8 @@ struct EnvmapCubeFace {
 };
 
 struct EnvmapFootprint {
-    int i0_;
-    int i1_;
+    int first;
+    int second;
     float f;
 };
 
@@ -1152,8 +1152,8 @@ float2 envmap_dfg_load(Texture2D<float4> t, float n_dot_v_1, float roughness_6)
 
 EnvmapFootprint ConstructEnvmapFootprint(int arg0, int arg1, float arg2) {
     EnvmapFootprint ret = (EnvmapFootprint)0;
-    ret.i0_ = arg0;
-    ret.i1_ = arg1;
+    ret.first = arg0;
+    ret.second = arg1;
     ret.f = arg2;
     return ret;
 }
@@ -1229,10 +1229,10 @@ float3 envmap_latlong_bilinear(Texture2D<float4> t_2, float2 uv_2, int level_1)
     int2 size_4 = int2(NagaMipDimensions2D(t_2, level_1));
     const EnvmapFootprint _e7 = envmap_bilinear_footprint(uv_2.x, size_4.x);
     const EnvmapFootprint _e10 = envmap_bilinear_footprint(uv_2.y, size_4.y);
-    const float3 _e13 = envmap_latlong_texel(t_2, _e7.i0_, _e10.i0_, level_1);
-    const float3 _e16 = envmap_latlong_texel(t_2, _e7.i1_, _e10.i0_, level_1);
-    const float3 _e19 = envmap_latlong_texel(t_2, _e7.i0_, _e10.i1_, level_1);
-    const float3 _e22 = envmap_latlong_texel(t_2, _e7.i1_, _e10.i1_, level_1);
+    const float3 _e13 = envmap_latlong_texel(t_2, _e7.first, _e10.first, level_1);
+    const float3 _e16 = envmap_latlong_texel(t_2, _e7.second, _e10.first, level_1);
+    const float3 _e19 = envmap_latlong_texel(t_2, _e7.first, _e10.second, level_1);
+    const float3 _e22 = envmap_latlong_texel(t_2, _e7.second, _e10.second, level_1);
     const float3 _e25 = envmap_blend(_e13, _e16, _e19, _e22, _e7.f, _e10.f);
     return _e25;
 }
@@ -1290,10 +1290,10 @@ float3 envmap_octahedral_bilinear(Texture2D<float4> t_4, float2 uv_3, int level_
     int2 size_6 = int2(NagaMipDimensions2D(t_4, level_3));
     const EnvmapFootprint _e7 = envmap_bilinear_footprint(uv_3.x, size_6.x);
     const EnvmapFootprint _e10 = envmap_bilinear_footprint(uv_3.y, size_6.y);
-    const float3 _e13 = envmap_octahedral_texel(t_4, _e7.i0_, _e10.i0_, level_3);
-    const float3 _e16 = envmap_octahedral_texel(t_4, _e7.i1_, _e10.i0_, level_3);
-    const float3 _e19 = envmap_octahedral_texel(t_4, _e7.i0_, _e10.i1_, level_3);
-    const float3 _e22 = envmap_octahedral_texel(t_4, _e7.i1_, _e10.i1_, level_3);
+    const float3 _e13 = envmap_octahedral_texel(t_4, _e7.first, _e10.first, level_3);
+    const float3 _e16 = envmap_octahedral_texel(t_4, _e7.second, _e10.first, level_3);
+    const float3 _e19 = envmap_octahedral_texel(t_4, _e7.first, _e10.second, level_3);
+    const float3 _e22 = envmap_octahedral_texel(t_4, _e7.second, _e10.second, level_3);
     const float3 _e25 = envmap_blend(_e13, _e16, _e19, _e22, _e7.f, _e10.f);
     return _e25;
 }
@@ -1378,10 +1378,10 @@ float3 envmap_cube_bilinear(Texture2DArray<float4> t_7, EnvmapChartUv c_13, int 
     int2 size_9 = int2(NagaMipDimensions2DArray(t_7, level_6));
     const EnvmapFootprint _e8 = envmap_bilinear_footprint(c_13.uv.x, size_9.x);
     const EnvmapFootprint _e12 = envmap_bilinear_footprint(c_13.uv.y, size_9.y);
-    const float3 _e16 = envmap_cube_texel(t_7, c_13.chart, _e8.i0_, _e12.i0_, level_6);
-    const float3 _e20 = envmap_cube_texel(t_7, c_13.chart, _e8.i1_, _e12.i0_, level_6);
-    const float3 _e24 = envmap_cube_texel(t_7, c_13.chart, _e8.i0_, _e12.i1_, level_6);
-    const float3 _e28 = envmap_cube_texel(t_7, c_13.chart, _e8.i1_, _e12.i1_, level_6);
+    const float3 _e16 = envmap_cube_texel(t_7, c_13.chart, _e8.first, _e12.first, level_6);
+    const float3 _e20 = envmap_cube_texel(t_7, c_13.chart, _e8.second, _e12.first, level_6);
+    const float3 _e24 = envmap_cube_texel(t_7, c_13.chart, _e8.first, _e12.second, level_6);
+    const float3 _e28 = envmap_cube_texel(t_7, c_13.chart, _e8.second, _e12.second, level_6);
     const float3 _e31 = envmap_blend(_e16, _e20, _e24, _e28, _e8.f, _e12.f);
     return _e31;
 }
