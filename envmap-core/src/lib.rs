@@ -21,6 +21,8 @@
 //! Also: the two reflection formulas ([`reflect_view`], [`reflect_incident`]),
 //! axis conventions ([`Frame`], [`Framed`]), atlas layouts ([`Atlas`]), texel
 //! addressing ([`texel`]) and exact texel solid angles ([`solid_angle`]).
+//! [`shaders`] holds the same mappings, and the lighting lookups an engine
+//! needs with envmap's bake, as WGSL, GLSL and HLSL.
 //! [`AnyMapping`] (in [`any`]) picks one of them at run time.
 //!
 //! Nothing panics, whatever the input, and the crate has no error type: a bad
@@ -58,6 +60,7 @@ mod mapping;
 mod math;
 pub mod octahedral;
 mod reflect;
+pub mod shaders;
 pub mod solid_angle;
 pub mod sphere_map;
 pub mod tennisball;
