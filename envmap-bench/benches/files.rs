@@ -4,7 +4,9 @@
 //! * `files/convert-exr`: a 4096×2048 float EXR (the smooth test map, 100
 //!   MB, written uncompressed as envmap writes f32) converted to a 6×1024²
 //!   cube cross (150 MB) and saved as EXR: `load`, `convert`, `save` alone
-//!   and the three in a row (`total`). Each save writes a new file (the
+//!   and the three in a row (`total`); `streamed` is the job as `envmap
+//!   convert` runs it (load, then the cube converted as its blocks are
+//!   written, never whole in memory). Each save writes a new file (the
 //!   previous one is removed outside the timing), as a user's job does.
 //! * `files/save-cube-exr`: that cube saved with each lossless codec (the
 //!   file sizes are printed once).
@@ -15,6 +17,8 @@
 //!   file written) and as `envmap bake FILE --out DIR` runs it (`with-files`:
 //!   load, bake, every file written).
 //!
+//! On jemalloc, as the `envmap` command runs.
+//!
 //! ```text
 //! cargo bench -p envmap-bench --bench files
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench files
@@ -22,16 +26,20 @@
 
 mod common;
 
+#[cfg(not(target_env = "msvc"))]
+#[global_allocator]
+static ALLOCATOR: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
+
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use envmap_core::AnyMapping;
 use envmap_render::bakedir::{self, Preset, Provenance};
-use envmap_render::convert::{convert, ConvertOptions};
+use envmap_render::convert::{convert, ConvertOptions, Streamed};
 use envmap_render::filter::bake::{bake, BakeOptions};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::io::{load, save, ExrCompression, LoadOptions, SaveOptions};
+use envmap_render::io::{load, save, ExrCompression, LoadOptions, Outputs, SaveOptions};
 use envmap_render::procedural::{fill, smooth};
 
 /// A scratch directory, removed when dropped.
@@ -109,6 +117,24 @@ fn bench(c: &mut Criterion) {
                     let cube = to_cube(&m);
                     drop(m);
                     save(&cube, &out, &SaveOptions::default()).expect("save")
+                })
+            },
+            BatchSize::PerIteration,
+        )
+    });
+    g.bench_function("streamed/2-threads", |b| {
+        b.iter_batched(
+            || fresh(&out),
+            |()| {
+                pool.install(|| {
+                    let m = load(black_box(&exr), &LoadOptions::default()).expect("load");
+                    let repr = Representation::for_file(AnyMapping::Cube, FileAxes::default());
+                    let opts = ConvertOptions::default();
+                    let stream = Streamed::new(&m, repr, 4096, 3072, &opts, None).expect("stream");
+                    let save_opts = SaveOptions::default();
+                    let mut run = Outputs::new(&save_opts);
+                    run.stage_streamed(&stream, &out, &save_opts).expect("save");
+                    run.commit().expect("commit")
                 })
             },
             BatchSize::PerIteration,

@@ -1,4 +1,5 @@
-//! Times the renderer: `cargo run --release -p envmap-render --example render_timing`.
+//! Times the renderer: `cargo run --release -p envmap-render --example render_timing`
+//! (`MIP=1`: mip-aware, `ITERS=n` renders, `PROFILE=1` a black map).
 use std::time::Instant;
 
 use envmap_core::AnyMapping;
@@ -20,6 +21,8 @@ fn main() {
         width: 1920,
         height: 1080,
         samples: 1,
+        // MIP=1: the mip-aware lookups (`envmap render`'s default).
+        mip: std::env::var("MIP").is_ok(),
         ..RenderOptions::default()
     };
     for _ in 0..std::env::var("ITERS")

@@ -322,8 +322,10 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         cancel: Some(stop),
         ..a.write.over(SaveOptions::default())
     };
+    let t2 = Instant::now();
     let written = bakedir::write(&a.out, &baked, &opts, &plan, &provenance, &save)
         .map_err(|e| e.to_string())?;
+    let t_write = t2.elapsed();
     for (path, c) in &written.clamped {
         warn_clamped(path, plan.texture.format, *c);
     }
@@ -334,8 +336,7 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             &name,
             &baked,
             written.len(),
-            t_load.as_secs_f64(),
-            t_bake.as_secs_f64(),
+            [t_load, t_bake, t_write].map(|t| t.as_secs_f64()),
         );
     }
     Ok(())
@@ -347,12 +348,13 @@ fn triple(v: [f64; 3]) -> String {
 }
 
 /// The table printed at the end.
-fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, load: f64, work: f64) {
+///
+/// `times`: the seconds spent loading, baking and writing.
+fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
+    let [load, work, write] = times.map(|t| t * 1e3);
     eprintln!(
-        "{name} -> {} ({files} files): load {:.0} ms, bake {:.0} ms",
+        "{name} -> {} ({files} files): load {load:.0} ms, bake {work:.0} ms, write {write:.0} ms",
         a.out.display(),
-        load * 1e3,
-        work * 1e3
     );
     if let Some(chain) = &b.chain {
         eprintln!(

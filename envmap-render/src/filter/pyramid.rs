@@ -81,6 +81,17 @@ pub fn downsample(img: &EnvImage, weights: &TexelWeights) -> Result<EnvImage> {
     Ok(out)
 }
 
+/// The first `w` texels of a chart row as [`EnvImage::chart_row`] gives
+/// it, in the chart's own order (turned where the atlas stores the row
+/// right to left).
+fn own_order((row, turned): (&[[f32; 3]], bool), w: usize) -> std::borrow::Cow<'_, [[f32; 3]]> {
+    if turned {
+        row[..w].iter().rev().copied().collect()
+    } else {
+        std::borrow::Cow::Borrowed(&row[..w])
+    }
+}
+
 /// The even case: each texel the solid-angle-weighted mean of 2 × 2, read
 /// from the chart's rows in place.
 fn halve(img: &EnvImage, weights: &TexelWeights, chart: u32, w2: u32, h2: u32) -> RgbImage {
@@ -96,22 +107,18 @@ fn halve(img: &EnvImage, weights: &TexelWeights, chart: u32, w2: u32, h2: u32) -
             let (Some(r0), Some(r1)) = (img.chart_row(chart, j0), img.chart_row(chart, j1)) else {
                 return;
             };
-            let at = |r: (&[[f32; 3]], bool), i: u32| -> [f32; 3] {
-                let i = i as usize;
-                if r.1 {
-                    r.0[w - 1 - i]
-                } else {
-                    r.0[i]
-                }
-            };
-            for (ci, out) in (0u32..).zip(row.iter_mut()) {
-                let (i0, i1) = (2 * ci, 2 * ci + 1);
-                let taps = [
-                    (weights.get(chart, i0, j0), at(r0, i0)),
-                    (weights.get(chart, i1, j0), at(r0, i1)),
-                    (weights.get(chart, i0, j1), at(r1, i0)),
-                    (weights.get(chart, i1, j1), at(r1, i1)),
-                ];
+            // The rows in the chart's own order (turned where the atlas
+            // stores them right to left), and their weights.
+            let (p0, p1) = (own_order(r0, w), own_order(r1, w));
+            let (mut w0, mut w1) = (Vec::new(), Vec::new());
+            weights.row_into(chart, j0, &mut w0);
+            weights.row_into(chart, j1, &mut w1);
+            let pairs = p0
+                .chunks_exact(2)
+                .zip(p1.chunks_exact(2))
+                .zip(w0.chunks_exact(2).zip(w1.chunks_exact(2)));
+            for (out, ((a, b), (wa, wb))) in row.iter_mut().zip(pairs) {
+                let taps = [(wa[0], a[0]), (wa[1], a[1]), (wb[0], b[0]), (wb[1], b[1])];
                 let mut acc = [0.0f64; 3];
                 let mut wsum = 0.0f64;
                 for (wt, p) in taps {
@@ -360,10 +367,12 @@ impl Bordered {
         self.blend(at, fx, fy)
     }
 
-    /// Eight chart points; lane `k` is `sample(q.lane_raw(k))` bit for bit.
-    /// The footprints are addressed eight at a time.
+    /// Eight chart points, on the lanes set in `lanes` only (the others are
+    /// zero: the lanes of a batch that read this level); lane `k` is
+    /// `sample(q.lane_raw(k))` bit for bit. The footprints are addressed
+    /// eight at a time.
     #[inline]
-    fn sample8(&self, q: &Uv8) -> [f32x4; 8] {
+    fn sample8_lanes(&self, q: &Uv8, lanes: u32) -> [f32x4; 8] {
         let (w, h) = (f32x8::splat(self.w as f32), f32x8::splat(self.h as f32));
         let half = f32x8::splat(0.5);
         let x = q.u.max(f32x8::ZERO).min(f32x8::ONE) * w + half;
@@ -380,7 +389,8 @@ impl Bordered {
             .to_array();
         let bad = q.chart.simd_ge(u32x8::splat(self.charts)).to_bitmask()
             | q.u.simd_ne(q.u).to_bitmask()
-            | q.v.simd_ne(q.v).to_bitmask();
+            | q.v.simd_ne(q.v).to_bitmask()
+            | !lanes;
         // A plain loop, not `array::from_fn`: the compiler has been seen to
         // leave from_fn's per-lane closure out of line here (a call per
         // lane, the sampled levels 40–60 % slower) when the code around
@@ -417,10 +427,12 @@ impl Level<'_> {
         }
     }
 
+    /// Lane `k` of `q` where bit `k` of `lanes` is set; the others are
+    /// zero, or read anyway where that costs nothing more.
     #[inline]
-    fn sample8(&self, q: &Uv8) -> [f32x4; 8] {
+    fn sample8(&self, q: &Uv8, lanes: u32) -> [f32x4; 8] {
         match self {
-            Level::Bordered(b) => b.sample8(q),
+            Level::Bordered(b) => b.sample8_lanes(q, lanes),
             Level::Plain(s) => s
                 .sample8(q, Filter::Bilinear)
                 .map(|[r, g, b]| f32x4::new([r, g, b, 0.0])),
@@ -543,11 +555,19 @@ impl<'a> Trilinear<'a> {
         while todo != 0 {
             let first = todo.trailing_zeros() as usize;
             let level = split[first].0;
-            let a = self.levels[level].sample8(q);
-            let needs_b =
-                (0..8).any(|k| todo >> k & 1 != 0 && split[k].0 == level && split[k].1 != 0.0);
-            let b = if needs_b {
-                Some(self.levels[level + 1].sample8(q))
+            // The lanes at this level, and those of them blended with the next.
+            let (mut here, mut blended) = (0u32, 0u32);
+            for (k, &(l, f)) in split.iter().enumerate() {
+                if todo >> k & 1 != 0 && l == level {
+                    here |= 1 << k;
+                    if f != 0.0 {
+                        blended |= 1 << k;
+                    }
+                }
+            }
+            let a = self.levels[level].sample8(q, here);
+            let b = if blended != 0 {
+                Some(self.levels[level + 1].sample8(q, blended))
             } else {
                 None
             };
@@ -577,11 +597,11 @@ impl<'a> Trilinear<'a> {
     #[must_use]
     pub fn sample8_at(&self, q: &Uv8, lod: f32) -> [f32x4; 8] {
         let (i, f) = self.split(lod);
-        let a = self.levels[i].sample8(q);
+        let a = self.levels[i].sample8(q, 0xff);
         if f == 0.0 {
             return a;
         }
-        let b = self.levels[i + 1].sample8(q);
+        let b = self.levels[i + 1].sample8(q, 0xff);
         core::array::from_fn(|k| blend(a[k], b[k], f))
     }
 }

@@ -113,7 +113,33 @@ impl TexelWeights {
     /// Row `j` of `chart`, `w` values.
     #[must_use]
     pub fn row(&self, chart: u32, j: u32) -> Vec<f64> {
-        (0..self.w).map(|i| self.get(chart, i, j)).collect()
+        let mut out = Vec::new();
+        self.row_into(chart, j, &mut out);
+        out
+    }
+
+    /// Row `j` of `chart` into `out` (resized to `w` values), each
+    /// [`TexelWeights::get`]'s, without a lookup per texel.
+    pub fn row_into(&self, chart: u32, j: u32, out: &mut Vec<f64>) {
+        let w = self.w as usize;
+        out.clear();
+        if chart >= self.charts || j >= self.h {
+            out.resize(w, 0.0);
+            return;
+        }
+        match &self.kind {
+            Kind::Rows(r) => out.resize(w, r[j as usize]),
+            Kind::Quadrant(t) => {
+                let qw = w.div_ceil(2);
+                let jj = j.min(self.h - 1 - j) as usize;
+                // The left half as stored, the right half its mirror
+                // image (the middle texel of an odd row once).
+                let half = &t[jj * qw..(jj + 1) * qw];
+                out.extend_from_slice(half);
+                out.extend(half[..w - qw].iter().rev());
+            }
+            Kind::PerChart(t) => out.extend_from_slice(&t[chart as usize][j as usize * w..][..w]),
+        }
     }
 
     /// The sum over every texel of every chart (4π for a whole sphere).
@@ -197,6 +223,30 @@ pub fn channel_energy(img: &crate::image::EnvImage) -> ChannelEnergy {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A row at once is each texel's weight: every kind of table, odd and
+    /// even sizes, rows out of range.
+    #[test]
+    fn a_row_is_its_texels_weights() {
+        for m in [AnyMapping::Cube, AnyMapping::LatLong, AnyMapping::SphereMap] {
+            for (w, h) in [(1, 1), (4, 4), (7, 7), (9, 5)] {
+                let (w, h) = if m == AnyMapping::Cube {
+                    (w, w)
+                } else {
+                    (w, h)
+                };
+                let t = TexelWeights::new(m, w, h);
+                let mut row = Vec::new();
+                for chart in 0..=m.chart_count() {
+                    for j in 0..=h {
+                        t.row_into(chart, j, &mut row);
+                        let want: Vec<f64> = (0..w).map(|i| t.get(chart, i, j)).collect();
+                        assert_eq!(row, want, "{m} {w}×{h} chart {chart} row {j}");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn the_cube_quadrant_mirrors_the_whole_face() {

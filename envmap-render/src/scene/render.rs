@@ -73,8 +73,13 @@
 //! to 1², about a third of the map's texels) are made from it, and each but
 //! a disk map's copied once with a one-texel border. That is the option's
 //! main cost, measured beside the plain render in the render bench
-//! (`envmap-bench`, `per-pixel-mip`; `docs/performance.md`): several times
-//! a 1920 × 1080 render's own time in a 6 × 1024² cube.
+//! (`envmap-bench`, `per-pixel-mip`; `docs/performance.md`): 1920 × 1080
+//! in a 6 × 1024² cube took 2.4 times the plain render with the levels
+//! built in the render, 1.5 times with them made beforehand. The rest is
+//! kept small: eight lookups whose levels are all 0 (the background, the
+//! flatter parts) take the plain path, a level is read only on the lanes
+//! that use it, and a pixel's footprint comes from its neighbours'
+//! directions on the same triangle where it has them.
 //! Per-vertex mode keeps seed `002`'s lookups (their artifacts are its
 //! point), [`Filter::Nearest`] stays nearest, and an analytic environment
 //! has no map to filter.
@@ -638,7 +643,6 @@ fn render_map(
                     .collect()
             };
             let mut dirs = Vec::with_capacity(need.len());
-            let mut spread = vec![0.0f32; if trilinear.is_some() { need.len() } else { 0 }];
             let mut fres = vec![1.0f32; need.len()];
             for (j, &k) in need.iter().enumerate() {
                 let hit = &hits[k];
@@ -657,11 +661,13 @@ fn render_map(
                         reflect_view(n, vv)
                     }
                 };
-                if let Some(s) = spread.get_mut(j) {
-                    *s = footprint(mesh, &projected, hit.as_ref(), &view, x, y, d);
-                }
                 dirs.push(d);
             }
+            let spread = if trilinear.is_some() {
+                footprints(mesh, &projected, &view, &hits, &need, &dirs, w, y0)
+            } else {
+                Vec::new()
+            };
             // The looked-up values, `vals[j]` for pixel `need[j]`: straight
             // into the band when every pixel is looked up (a mirror with its
             // background), else into a buffer scattered afterwards.
@@ -765,13 +771,22 @@ fn lookups(
         }
     }
     if let Some((tri, texels)) = mip {
+        // Batches whose every lane reads the map itself (level 0: the
+        // background, the flatter parts of an object) take the plain
+        // path, their texels loaded ahead; the others read their levels.
+        let mut ahead = Ahead::default();
         for start in (0..vals.len()).step_by(LANES) {
             let at = start..(start + LANES).min(vals.len());
             let q = mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at.clone()]));
             let lod = lod8(texels, &q, &spread[at.clone()]);
-            let rgb = tri.sample8(&q, lod);
-            vals[at.clone()].copy_from_slice(&rgb[..at.len()]);
+            if lod.simd_eq(f32x8::ZERO).all() {
+                ahead.push(sampler, &q, filter, at.start, at.len(), vals);
+            } else {
+                let rgb = tri.sample8(&q, lod);
+                vals[at.clone()].copy_from_slice(&rgb[..at.len()]);
+            }
         }
+        ahead.drain(sampler, vals);
     } else {
         let mut ahead = Ahead::default();
         for start in (0..vals.len()).step_by(LANES) {
@@ -860,6 +875,77 @@ fn footprint(
     dx.length().max(dy.length())
 }
 
+/// The footprints of the lookups `dirs` of the pixels `need` in a band
+/// of rows from `y0`, `w` wide (see [`footprint`]). A pixel on the object
+/// whose neighbours left or right and up or down in the band are on the
+/// same triangle takes the differences from their directions, already
+/// made (the forward difference where there is one, else the backward):
+/// the same ray differential as extrapolating on the triangle's plane,
+/// without making those directions again; the background likewise from
+/// background neighbours' view rays. Pixels without such neighbours make
+/// theirs.
+#[allow(clippy::too_many_arguments)]
+fn footprints(
+    mesh: &Mesh,
+    projected: &[(f32, f32, f32)],
+    view: &View,
+    hits: &[Option<Hit>],
+    need: &[usize],
+    dirs: &[Vec3],
+    w: u32,
+    y0: u32,
+) -> Vec<f32> {
+    let w = w as usize;
+    // Pixel → its lookup, where it has one.
+    let every = need.len() == hits.len();
+    let mut slot = Vec::new();
+    if !every {
+        slot = vec![u32::MAX; hits.len()];
+        for (j, &k) in need.iter().enumerate() {
+            slot[k] = j as u32;
+        }
+    }
+    let lookup = |k: usize| -> Option<usize> {
+        if every {
+            Some(k)
+        } else {
+            slot.get(k)
+                .copied()
+                .filter(|&j| j != u32::MAX)
+                .map(|j| j as usize)
+        }
+    };
+    need.iter()
+        .zip(dirs)
+        .map(|(&k, &d)| {
+            let (x, y) = (k % w, k / w);
+            let hit = hits[k].as_ref();
+            let from_neighbours = || {
+                // The direction at neighbour `n` if it is on `hit`'s
+                // triangle, or background beside background.
+                let same = |n: usize| match (hit, hits.get(n)?) {
+                    (Some(h), Some(o)) if o.tri == h.tri => lookup(n).map(|j| dirs[j]),
+                    (None, None) => lookup(n).map(|j| dirs[j]),
+                    _ => None,
+                };
+                let dx = (x + 1 < w)
+                    .then(|| same(k + 1))
+                    .flatten()
+                    .map(|r| r - d)
+                    .or_else(|| (x > 0).then(|| same(k - 1)).flatten().map(|l| d - l))?;
+                let dy = same(k + w)
+                    .map(|r| r - d)
+                    .or_else(|| (k >= w).then(|| same(k - w)).flatten().map(|l| d - l))?;
+                Some(dx.length_squared().max(dy.length_squared()).sqrt())
+            };
+            from_neighbours().unwrap_or_else(|| {
+                let (px, py) = (x as f32 + 0.5, (y0 as usize + y) as f32 + 0.5);
+                footprint(mesh, projected, hit, view, px, py, d)
+            })
+        })
+        .collect()
+}
+
 /// Added to every mip-aware lookup's level: one level finer than the
 /// footprint's own (see [Mip-aware lookups](self#mip-aware-lookups)).
 const LOD_BIAS: f32 = -1.0;
@@ -890,16 +976,21 @@ fn weights_at(v: &[(f32, f32, f32); 3], px: f32, py: f32) -> Option<[f32; 3]> {
 fn lod8(texels: &TexelWeights, q: &Uv8, spread: &[f32]) -> f32x8 {
     let (cw, ch) = texels.size();
     let (chart, u, v) = (q.chart.to_array(), q.u.to_array(), q.v.to_array());
-    let mut lod = [0.0f32; LANES];
-    for (k, (l, s)) in lod.iter_mut().zip(spread).enumerate() {
+    let (mut omega, mut s) = ([0.0f32; LANES], [0.0f32; LANES]);
+    for (k, sp) in spread.iter().enumerate().take(LANES) {
         let i = ((u[k].clamp(0.0, 1.0) * cw as f32) as u32).min(cw - 1);
         let j = ((v[k].clamp(0.0, 1.0) * ch as f32) as u32).min(ch - 1);
-        let omega = texels.get(chart[k], i, j) as f32;
-        if omega > 0.0 && s.is_finite() {
-            *l = ((s / omega.sqrt()).log2() + LOD_BIAS).max(0.0);
-        }
+        omega[k] = texels.get(chart[k], i, j) as f32;
+        s[k] = *sp;
     }
-    f32x8::new(lod)
+    let (omega, s) = (f32x8::new(omega), f32x8::new(s));
+    // log2(s / √Ω) = ½ log2(s² / Ω), eight at a time. Where s² / Ω ≤ 4
+    // the level is at most 0 (the bias is −1), and it is 0 where Ω is 0
+    // or the ratio is not finite.
+    let ratio = s * s / omega;
+    let lod = ratio.ln() * f32x8::splat(0.5 * core::f32::consts::LOG2_E) + f32x8::splat(LOD_BIAS);
+    let above = ratio.simd_gt(f32x8::splat(4.0)) & ratio.simd_lt(f32x8::splat(f32::INFINITY));
+    above.select(lod.max(f32x8::ZERO), f32x8::ZERO)
 }
 
 /// The interpolated unit normal at a hit and the unit vector from it to
