@@ -15,7 +15,7 @@
 //! * `files/bake`: the default bake (512² chain, SH9, 32² irradiance, DFG)
 //!   of the EXR file in memory (`in-memory`: the map already loaded, no
 //!   file written) and as `envmap bake FILE --out DIR` runs it (`with-files`:
-//!   load, bake, every file written).
+//!   load, the loaded map given to the bake, every file written).
 //!
 //! On jemalloc, as the `envmap` command runs.
 //!
@@ -37,7 +37,7 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use envmap_core::AnyMapping;
 use envmap_render::bakedir::{self, Preset, Provenance};
 use envmap_render::convert::{convert, ConvertOptions, Streamed};
-use envmap_render::filter::bake::{bake, BakeOptions};
+use envmap_render::filter::bake::{bake, bake_owned, BakeOptions};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
 use envmap_render::io::{load, save, ExrCompression, LoadOptions, Outputs, SaveOptions};
 use envmap_render::procedural::{fill, smooth};
@@ -208,8 +208,7 @@ fn bench(c: &mut Criterion) {
             |()| {
                 pool.install(|| {
                     let m = load(black_box(&exr), &LoadOptions::default()).expect("load");
-                    let baked = bake(&m, &opts, &|_, _| {}).expect("bake");
-                    drop(m);
+                    let baked = bake_owned(m, &opts, &|_, _| {}).expect("bake");
                     bakedir::write(
                         &dir,
                         &baked,

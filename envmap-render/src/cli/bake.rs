@@ -14,7 +14,7 @@ use crate::cli::args::{
     load_error, parse_convention, parse_layout, parse_mapping, parse_world, set_threads,
     warn_clamped, warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
-use crate::filter::bake::{bake, chain_sizes, Bake, BakeOptions, Quality};
+use crate::filter::bake::{bake_owned, chain_sizes, Bake, BakeOptions, Quality};
 use crate::filter::sh::{IrradianceScale, ShWindow};
 use crate::filter::specular::RoughnessRule;
 use crate::image::convention::{Convention, FileAxes, World};
@@ -306,9 +306,9 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         }
     };
     let t1 = Instant::now();
-    let baked = bake(&src, &opts, &progress).map_err(|e| e.to_string())?;
+    // The bake takes the input: its working copy is the input itself.
+    let baked = bake_owned(src, &opts, &progress).map_err(|e| e.to_string())?;
     let t_bake = t1.elapsed();
-    drop(src);
     if let Ok(b) = bar.lock() {
         b.finish_and_clear();
     }

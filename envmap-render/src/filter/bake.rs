@@ -23,6 +23,7 @@ use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Atlas, ChartUv, Mapping};
 
 use crate::par::*;
+use std::borrow::Cow;
 
 use crate::cancel;
 use crate::error::{Error, Result};
@@ -670,17 +671,18 @@ pub fn specular_chain(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SpecularChain> {
     let oracle = (opts.check > 0).then(|| Oracle::new(src));
-    chain_checked(src, opts, progress, oracle.as_ref())
+    chain_checked(Cow::Borrowed(src), opts, progress, oracle.as_ref())
 }
 
 /// [`specular_chain`], measuring against `oracle` (of `src`) when
 /// [`BakeOptions::check`] asks.
 fn chain_checked(
-    src: &EnvImage,
+    input: Cow<'_, EnvImage>,
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
     oracle: Option<&Oracle>,
 ) -> Result<SpecularChain> {
+    let src = &*input;
     refuse_non_finite(src)?;
     let sizes = chain_sizes(opts)?;
     let cube = Representation::new(
@@ -715,10 +717,14 @@ fn chain_checked(
     tr("level 0 resampled");
     let input_energy = channel_energy(src);
     tr("input energy");
+    // What the rest needs of the input once it is the working copy below.
+    let src_frame = src.representation().frame.matrix();
+    let input_pitch = texel_pitch(src);
     // The brightest texels, split from the input's own texels before any
     // resampling; each cut into parts no wider than the narrowest lobe's
-    // cluster cell.
-    let mut rest_src = src.clone();
+    // cluster cell. An input the bake owns is worked on in place, else
+    // copied.
+    let mut rest_src = input.into_owned();
     let clamp = match opts.clamp {
         Some(t) => {
             clamp_luminance(&mut level0, t)?;
@@ -774,8 +780,7 @@ fn chain_checked(
     tr("base cube");
     let base_energy = channel_energy(&base);
     // The split points from the input's axes into the base's.
-    let to_base =
-        base.representation().frame.matrix().transpose() * src.representation().frame.matrix();
+    let to_base = base.representation().frame.matrix().transpose() * src_frame;
     for d in &mut bright.dirs {
         *d = (to_base * *d).normalize();
     }
@@ -804,7 +809,6 @@ fn chain_checked(
     // than sampling (a source texel's weight, eight output texels at a
     // time, costs about a sixteenth of a sample's trilinear read), or when
     // asked.
-    let input_pitch = texel_pitch(src);
     let plans: Vec<(f32, Method)> = sizes
         .iter()
         .enumerate()
@@ -970,22 +974,78 @@ pub fn bake(
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Bake> {
+    bake_input(Cow::Borrowed(src), opts, progress)
+}
+
+/// [`bake`] of an input the caller gives away: the chain's working copy
+/// of the input (its brightest texels split off, its polar rows widened)
+/// is the input itself, so the bake never holds the input twice (peak
+/// memory about one input less; `envmap bake` bakes so). The same result
+/// as [`bake`], bit for bit. With [`BakeOptions::check`] or an exact
+/// irradiance map, which read the input after the chain, the input is
+/// copied as [`bake`] copies it.
+///
+/// # Errors
+///
+/// As [`bake`].
+pub fn bake_owned(
+    src: EnvImage,
+    opts: &BakeOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Bake> {
+    bake_input(Cow::Owned(src), opts, progress)
+}
+
+fn bake_input(
+    input: Cow<'_, EnvImage>,
+    opts: &BakeOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Bake> {
+    let mut stages = Vec::new();
+    // The SH9 first: the chain may consume the input.
+    let t = Instant::now();
+    let sh = Sh9::project(&input);
+    stages.push(("sh9", t.elapsed().as_secs_f64()));
+    // Whether the input is read after the chain.
+    let later = opts.check > 0 || opts.exact || opts.exact_irradiance || opts.sh_only;
+    if later {
+        let src = &*input;
+        let oracle = (opts.check > 0).then(|| Oracle::new(src));
+        let chain = if opts.sh_only {
+            refuse_non_finite(src)?;
+            None
+        } else {
+            Some(chain_checked(
+                Cow::Borrowed(src),
+                opts,
+                progress,
+                oracle.as_ref(),
+            )?)
+        };
+        finish(Some(src), oracle, chain, sh, stages, opts)
+    } else {
+        let chain = chain_checked(input, opts, progress, None)?;
+        finish(None, None, Some(chain), sh, stages, opts)
+    }
+}
+
+/// The rest of a bake once its chain is made: the irradiance map (exact
+/// from `src`, the input, where asked: then it is given), the DFG table,
+/// the checks against `oracle`.
+fn finish(
+    src: Option<&EnvImage>,
+    oracle: Option<Oracle<'_>>,
+    chain: Option<SpecularChain>,
+    sh: Sh9,
+    mut stages: Vec<(&'static str, f64)>,
+    opts: &BakeOptions,
+) -> Result<Bake> {
+    cancel::check(opts.cancel)?;
     let cube = Representation::new(
         AnyMapping::Cube,
         Atlas::CUBE_HORIZONTAL_STRIP,
         opts.axes.frame(AnyMapping::Cube),
     )?;
-    let oracle = (opts.check > 0).then(|| Oracle::new(src));
-    let chain = if opts.sh_only {
-        refuse_non_finite(src)?;
-        None
-    } else {
-        Some(chain_checked(src, opts, progress, oracle.as_ref())?)
-    };
-    cancel::check(opts.cancel)?;
-    let mut stages = Vec::new();
-    let t = Instant::now();
-    let sh = Sh9::project(src);
     let (windowed, sh_cutoff) = match opts.sh_window {
         None => (sh, None),
         Some(w) => {
@@ -993,12 +1053,16 @@ pub fn bake(
             (sh.windowed(w), cutoff)
         }
     };
-    stages.push(("sh9", t.elapsed().as_secs_f64()));
     let mut irradiance = None;
     if !opts.sh_only && opts.irradiance_size > 0 {
         let t = Instant::now();
         let (w, h) = (6 * opts.irradiance_size, opts.irradiance_size);
-        let (mut image, method, source_level) = if opts.exact || opts.exact_irradiance {
+        let exact = if opts.exact || opts.exact_irradiance {
+            src
+        } else {
+            None
+        };
+        let (mut image, method, source_level) = if let Some(src) = exact {
             let p = Pyramid::new(src.clone(), 1)?;
             let e =
                 irradiance_map_exact(&p, cube, w, h, opts.irradiance_scale, ExactLevel::default())?;
@@ -1056,6 +1120,38 @@ pub fn bake(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The bake of an input given away is the bake of a borrowed one, bit
+    /// for bit (its working copy is the input itself).
+    #[test]
+    fn an_owned_input_bakes_as_a_borrowed_one() {
+        use crate::scene::procedural::{fill, smooth};
+        let src = fill(
+            Representation::default_for(AnyMapping::LatLong),
+            64,
+            32,
+            smooth,
+        )
+        .unwrap();
+        let opts = BakeOptions {
+            size: 16,
+            irradiance_size: 8,
+            dfg_size: 8,
+            ..BakeOptions::default()
+        };
+        let a = bake(&src, &opts, &|_, _| {}).unwrap();
+        let b = bake_owned(src, &opts, &|_, _| {}).unwrap();
+        let (ca, cb) = (a.chain.unwrap(), b.chain.unwrap());
+        assert_eq!(ca.levels.len(), cb.levels.len());
+        for (x, y) in ca.levels.iter().zip(&cb.levels) {
+            assert_eq!(x.pixels(), y.pixels());
+        }
+        assert_eq!(a.sh.coeffs, b.sh.coeffs);
+        assert_eq!(
+            a.irradiance.unwrap().image.pixels(),
+            b.irradiance.unwrap().image.pixels()
+        );
+    }
 
     #[test]
     fn chain_sizes_follow_the_rule_and_refuse_too_many_levels() {
