@@ -27,7 +27,7 @@ use crate::par::*;
 use crate::cancel;
 use crate::error::{Error, Result};
 use crate::filter::convert::{convert, ConvertOptions};
-use crate::filter::dfg::{self, DfgTable};
+use crate::filter::dfg::{self, DfgGrid, DfgTable};
 use crate::filter::oracle::Oracle;
 use crate::filter::pyramid::{Pyramid, Trilinear};
 use crate::filter::sample::Filter;
@@ -195,6 +195,10 @@ pub struct BakeOptions<'a> {
     pub sh_only: bool,
     /// The DFG table's size ([`bake`]); 0 for none. Default 128.
     pub dfg_size: u32,
+    /// Where the DFG table's texels sit: texel centres (the default, what
+    /// engines sample at (N·V, roughness)) or the edges grid (N·V and
+    /// roughness of 0 and 1 exact; [`DfgGrid`]).
+    pub dfg_grid: DfgGrid,
     /// Texels per sampled level measured against the exact integral
     /// ([`measure_level`]); 0 (the default) for none.
     pub check: u32,
@@ -222,6 +226,7 @@ impl Default for BakeOptions<'_> {
             sh_window: None,
             sh_only: false,
             dfg_size: dfg::DEFAULT_SIZE,
+            dfg_grid: DfgGrid::TexelCentres,
             check: 0,
             cancel: None,
         }
@@ -1023,7 +1028,11 @@ pub fn bake(
     let mut table = None;
     if !opts.sh_only && opts.dfg_size > 0 {
         let t = Instant::now();
-        table = Some(DfgTable::new_cancellable(opts.dfg_size, opts.cancel)?);
+        table = Some(DfgTable::on_grid(
+            opts.dfg_size,
+            opts.dfg_grid,
+            opts.cancel,
+        )?);
         stages.push(("dfg", t.elapsed().as_secs_f64()));
     }
     let checked = oracle.map(|o| {
