@@ -3,7 +3,8 @@
 //! nine levels down to 2², default quality), the SH9, the 32² irradiance
 //! cube and the 128² DFG table, on two threads; and the chain alone; the
 //! same bake of that map with a 0.5° sun of 100 000 ([`small_sun`]); and
-//! the exact mode of a 64² chain from a 256² cube.
+//! the exact mode of a 64² chain from a 256² cube; and what `envmap render
+//! --material` bakes from the smooth map on the fly, before and now.
 //!
 //! ```text
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench bake
@@ -18,6 +19,7 @@ use envmap_core::AnyMapping;
 use envmap_render::filter::bake::{bake, specular_chain, BakeOptions};
 use envmap_render::image::{FileAxes, Representation};
 use envmap_render::procedural::{fill, small_sun, smooth};
+use envmap_render::scene::lit::LitEnvironment;
 
 fn bench(c: &mut Criterion) {
     let pool = common::pool(2);
@@ -38,6 +40,30 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             pool.install(|| specular_chain(black_box(&src), &opts, &|_, _| {}).expect("chain"))
         })
+    });
+    g.finish();
+
+    // What `envmap render --material` bakes on the fly at its default
+    // `--bake-size 256`: the chain it baked before (a mip chain by the
+    // linear rule down to 2², a 64² DFG table at texel centres) and
+    // envmap's own now (`LitEnvironment::bake`: levels spaced by their
+    // lobes, a 128² DFG table on the edges grid), both with a 32²
+    // irradiance map.
+    let mut g = c.benchmark_group("bake/render-latlong4096");
+    g.sample_size(10);
+    let before = {
+        let mut o = BakeOptions::default();
+        o.size = 256;
+        o.dfg_size = 64;
+        o
+    };
+    g.bench_function("mip-chain256+dfg64/2-threads", |b| {
+        b.iter(|| {
+            pool.install(|| LitEnvironment::bake_with(black_box(&src), &before).expect("bake"))
+        })
+    });
+    g.bench_function("envmap-chain256+dfg128-edges/2-threads", |b| {
+        b.iter(|| pool.install(|| LitEnvironment::bake(black_box(&src), 256, None).expect("bake")))
     });
     g.finish();
 

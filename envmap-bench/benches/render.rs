@@ -5,8 +5,14 @@
 //! on two threads (`per-pixel-mip`: the map's pyramid built inside each
 //! render, as `envmap render` does, and read trilinearly at each
 //! reflection's footprint); and lit: glossy plastic at
-//! roughness 0.5 by the split sum from that sky's 512² baked chain and 32²
-//! irradiance map (baked once, outside the timing), on two threads.
+//! roughness 0.5 by the split sum on two threads, from that sky's maps
+//! (baked once, outside the timing): `plastic-r0.5-split-sum` reads the
+//! mip chain `envmap bake` makes by default (512² down to 2², linear rule,
+//! blended linearly as engines do, the 128² DFG table at texel centres),
+//! `plastic-r0.5-envmap-chain` the chain envmap's renderer bakes
+//! (`LitEnvironment::bake` at 512²: levels spaced by their lobes, blended
+//! in 1/α, the DFG table on the edges grid), both with a 32² irradiance
+//! map.
 //!
 //! ```text
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench render
@@ -66,46 +72,42 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
-    // Lit: the split sum from the sky's bake.
-    let lit = {
-        use envmap_render::filter::bake::{bake, BakeOptions};
-        use envmap_render::filter::sh::IrradianceScale;
-        use envmap_render::scene::lit::LitEnvironment;
-        let b = bake(&env, &BakeOptions::default(), &|_, _| {}).expect("bake");
-        let chain = b.chain.expect("chain");
-        let roughness = chain.reports.iter().map(|r| r.roughness).collect();
-        LitEnvironment::new(
-            chain.levels,
-            roughness,
-            b.irradiance.expect("irradiance").image,
-            IrradianceScale::EOverPi,
-            b.dfg.expect("dfg"),
-        )
-        .expect("lit")
-    };
+    // Lit: the split sum from the sky's bake, as engines read a mip chain
+    // and as envmap's renderer reads its own.
+    use envmap_render::filter::bake::BakeOptions;
+    use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
+    let mip = LitEnvironment::bake_with(&env, &BakeOptions::default())
+        .expect("bake")
+        .with_blend(LevelBlend::Roughness);
+    let own = LitEnvironment::bake(&env, 512, None).expect("bake");
     let pool = common::pool(2);
-    let opts = RenderOptions {
-        width,
-        height,
-        samples: 1,
-        shading: envmap_render::render::Shading::SplitSum {
-            env: &lit,
-            material: envmap_render::scene::material::Material {
-                roughness: 0.5,
-                ..envmap_render::scene::material::Material::default()
+    for (name, lit) in [
+        ("plastic-r0.5-split-sum/2-threads", &mip),
+        ("plastic-r0.5-envmap-chain/2-threads", &own),
+    ] {
+        let opts = RenderOptions {
+            width,
+            height,
+            samples: 1,
+            shading: envmap_render::render::Shading::SplitSum {
+                env: lit,
+                material: envmap_render::scene::material::Material {
+                    roughness: 0.5,
+                    ..envmap_render::scene::material::Material::default()
+                },
+                multiscatter: false,
+                dominant: true,
             },
-            multiscatter: false,
-            dominant: true,
-        },
-        ..RenderOptions::default()
-    };
-    g.bench_function("plastic-r0.5-split-sum/2-threads", |b| {
-        b.iter(|| {
-            pool.install(|| {
-                render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts).expect("render")
+            ..RenderOptions::default()
+        };
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                pool.install(|| {
+                    render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts).expect("render")
+                })
             })
-        })
-    });
+        });
+    }
     g.finish();
 }
 

@@ -380,16 +380,27 @@ fn per_vertex_lit_interpolates_the_lookups() {
 }
 
 /// `envmap render --env DIR` reads the maps `envmap bake` wrote into DIR
-/// (OpenEXR files, or KTX2 chains) and renders what the maps baked on the
-/// fly render; a KTX2 chain alone is read by the linear rule; a directory
-/// that is not a bake, or a bake without a chain, is refused by name.
+/// (OpenEXR files, or KTX2 chains) and renders what the same chain baked on
+/// the fly renders (`--engine gltf`: the linear rule down to 2², which is
+/// also `envmap bake`'s default, read as glTF viewers read it); a KTX2
+/// chain alone is read by the linear rule; a directory that is not a bake,
+/// or a bake without a chain, is refused by name.
 #[test]
 fn render_reads_the_maps_bake_wrote() {
     use common::{envmap, text};
     use envmap_render::image::io::read_rgb;
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let small = ["--width", "64", "--height", "48", "--material", "plastic"];
+    let small = [
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--material",
+        "plastic",
+        "--engine",
+        "gltf",
+    ];
     let run = |args: &[&str]| {
         let o = envmap(args, d);
         assert!(o.status.success(), "{args:?}: {}", text(&o.stderr));

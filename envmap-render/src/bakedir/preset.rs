@@ -7,6 +7,7 @@ use envmap_core::Frame;
 
 use crate::error::{Error, Result};
 use crate::filter::bake::BakeOptions;
+use crate::filter::dfg::DfgGrid;
 use crate::filter::sh::ShWindow;
 use crate::filter::specular::RoughnessRule;
 use crate::image::convention::FileAxes;
@@ -123,6 +124,8 @@ pub struct Preset {
     pub sh_window: Option<ShWindow>,
     /// Size of the DFG table (0: none).
     pub dfg_size: u32,
+    /// Where the DFG table's texels sit (texel centres unless asked).
+    pub dfg_grid: DfgGrid,
     /// Container of the maps.
     pub container: Container,
     /// Texel format and supercompression of texture containers.
@@ -154,6 +157,7 @@ impl Default for Preset {
             irradiance_size: crate::filter::sh::DEFAULT_IRRADIANCE_SIZE,
             sh_window: None,
             dfg_size: crate::filter::dfg::DEFAULT_SIZE,
+            dfg_grid: DfgGrid::TexelCentres,
             container: Container::Exr,
             texture: TextureOptions::default(),
             layout: Layout::Cross,
@@ -266,7 +270,8 @@ impl Preset {
     }
 
     /// The bake's options for this preset (size, levels, rule, irradiance,
-    /// SH window, DFG table, axes); every other field is `base`'s.
+    /// SH window, DFG table and its grid, axes); every other field is
+    /// `base`'s.
     #[must_use]
     pub fn bake_options<'a>(&self, base: BakeOptions<'a>) -> BakeOptions<'a> {
         BakeOptions {
@@ -276,6 +281,7 @@ impl Preset {
             irradiance_size: self.irradiance_size,
             sh_window: self.sh_window,
             dfg_size: self.dfg_size,
+            dfg_grid: self.dfg_grid,
             axes: self.axes,
             ..base
         }

@@ -9,8 +9,11 @@
 //!   columns in envmap's z-up axes; OpenEXR files also say so themselves,
 //!   and older manifests without the field are read through the files'
 //!   own tags). The DFG table is computed again at the manifest's size: it
-//!   depends on nothing but its size (quadrature in f64), so it equals the
-//!   bake's `dfg.exr` to the last bit of its f32 texels.
+//!   depends on nothing but its size and grid (quadrature in f64), and the
+//!   renderer builds it on the edges grid whatever grid the bake's
+//!   `dfg.exr` is on ([`DfgGrid::Edges`]: N·V and roughness of 0 and 1
+//!   read exactly; on the same grid it equals the file to the last bit of
+//!   its f32 texels).
 //! * **A chain file alone** (a `.ktx2` or `.dds` cube with more than one
 //!   level and no manifest beside it naming it): the texture states no
 //!   roughness, so level k of n is taken at roughness k/(n − 1), the linear
@@ -30,7 +33,7 @@ use envmap_core::{AnyMapping, Frame};
 use serde_json::Value;
 
 use crate::error::{Error, Result};
-use crate::filter::dfg::DfgTable;
+use crate::filter::dfg::{DfgGrid, DfgTable};
 use crate::filter::sh::{irradiance_map, IrradianceScale, Sh9, DEFAULT_IRRADIANCE_SIZE};
 use crate::filter::specular::RoughnessRule;
 use crate::image::io::{load_detailed, LoadOptions};
@@ -278,7 +281,7 @@ fn from_manifest(
         .as_u64()
         .and_then(|s| u32::try_from(s).ok())
         .unwrap_or(DEFAULT_DFG_SIZE);
-    let dfg = DfgTable::new_cancellable(dfg_size, cancel).map_err(|e| match e {
+    let dfg = DfgTable::on_grid(dfg_size.max(2), DfgGrid::Edges, cancel).map_err(|e| match e {
         Error::Cancelled => e,
         e => bad(manifest, format!("dfg size {dfg_size}: {e}")),
     })?;
@@ -348,7 +351,7 @@ fn alone(
         DEFAULT_IRRADIANCE_SIZE,
         IrradianceScale::EOverPi,
     )?;
-    let dfg = DfgTable::new_cancellable(DEFAULT_DFG_SIZE, cancel)?;
+    let dfg = DfgTable::on_grid(DEFAULT_DFG_SIZE, DfgGrid::Edges, cancel)?;
     let description = format!(
         "{}: {n} levels ({}² … {}²) with no manifest naming them: level k taken at roughness k/{} (the linear rule); irradiance from level 0's SH9; DFG {DEFAULT_DFG_SIZE}²",
         path.display(),

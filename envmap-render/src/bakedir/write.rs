@@ -9,6 +9,7 @@ use envmap_core::AnyMapping;
 use super::preset::{Container, Preset, Target};
 use crate::error::{Error, Result};
 use crate::filter::bake::{Bake, BakeOptions};
+use crate::filter::dfg::{DfgGrid, DfgTable};
 use crate::filter::sh::{IrradianceScale, NAMES};
 use crate::image::convention::FileAxes;
 use crate::image::io::{ExrPrecision, MemoryFile, Outputs, SaveOptions};
@@ -292,7 +293,8 @@ fn stage(
         }
         if let (Some(t), Some(Target::Gltf)) = (&bake.dfg, preset.target) {
             // glTF-IBL-Sampler's LUT: R = scale, G = bias, N·V across,
-            // roughness down (row 0 = roughness 0.5/size).
+            // roughness down (row 0 = roughness 0.5/size, or 0 on the edges
+            // grid: the manifest's `dfg.grid`).
             let lut = Texture::new(TextureKind::Flat, vec![vec![t.single_scatter_image()]])?;
             let path = dir.join(format!("lut_ggx.{ext}"));
             let c = run.stage_texture(
@@ -307,10 +309,8 @@ fn stage(
         }
     }
     if let Some(t) = &bake.dfg {
-        let axes = format!(
-            "column i: N.V = (i + 0.5)/{0}, row j from the top: perceptual roughness (j + 0.5)/{0}; height-correlated Smith GGX",
-            t.size()
-        );
+        let (x, y) = dfg_axes(t);
+        let axes = format!("{x}, {y}; height-correlated Smith GGX");
         for (file, form, image) in [
             (
                 "dfg.exr",
@@ -635,14 +635,34 @@ pub fn manifest(
                 "dfg_multiscatter.exr": "Filament's multiscatter form: R = bias, G = scale + bias",
             },
             "size": t.size(),
-            "x": "column i: N·V = (i + 0.5) / size",
-            "y": "row j from the top: perceptual roughness = (j + 0.5) / size",
+            "grid": t.grid().name(),
+            "x": dfg_axes(t).0,
+            "y": dfg_axes(t).1,
+            "lookup": match t.grid() {
+                DfgGrid::TexelCentres => "sample the texture at (N·V, roughness) with linear filtering".to_owned(),
+                DfgGrid::Edges => format!("sample the texture at ((size - 1)·x + 0.5) / size = ({} x + 0.5) / {} for x = N·V and x = roughness, with linear filtering: N·V and roughness of 0 and 1 are exact", t.size() - 1, t.size()),
+            },
             "visibility": "height-correlated Smith GGX",
             "precision": "computed in f64 by quadrature, stored as f32",
         })),
         "stages_seconds": b.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
     });
     serde_json::to_string_pretty(&m).unwrap_or_default()
+}
+
+/// Where a DFG table's columns and rows sit, in words (its grid).
+fn dfg_axes(t: &DfgTable) -> (String, String) {
+    let n = t.size();
+    match t.grid() {
+        DfgGrid::TexelCentres => (
+            format!("column i: N.V = (i + 0.5)/{n}"),
+            format!("row j from the top: perceptual roughness (j + 0.5)/{n}"),
+        ),
+        DfgGrid::Edges => (
+            format!("column i: N.V = i/{}", n - 1),
+            format!("row j from the top: perceptual roughness j/{}", n - 1),
+        ),
+    }
 }
 
 /// A frame's matrix as three columns (the file axes in canonical ones).

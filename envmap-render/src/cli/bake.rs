@@ -15,6 +15,7 @@ use crate::cli::args::{
     warn_clamped, warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
 use crate::filter::bake::{bake_owned, chain_sizes, Bake, BakeOptions, Quality};
+use crate::filter::dfg::DfgGrid;
 use crate::filter::sh::{IrradianceScale, ShWindow};
 use crate::filter::specular::RoughnessRule;
 use crate::image::convention::{Convention, FileAxes, World};
@@ -86,6 +87,9 @@ pub(crate) struct BakeArgs {
     /// Size of the DFG table (0: none; default 128, none for --target bevy and filament, whose engines ship their own).
     #[arg(long)]
     pub(crate) dfg_size: Option<u32>,
+    /// Where the DFG table's texels sit: texel-centres (the default: column i at N·V = (i + 0.5)/size, row j at roughness (j + 0.5)/size, what Filament and glTF viewers sample at (N·V, roughness)) or edges (i/(size − 1), j/(size − 1): N·V and roughness of 0 and 1 read exactly; sample at ((size − 1)·x + 0.5)/size). The manifest says which.
+    #[arg(long, value_parser = parse_dfg_grid)]
+    pub(crate) dfg_grid: Option<DfgGrid>,
     /// At most this many of the input's brightest texels (a sun, lamps, windows, and what rings around them: the brightest 1 % of the sphere by the largest absolute channel, where it exceeds 4 × the map's mean) are split out and summed to every output texel by a tree over their parts (0: none).
     #[arg(long, default_value_t = 16384)]
     pub(crate) split: usize,
@@ -164,11 +168,17 @@ fn plan(a: &BakeArgs) -> Result<Preset, String> {
         irradiance_size: a.irradiance_size.unwrap_or(base.irradiance_size),
         sh_window: a.sh_window.map_or(base.sh_window, |w| w.0),
         dfg_size: a.dfg_size.unwrap_or(base.dfg_size),
+        dfg_grid: a.dfg_grid.unwrap_or(base.dfg_grid),
         container,
         texture,
         layout: a.layout,
         ..base
     })
+}
+
+/// `--dfg-grid`: texel-centres or edges.
+fn parse_dfg_grid(s: &str) -> Result<DfgGrid, String> {
+    s.parse().map_err(|e: crate::Error| e.to_string())
 }
 
 /// `--sh-window`: none, auto, or a cutoff.

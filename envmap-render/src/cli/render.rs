@@ -8,16 +8,19 @@ use clap::Args;
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
 
+use crate::bakedir::{Preset, Target};
 use crate::cli::args::{
     load_error, output_size, parse_convention, parse_mapping, parse_mode, parse_vec3, parse_world,
     warn_replaced, CliResult, WriteFlags,
 };
+use crate::filter::bake::BakeOptions;
+use crate::filter::oracle::Oracle;
 use crate::filter::sample::Filter;
 use crate::image::convention::{Convention, FileAxes, World};
 use crate::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
 use crate::image::Representation;
 use crate::scene::environments::Builtin;
-use crate::scene::lit::LitEnvironment;
+use crate::scene::lit::{LevelBlend, LitEnvironment};
 use crate::scene::lit_files;
 use crate::scene::material::Material;
 use crate::scene::mesh::Mesh;
@@ -104,12 +107,18 @@ pub(crate) struct RenderArgs {
     /// Render the ground truth instead: the rendering integral of the full GGX + Lambert BRDF by Monte Carlo per pixel (--reference-samples per lobe), the environment looked up exactly (--analytic built-ins) or in the full-resolution map.
     #[arg(long)]
     pub(crate) reference: bool,
+    /// Render the exact split sum instead: per pixel, the prefiltered integral at the material's own roughness by brute force over every texel of the environment (not a baked chain), the DFG integral at the pixel's own N·V and roughness, and the exact irradiance; what the split sum's maps are measured against. Slow (about a millisecond per pixel for a 512 × 256 map).
+    #[arg(long, conflicts_with = "reference")]
+    pub(crate) exact_split_sum: bool,
     /// Samples per pixel and per lobe of --reference.
     #[arg(long, default_value_t = 256)]
     pub(crate) reference_samples: u32,
-    /// Face size of the specular chain baked for a material (the irradiance map is 32², the DFG table 64²).
+    /// Face size of the level 0 of the specular chain baked for a material (envmap's own chain: levels spaced by their lobes, each as large as its lobe needs up to 1.5 × this size, the smallest 16²; the irradiance map is 32², the DFG table 128² with N·V and roughness of 0 and 1 exact).
     #[arg(long, default_value_t = 256)]
     pub(crate) bake_size: u32,
+    /// Shade as an engine does: bake the chain its `envmap bake --target` preset makes (bevy, gltf: the linear rule down to 2²; filament: its rule down to 16²; level 0 at --bake-size) and blend its levels as its shader does (linear in its lod); with --env DIR, read the bake's chain that way. The DFG table stays envmap's.
+    #[arg(long, value_parser = parse_target)]
+    pub(crate) engine: Option<Target>,
     /// Exposure in stops for PNG output.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub(crate) exposure: f32,
@@ -224,26 +233,65 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         return Err("--eye and --target must differ".into());
     }
     let material = material(a)?;
+    if a.exact_split_sum && material.is_none() {
+        return Err("--exact-split-sum needs a --material other than mirror".into());
+    }
+    if a.exact_split_sum && baked.is_some() {
+        return Err(
+            "--exact-split-sum integrates the environment itself (a file or a built-in), not the maps of a bake"
+                .into(),
+        );
+    }
+    // The map the lit maps are baked from, and the exact split sum
+    // integrates: the environment (the analytic built-ins through a cube of
+    // --env-size).
+    let lit_source = || -> Result<crate::image::EnvImage, String> {
+        match &env {
+            Some(e) => Ok(e.clone()),
+            None => {
+                let b = builtin.ok_or("no environment")?;
+                let repr = Representation::for_file(AnyMapping::Cube, axes);
+                let (w, h) = output_size(&repr, a.env_size)?;
+                b.image(repr, w, h).map_err(|e| e.to_string())
+            }
+        }
+    };
+    let exact_source = match (&material, a.exact_split_sum) {
+        (Some(_), true) => Some(lit_source()?),
+        _ => None,
+    };
+    let t = Instant::now();
+    let oracle = exact_source.as_ref().map(Oracle::new);
+    if oracle.is_some() {
+        eprintln!(
+            "exact split sum: the oracle of the environment in {:.0} ms",
+            t.elapsed().as_secs_f64() * 1e3
+        );
+    }
     // A material other than the mirror: its maps, baked from the
-    // environment (the analytic built-ins through a cube of --env-size).
-    let lit = match (&material, a.reference) {
-        (Some(_), false) if baked.is_some() => baked.map(|b| b.env),
+    // environment.
+    let lit = match (&material, a.reference || a.exact_split_sum) {
+        (Some(_), false) if baked.is_some() => baked.map(|b| match a.engine {
+            Some(t) => {
+                let rule = Preset::for_target(t, FileAxes::default()).rule;
+                b.env.with_blend(LevelBlend::engine(&rule))
+            }
+            None => b.env,
+        }),
         (Some(_), false) => {
-            let src = match &env {
-                Some(e) => e.clone(),
-                None => {
-                    let b = builtin.ok_or("no environment")?;
-                    let repr = Representation::for_file(AnyMapping::Cube, axes);
-                    let (w, h) = output_size(&repr, a.env_size)?;
-                    b.image(repr, w, h).map_err(|e| e.to_string())?
-                }
-            };
+            let src = lit_source()?;
             let t = Instant::now();
-            let lit = bake_lit(&src, a.bake_size, stop)?;
+            let lit = bake_lit(&src, a.bake_size, a.engine, stop)?;
+            let sizes: Vec<u32> = lit.levels().iter().map(|l| l.cell_size().0).collect();
             eprintln!(
-                "baked {} levels ({}² … ) and a 32² irradiance map in {:.0} ms",
+                "baked {} levels ({}² … {}²{}) and a 32² irradiance map in {:.0} ms",
                 lit.levels().len(),
-                a.bake_size,
+                sizes[0],
+                sizes[sizes.len() - 1],
+                a.engine.map_or(String::new(), |t| format!(
+                    ", as --target {} makes them",
+                    t.name()
+                )),
                 t.elapsed().as_secs_f64() * 1e3
             );
             Some(lit)
@@ -262,6 +310,12 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
             samples: a.reference_samples.max(1),
             light: light.as_ref(),
             seed: 0,
+        },
+        (Some(m), _) if oracle.is_some() => Shading::ExactSplitSum {
+            oracle: oracle.as_ref().ok_or("no oracle")?,
+            material: m,
+            multiscatter: a.multiscatter,
+            dominant: !a.no_dominant_direction,
         },
         (Some(m), Some(env)) => Shading::SplitSum {
             env,
@@ -288,15 +342,21 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     };
     // The reference takes seconds to minutes: a progress bar (drawn only
     // when standard error is a terminal).
-    let bar = if a.reference {
+    let slow = a.reference || a.exact_split_sum;
+    let bar = if slow {
         let b = indicatif::ProgressBar::new(1);
         b.set_style(
             indicatif::ProgressStyle::with_template(
-                "reference [{bar:40}] {pos}/{len} bands of rows ({eta})",
+                "{msg} [{bar:40}] {pos}/{len} bands of rows ({eta})",
             )
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
             .progress_chars("=> "),
         );
+        b.set_message(if a.reference {
+            "reference"
+        } else {
+            "exact split sum"
+        });
         b
     } else {
         indicatif::ProgressBar::hidden()
@@ -306,7 +366,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         bar.set_position(u64::from(done));
     };
     let opts = RenderOptions {
-        progress: a.reference.then_some(Progress(&tick)),
+        progress: slow.then_some(Progress(&tick)),
         ..opts
     };
     let t = Instant::now();
@@ -366,14 +426,35 @@ fn material(a: &RenderArgs) -> Result<Option<Material>, String> {
     Ok(Some(m))
 }
 
-/// The maps a split-sum render reads, baked from `src` in its own axes.
+/// The maps a split-sum render reads, baked from `src` in its own axes:
+/// envmap's own, or the chain of `engine`'s preset read as it reads it.
 fn bake_lit(
     src: &crate::image::EnvImage,
     size: u32,
+    engine: Option<Target>,
     stop: &AtomicBool,
 ) -> Result<LitEnvironment, String> {
     if !(2..=2048).contains(&size) {
         return Err("--bake-size: between 2 and 2048".into());
     }
-    LitEnvironment::bake(src, size, Some(stop)).map_err(|e| e.to_string())
+    match engine {
+        None => LitEnvironment::bake(src, size, Some(stop)),
+        Some(t) => {
+            let preset = Preset::for_target(t, FileAxes::default());
+            let opts = BakeOptions {
+                size,
+                irradiance_size: 32,
+                dfg_size: 0,
+                cancel: Some(stop),
+                ..preset.bake_options(BakeOptions::default())
+            };
+            LitEnvironment::bake_with(src, &opts)
+                .map(|l| l.with_blend(LevelBlend::engine(&preset.rule)))
+        }
+    }
+    .map_err(|e| e.to_string())
+}
+
+fn parse_target(s: &str) -> Result<Target, String> {
+    s.parse()
 }

@@ -49,6 +49,30 @@
 //! theirs. Each value is the integral at its texel's centre, not at
 //! `i / (size − 1)`.
 //!
+//! # Grids: texel centres or edges
+//!
+//! Texel centres ([`DfgGrid::TexelCentres`], the default and what every
+//! file holds unless asked otherwise) are what an engine that samples the
+//! table at `(NoV, perceptualRoughness)` with linear filtering and
+//! clamp-to-edge expects. They leave the table's edges half a texel short:
+//! roughness 1 reads the last row, whose centre is at 1 − ½/size (0.992 for
+//! 64², 0.996 for 128²), and N·V = 1 the last column. Near roughness 1
+//! the albedo still falls steeply (head-on, 1 − ln 2 = 0.3069 at r = 1 for
+//! the height-correlated visibility): a 64² table's last texel, at
+//! μ = r = 0.992, holds 3.1 % more, and the split sum of a constant sky
+//! reads 1.7 % too bright at roughness 1 over a sphere
+//! (`tests/split_sum.rs`).
+//!
+//! [`DfgGrid::Edges`] puts the first and last rows and columns at 0 and 1
+//! exactly: column `i` at μ = i/(size − 1), row `j` at r = j/(size − 1)
+//! (μ = 0 and r = 0 evaluated at [`MIN_ARGUMENT`]). Read at texel centres,
+//! such a table is sampled at `((size − 1)·x + ½)/size` for x = N·V and
+//! x = roughness: the one-line remapping a shader needs (Unreal's and
+//! Bevy's lookups of their own tables do the same). envmap's renderer
+//! ([`crate::scene::lit`]) builds its table on this grid; `envmap bake
+//! --dfg-grid edges` writes one, and the manifest says which grid a table
+//! is on, so a file on the default grid still reads as engines expect.
+//!
 //! Written as a half-float EXR, as engines load it:
 //!
 //! ```no_run
@@ -145,8 +169,9 @@
 //! Sizes 1 to [`MAX_SIZE`] (4096) are accepted. Size 0 and larger sizes are
 //! errors. [`dfg_integral`] clamps μ and r into [[`MIN_ARGUMENT`], 1] (2⁻¹⁴,
 //! below every texel centre of the largest table) and gives NaN for a NaN
-//! argument. The bilinear lookups clamp to the table's outermost texel
-//! centres.
+//! argument. The bilinear lookups clamp to the table's outermost texels
+//! (on [`DfgGrid::Edges`], 0 and 1). An edges table needs at least 2 × 2
+//! texels.
 //!
 //! # Speed
 //!
@@ -177,6 +202,71 @@ pub const MAX_SIZE: u32 = 4096;
 /// arguments are clamped to it. Every texel centre of a table up to
 /// [`MAX_SIZE`] is above it.
 pub const MIN_ARGUMENT: f64 = 1.0 / 16384.0;
+
+/// Where a [`DfgTable`]'s texels sit in (N·V, roughness); see the
+/// [module docs](self#grids-texel-centres-or-edges).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DfgGrid {
+    /// Texel `i` of `size` at (i + ½)/size: a texture sampled at (N·V,
+    /// roughness) with linear filtering reads the integral at its texel
+    /// centres (Filament's and glTF viewers' lookup). The default, and what
+    /// files hold unless asked otherwise.
+    #[default]
+    TexelCentres,
+    /// Texel `i` of `size` at i/(size − 1): the first and last rows and
+    /// columns at 0 and 1, so N·V and roughness of 0 and 1 read exactly. A
+    /// shader samples such a texture at ((size − 1)·x + ½)/size.
+    Edges,
+}
+
+impl DfgGrid {
+    /// The name `--dfg-grid` takes and the manifest records:
+    /// `texel-centres` or `edges`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            DfgGrid::TexelCentres => "texel-centres",
+            DfgGrid::Edges => "edges",
+        }
+    }
+
+    /// Texel `index`'s argument in a table of `size`, f64.
+    #[inline]
+    #[must_use]
+    pub fn point(self, index: u32, size: u32) -> f64 {
+        match self {
+            DfgGrid::TexelCentres => (f64::from(index) + 0.5) / f64::from(size),
+            DfgGrid::Edges => f64::from(index) / f64::from(size.max(2) - 1),
+        }
+    }
+
+    /// What texel coordinate argument `x` (N·V or roughness) falls on in a
+    /// table of `size`: the continuous index that [`DfgGrid::point`]
+    /// inverts, before clamping.
+    #[inline]
+    fn index_of(self, x: f32, size: u32) -> f32 {
+        match self {
+            DfgGrid::TexelCentres => x * size as f32 - 0.5,
+            DfgGrid::Edges => x * (size.max(2) - 1) as f32,
+        }
+    }
+}
+
+impl std::str::FromStr for DfgGrid {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "texel-centres" | "texel-centers" | "centres" | "centers" => Ok(DfgGrid::TexelCentres),
+            "edges" => Ok(DfgGrid::Edges),
+            _ => Err(Error::UnknownName {
+                what: "DFG grid",
+                name: s.to_owned(),
+                expected: "texel-centres, edges".to_owned(),
+            }),
+        }
+    }
+}
 
 /// Gauss–Legendre nodes and weights on [0, 1].
 #[derive(Clone, Debug)]
@@ -715,11 +805,13 @@ pub fn dfg_integral(mu: f64, r: f64) -> (f64, f64) {
 /// A DFG table of `size × size` texels: the single-scatter
 /// `(scale, bias)` and the multiscatter `(bias, scale + bias)`, each
 /// computed in f64 and stored as f32. Column `i` is μ = (i + 0.5)/size and
-/// row `j` is the perceptual roughness r = (j + 0.5)/size, row 0 first (the
-/// top row of its images). See the [module docs](self).
+/// row `j` is the perceptual roughness r = (j + 0.5)/size (on
+/// [`DfgGrid::Edges`]: i/(size − 1), j/(size − 1)), row 0 first (the top
+/// row of its images). See the [module docs](self).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DfgTable {
     size: u32,
+    grid: DfgGrid,
     single: Vec<[f32; 2]>,
     multi: Vec<[f32; 2]>,
 }
@@ -743,19 +835,35 @@ impl DfgTable {
     ///
     /// As [`DfgTable::new`], and [`Error::Cancelled`] once `cancel` is set.
     pub fn new_cancellable(size: u32, cancel: Option<&AtomicBool>) -> Result<DfgTable> {
+        DfgTable::on_grid(size, DfgGrid::TexelCentres, cancel)
+    }
+
+    /// As [`DfgTable::new_cancellable`], the texels on `grid` (see the
+    /// [module docs](self#grids-texel-centres-or-edges)).
+    ///
+    /// # Errors
+    ///
+    /// As [`DfgTable::new_cancellable`]; [`Error::Layout`] for a
+    /// [`DfgGrid::Edges`] table under 2 × 2.
+    pub fn on_grid(size: u32, grid: DfgGrid, cancel: Option<&AtomicBool>) -> Result<DfgTable> {
         check_size(size)?;
+        if grid == DfgGrid::Edges && size < 2 {
+            return Err(Error::layout(
+                "DFG table on the edges grid: at least 2×2 texels (its first and last rows are 0 and 1)",
+            ));
+        }
         let n = size as usize;
         let mut single = vec![[0.0f32; 2]; n * n];
         let mut multi = vec![[0.0f32; 2]; n * n];
         let rule = Rule::new(Params::STANDARD);
-        let columns = columns(&rule, size);
+        let columns = columns(&rule, size, grid);
         single
             .par_chunks_mut(n)
             .zip(multi.par_chunks_mut(n))
             .enumerate()
             .try_for_each(|(j, (single, multi))| {
                 cancel::check(cancel)?;
-                let r = texel_point(j as u32, size);
+                let r = grid.point(j as u32, size);
                 let mut scratch = Scratch::default();
                 for ((col, one), two) in columns.iter().zip(single).zip(multi) {
                     let (s, b) = rule.integrate_in(col, r, &mut scratch);
@@ -766,6 +874,7 @@ impl DfgTable {
             })?;
         Ok(DfgTable {
             size,
+            grid,
             single,
             multi,
         })
@@ -778,12 +887,19 @@ impl DfgTable {
         self.size
     }
 
-    /// (μ, r) at the centre of texel (`i`, `j`): ((i + 0.5)/size,
-    /// (j + 0.5)/size).
+    /// Where the texels sit ([`DfgGrid`]).
+    #[inline]
+    #[must_use]
+    pub fn grid(&self) -> DfgGrid {
+        self.grid
+    }
+
+    /// (μ, r) of texel (`i`, `j`): ((i + 0.5)/size, (j + 0.5)/size) at
+    /// texel centres, (i/(size − 1), j/(size − 1)) on the edges grid.
     #[inline]
     #[must_use]
     pub fn texel_point(&self, i: u32, j: u32) -> (f64, f64) {
-        (texel_point(i, self.size), texel_point(j, self.size))
+        (self.grid.point(i, self.size), self.grid.point(j, self.size))
     }
 
     /// The single-scatter `[scale, bias]` at column `i` (μ) and row `j` (r);
@@ -817,20 +933,22 @@ impl DfgTable {
         &self.multi
     }
 
-    /// The single-scatter `[scale, bias]` at μ and r, bilinear between texel
-    /// centres, as a GPU samples the table with linear filtering and
-    /// clamp-to-edge. The arguments are clamped to the outermost texel
-    /// centres; NaN is taken as 0.
+    /// The single-scatter `[scale, bias]` at μ and r, bilinear between the
+    /// texels' points ([`DfgTable::texel_point`]): at texel centres, as a
+    /// GPU samples the table at (μ, r) with linear filtering and
+    /// clamp-to-edge; on the edges grid, as it samples it at
+    /// ((size − 1)·x + ½)/size. The arguments are clamped to the outermost
+    /// texels; NaN is taken as 0.
     #[must_use]
     pub fn sample_single_scatter(&self, mu: f32, r: f32) -> [f32; 2] {
-        bilinear(&self.single, self.size, mu, r)
+        bilinear(&self.single, self.size, self.grid, mu, r)
     }
 
     /// The multiscatter `[bias, scale + bias]` at μ and r, bilinear as in
     /// [`DfgTable::sample_single_scatter`].
     #[must_use]
     pub fn sample_multiscatter(&self, mu: f32, r: f32) -> [f32; 2] {
-        bilinear(&self.multi, self.size, mu, r)
+        bilinear(&self.multi, self.size, self.grid, mu, r)
     }
 
     /// The single-scatter table as an image: R = scale, G = bias, B = 0.
@@ -897,11 +1015,11 @@ fn check_size(size: u32) -> Result<()> {
     Ok(())
 }
 
-/// Every column of a table of `size`.
-fn columns(rule: &Rule, size: u32) -> Vec<Column> {
+/// Every column of a table of `size` on `grid`.
+fn columns(rule: &Rule, size: u32, grid: DfgGrid) -> Vec<Column> {
     (0..size)
         .into_par_iter()
-        .map(|i| rule.column(texel_point(i, size)))
+        .map(|i| rule.column(grid.point(i, size).max(MIN_ARGUMENT)))
         .collect()
 }
 
@@ -910,7 +1028,7 @@ fn columns(rule: &Rule, size: u32) -> Vec<Column> {
 fn table_f64(size: u32, p: Params) -> Result<Vec<(f64, f64)>> {
     check_size(size)?;
     let rule = Rule::new(p);
-    let columns = columns(&rule, size);
+    let columns = columns(&rule, size, DfgGrid::TexelCentres);
     Ok((0..size)
         .into_par_iter()
         .flat_map_iter(|j| {
@@ -925,6 +1043,7 @@ fn table_f64(size: u32, p: Params) -> Result<Vec<(f64, f64)>> {
 }
 
 /// (index + 0.5)/size, in f64.
+#[cfg(test)]
 #[inline]
 fn texel_point(index: u32, size: u32) -> f64 {
     (f64::from(index) + 0.5) / f64::from(size)
@@ -938,15 +1057,16 @@ fn to_f16_bits(texels: &[[f32; 2]]) -> Vec<[u16; 2]> {
         .collect()
 }
 
-/// Bilinear lookup between texel centres, clamped to the outermost ones.
-fn bilinear(texels: &[[f32; 2]], size: u32, mu: f32, r: f32) -> [f32; 2] {
+/// Bilinear lookup between the texels' points on `grid`, clamped to the
+/// outermost ones.
+fn bilinear(texels: &[[f32; 2]], size: u32, grid: DfgGrid, mu: f32, r: f32) -> [f32; 2] {
     let n = size as usize;
     if n == 0 || texels.len() < n * n {
         return [0.0; 2];
     }
     let axis = |v: f32| -> (usize, usize, f32) {
         let v = if v.is_nan() { 0.0 } else { v };
-        let x = (v * size as f32 - 0.5).clamp(0.0, (n - 1) as f32);
+        let x = grid.index_of(v, size).clamp(0.0, (n - 1) as f32);
         let i0 = (x as usize).min(n - 1);
         (i0, (i0 + 1).min(n - 1), x - i0 as f32)
     };
@@ -1250,6 +1370,59 @@ mod tests {
         assert!(s.is_nan() && b.is_nan());
         let (s, b) = dfg_integral(0.5, f64::NAN);
         assert!(s.is_nan() && b.is_nan());
+    }
+
+    /// On the edges grid the first and last rows and columns are at 0 and
+    /// 1: roughness 1 and N·V = 1 read the integral there (α = 1:
+    /// scale + bias = 1 − μ·ln(1 + 1/μ), 1 − ln 2 head-on), where the texel
+    /// centres of the same size read it at 1 − ½/size, 3.1 % too high
+    /// head-on for 64².
+    #[test]
+    fn the_edges_grid_reads_exactly_at_its_edges() {
+        let edges = DfgTable::on_grid(64, DfgGrid::Edges, None).unwrap();
+        let centres = DfgTable::new(64).unwrap();
+        assert_eq!(edges.grid(), DfgGrid::Edges);
+        assert_eq!(edges.texel_point(0, 63), (0.0, 1.0));
+        assert_eq!(edges.texel_point(63, 0), (1.0, 0.0));
+        assert_eq!(edges.texel_point(21, 42), (21.0 / 63.0, 42.0 / 63.0));
+        let albedo = |t: &DfgTable, mu: f32| {
+            let [a, b] = t.sample_single_scatter(mu, 1.0);
+            f64::from(a + b)
+        };
+        let closed = |mu: f64| 1.0 - mu * (1.0 + 1.0 / mu).ln();
+        // Head-on, and at a column of the grid (μ = 21/63).
+        for mu in [1.0f64, 21.0 / 63.0] {
+            let got = albedo(&edges, mu as f32);
+            assert!((got / closed(mu) - 1.0).abs() < 2e-6, "{mu}: {got}");
+        }
+        let off = albedo(&centres, 1.0) / closed(1.0) - 1.0;
+        let off128 = albedo(&DfgTable::new(128).unwrap(), 1.0) / closed(1.0) - 1.0;
+        println!(
+            "at texel centres, roughness 1, head-on: 64² {:+.3} %, 128² {:+.3} %",
+            100.0 * off,
+            100.0 * off128
+        );
+        assert!(off > 0.02 && off < 0.04, "{off}");
+        // Smooth and grazing: the α → 0 limit at μ = 0 (all bias).
+        let [s, b] = edges.sample_single_scatter(0.0, 0.0);
+        let (ws, wb) = dfg_integral(MIN_ARGUMENT, MIN_ARGUMENT);
+        assert_eq!([s, b], [ws as f32, wb as f32]);
+        // Between the points the two grids agree with the integral alike.
+        let (ws, wb) = dfg_integral(0.5, 0.5);
+        for t in [&edges, &centres] {
+            let [s, b] = t.sample_single_scatter(0.5, 0.5);
+            assert!((f64::from(s) - ws).abs() < 2e-3 && (f64::from(b) - wb).abs() < 2e-3);
+        }
+        assert!(matches!(
+            DfgTable::on_grid(1, DfgGrid::Edges, None),
+            Err(Error::Layout(_))
+        ));
+        assert_eq!("edges".parse::<DfgGrid>().unwrap(), DfgGrid::Edges);
+        assert_eq!(
+            "texel-centres".parse::<DfgGrid>().unwrap(),
+            DfgGrid::TexelCentres
+        );
+        assert!("corners".parse::<DfgGrid>().is_err());
     }
 
     #[test]

@@ -12,13 +12,20 @@
 //! specular = LD(R, r) · (F0 · A + B) [· (1 + F0 · (1/(A + B) − 1))]
 //! ```
 //!
-//! with R = 2(N·V)N − V, LD the chain read at roughness r (linear between
-//! the two levels whose roughness brackets r, bilinear in each), (A, B) the
-//! DFG table's single-scatter scale and bias at (N·V, r), and the bracketed
+//! with R = 2(N·V)N − V, LD the chain read at roughness r (between the two
+//! levels whose roughness brackets r, weighted as [`LevelBlend`] says:
+//! linear in 1/α by default, linear in the lod for an engine's chain;
+//! bilinear in each), (A, B) the DFG table's single-scatter scale and bias
+//! at (N·V, r), and the bracketed
 //! factor Filament's multiscatter energy compensation (Filament's "Physically
 //! Based Rendering in Filament", §4.7.2), when asked for. That is Karis'
 //! split sum ("Real Shading in Unreal Engine 4", 2013): the prefiltered
 //! radiance assumes N = V = R.
+//!
+//! [`exact_split_sum`] is the same sum with nothing baked: the prefiltered
+//! integral of the input itself at r, the DFG integral at (N·V, r) and the
+//! exact irradiance. The render's distance from it is what the chain and
+//! the table cost (`tests/split_sum.rs`, `docs/lighting.md`).
 //!
 //! [`reference()`] is the integral the split sum stands for, per pixel:
 //! L_o = ∫ L(l) (c_diff/π + D·Vis·F) (N·l)⁺ dl with GGX D, the
@@ -33,11 +40,99 @@ use envmap_core::glam::{Mat3, Vec3};
 use envmap_core::{reflect_view, AnyMapping, ChartUv};
 
 use crate::error::{Error, Result};
-use crate::filter::dfg::DfgTable;
+use crate::filter::bake::render_chain;
+use crate::filter::dfg::{dfg_integral, DfgGrid, DfgTable};
+use crate::filter::oracle::Oracle;
 use crate::filter::sample::{Filter, Sampler};
 use crate::filter::sh::IrradianceScale;
+use crate::filter::specular::RoughnessRule;
 use crate::image::EnvImage;
+use crate::par::*;
 use crate::scene::material::Material;
+
+/// How the chain is read between two levels: the weight t of the rougher
+/// one, from the two levels' roughness r₀ < r₁ and the pixel's r. Every
+/// variant is linear in some function g of the roughness,
+/// t = (g(r) − g(r₀))/(g(r₁) − g(r₀)); they differ in g.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LevelBlend {
+    /// g(r) = −1/α_e with α_e = √(α² + floor²), α = r²: linear in the
+    /// inverse of the lobe's width, the variable in which a level's value
+    /// changes evenly. A sun (any light narrower than the lobe) reflects as
+    /// the lobe's own shape, whose peak grows as 1/α² and whose width
+    /// shrinks as α; blended linearly in r, two levels of very different
+    /// width give a shape neither has, and the weight that comes closest to
+    /// the lobe in between is linear in 1/α (least squares over the
+    /// sphere, measured for GGX with N = V = R: `docs/lighting.md`).
+    /// `floor` is the width of what a level at roughness 0 holds (its
+    /// texels, in α units), so that level 0 blends as a lobe too. envmap's
+    /// own.
+    InverseWidth {
+        /// The narrowest width, in α units; 0 reads a level at roughness
+        /// 0 as a delta.
+        floor: f32,
+    },
+    /// g(r) = r: linear in the roughness, as an engine's trilinear filter
+    /// does with the linear rule (Bevy, glTF viewers: lod = r·(n − 1)).
+    Roughness,
+    /// g(r) = r(2 − r): Filament's lod (`perceptualRoughnessToLod`), as its
+    /// trilinear filter blends a chain by the filament rule.
+    FilamentLod,
+    /// g(r) = r(1.7 − 0.7r): Unity's lod (`ImageBasedLighting.hlsl`).
+    UnityLod,
+}
+
+impl LevelBlend {
+    /// How an engine that reads a chain made by `rule` blends it: linear in
+    /// its lod (for a list of roughness values, linear in r).
+    #[must_use]
+    pub fn engine(rule: &RoughnessRule) -> Self {
+        match rule {
+            RoughnessRule::Filament => LevelBlend::FilamentLod,
+            RoughnessRule::Unity => LevelBlend::UnityLod,
+            _ => LevelBlend::Roughness,
+        }
+    }
+
+    /// g(r) (see the type's docs).
+    #[inline]
+    fn key(self, r: f32) -> f32 {
+        match self {
+            LevelBlend::InverseWidth { floor } => {
+                let a = r * r;
+                -1.0 / (a * a + floor * floor).sqrt()
+            }
+            LevelBlend::Roughness => r,
+            LevelBlend::FilamentLod => r * (2.0 - r),
+            LevelBlend::UnityLod => r * (1.7 - 0.7 * r),
+        }
+    }
+
+    /// The weight of the rougher level (roughness `hi`) against the
+    /// smoother (`lo`) at roughness `r` between them, in [0, 1].
+    #[inline]
+    #[must_use]
+    pub fn weight(self, lo: f32, hi: f32, r: f32) -> f32 {
+        let (a, b, x) = (self.key(lo), self.key(hi), self.key(r));
+        let t = if a.is_finite() {
+            (x - a) / (b - a)
+        } else {
+            // A delta (floor 0 at roughness 0): anything wider is the lobe.
+            1.0
+        };
+        if t.is_nan() {
+            0.0
+        } else {
+            t.clamp(0.0, 1.0)
+        }
+    }
+}
+
+/// The DFG table's size in the maps [`LitEnvironment::bake`] makes (on the
+/// edges grid), the size of the tables engines ship: the split sum of a
+/// constant sky at roughness 1 is within 0.003 % RMS of its closed form
+/// over a sphere (64²: 0.010 %; `tests/split_sum.rs`).
+pub const RENDER_DFG_SIZE: u32 = 128;
 
 /// The maps a split-sum render reads; see the [module docs](self).
 #[derive(Clone, Debug)]
@@ -47,6 +142,7 @@ pub struct LitEnvironment {
     irradiance: EnvImage,
     scale: IrradianceScale,
     dfg: DfgTable,
+    blend: LevelBlend,
 }
 
 impl LitEnvironment {
@@ -90,19 +186,40 @@ impl LitEnvironment {
                 "the chain and the irradiance map are in different axes".into(),
             ));
         }
+        let blend = LevelBlend::InverseWidth {
+            floor: texel_alpha(&levels[0]),
+        };
         Ok(Self {
             levels,
             roughness,
             irradiance,
             scale,
             dfg,
+            blend,
         })
     }
 
-    /// What a split-sum render reads, baked from `src` in its own axes as
-    /// `envmap bake` would: the GGX chain from `size`² down to 2² by the
-    /// linear rule, a 32² irradiance cube of E/π from the SH9, a 64² DFG
-    /// table.
+    /// The same maps read with `blend` between levels (the default is
+    /// [`LevelBlend::InverseWidth`] with the floor of level 0's texels).
+    #[must_use]
+    pub fn with_blend(self, blend: LevelBlend) -> Self {
+        Self { blend, ..self }
+    }
+
+    /// How the chain is read between levels.
+    #[must_use]
+    pub fn blend(&self) -> LevelBlend {
+        self.blend
+    }
+
+    /// What envmap's split-sum render reads, baked from `src` in its own
+    /// axes: the renderer's chain ([`render_chain`]: level 0 at `size`²,
+    /// then levels from roughness 0.1 to 1 spaced evenly in the logarithm
+    /// of the lobe's width, each as large as its lobe needs, the smallest
+    /// 16²), a 32² irradiance cube of E/π from the SH9, and a 128² DFG
+    /// table on the edges grid ([`DfgGrid::Edges`]); read with
+    /// [`LevelBlend::InverseWidth`]. Not a mip chain: an engine's files
+    /// come from `envmap bake` ([`LitEnvironment::bake_with`] bakes those).
     ///
     /// # Errors
     ///
@@ -112,16 +229,40 @@ impl LitEnvironment {
         size: u32,
         cancel: Option<&std::sync::atomic::AtomicBool>,
     ) -> Result<Self> {
-        use crate::filter::bake::{bake, BakeOptions};
+        use crate::filter::bake::BakeOptions;
         let opts = BakeOptions {
-            size,
-            axes: crate::image::FileAxes::Frame(src.representation().frame),
             irradiance_size: 32,
-            irradiance_scale: IrradianceScale::EOverPi,
-            dfg_size: 64,
+            dfg_size: RENDER_DFG_SIZE,
+            dfg_grid: DfgGrid::Edges,
             cancel,
-            ..BakeOptions::default()
+            ..render_chain(size).apply(BakeOptions::default())
         };
+        Self::bake_with(src, &opts)
+    }
+
+    /// What a split-sum render reads, baked from `src` with `opts` (their
+    /// axes replaced by `src`'s own, the irradiance map E/π): any chain
+    /// `envmap bake` makes, such as an engine's ([`LitEnvironment::bake`]
+    /// is envmap's own). The table is on `opts`' grid; a DFG size of 0
+    /// takes 128² on the edges grid.
+    ///
+    /// # Errors
+    ///
+    /// As [`crate::filter::bake::bake`]; [`Error::Cancelled`].
+    pub fn bake_with(src: &EnvImage, opts: &crate::filter::bake::BakeOptions) -> Result<Self> {
+        use crate::filter::bake::{bake, BakeOptions};
+        let mut opts = BakeOptions {
+            axes: crate::image::FileAxes::Frame(src.representation().frame),
+            irradiance_scale: IrradianceScale::EOverPi,
+            ..opts.clone()
+        };
+        if opts.irradiance_size == 0 {
+            opts.irradiance_size = 32;
+        }
+        if opts.dfg_size == 0 {
+            opts.dfg_size = RENDER_DFG_SIZE;
+            opts.dfg_grid = DfgGrid::Edges;
+        }
         let b = bake(src, &opts, &|_, _| {})?;
         let (Some(chain), Some(irr), Some(dfg)) = (b.chain, b.irradiance, b.dfg) else {
             return Err(Error::Input(
@@ -204,6 +345,106 @@ fn specular_direction(n: Vec3, v: Vec3, r: f32, dominant: bool) -> Vec3 {
     }
 }
 
+/// The width of a map's texels in α units: the α whose GGX lobe
+/// ([`lobe_width`]) is as wide as a texel of `level` at its chart's centre
+/// (for a cube face of s², 2·atan(1/s)).
+fn texel_alpha(level: &EnvImage) -> f32 {
+    let (w, h) = level.cell_size();
+    let s = f64::from(w.max(h).max(1));
+    let texel = match level.mapping() {
+        AnyMapping::Cube => 2.0 * (1.0 / s).atan(),
+        _ => core::f64::consts::PI / s,
+    };
+    // lobe_width(α) = 2·atan(α·√(√2 − 1)).
+    ((texel / 2.0).tan() / (core::f64::consts::SQRT_2 - 1.0).sqrt()) as f32
+}
+
+/// N·V as the split sum reads the DFG at it: clamped to [10⁻⁴, 1].
+#[inline]
+fn clamp_nv(nv: f32) -> f32 {
+    nv.clamp(1e-4, 1.0)
+}
+
+/// The split sum's last step, shared by [`LitSampler`] and
+/// [`exact_split_sum`]: c_diff·E/π + LD·(F0·A + B), times Filament's
+/// multiscatter factor 1 + F0·(1/(A + B) − 1) when asked for (see the
+/// [module docs](self)), from the DFG's `[A, B]`, the prefiltered
+/// radiance `ld` and E/π `e`.
+#[inline]
+fn split_sum(
+    m: &Material,
+    [a, b]: [f32; 2],
+    ld: [f32; 3],
+    e: [f32; 3],
+    multiscatter: bool,
+) -> [f32; 3] {
+    let (f0, diff) = (m.f0(), m.diffuse_color());
+    [0, 1, 2].map(|i| {
+        let mut s = f0[i] * a + b;
+        if multiscatter && a + b > 0.0 {
+            s *= 1.0 + f0[i] * (1.0 / (a + b) - 1.0);
+        }
+        diff[i] * e[i] + ld[i] * s
+    })
+}
+
+/// The **exact split sum**: what [`LitSampler::shade`] approximates with
+/// its chain, its irradiance map and its DFG table, computed from the
+/// input itself, for the surface points at unit normals `n` seen along
+/// unit `v` (world axes; as many of each). Per point, with r the material's
+/// roughness:
+///
+/// * LD: the prefiltered integral at r itself, around the same lookup
+///   direction as the render's (R, or with `dominant` the lobe's dominant
+///   direction mix(R, N, r²)) with N = V = that direction as the split sum
+///   assumes, by brute force over every texel of the input
+///   ([`Oracle::prefiltered`]: the input as given, piecewise constant over
+///   its own texels; never a chain), clamped at zero as the chain's levels
+///   are;
+/// * (A, B): the DFG integral at the point's own N·V and r
+///   ([`dfg_integral`], f64 quadrature, no table);
+/// * E/π: the exact cosine integral of the input ([`Oracle::irradiance`]),
+///   only when the material has a diffuse part.
+///
+/// Combined as the split sum combines them (the [module docs](self)). The
+/// difference between a split-sum render and this one is what the chain
+/// (its levels, their sizes, the blend between them) and the DFG table
+/// cost, apart from the split sum's own approximation, which both share.
+/// Slow: an oracle integral per point (about a millisecond for a 512 × 256
+/// input); the measure the renders are held to.
+#[must_use]
+pub fn exact_split_sum(
+    oracle: &Oracle<'_>,
+    m: &Material,
+    n: &[Vec3],
+    v: &[Vec3],
+    multiscatter: bool,
+    dominant: bool,
+) -> Vec<[f32; 3]> {
+    let len = n.len().min(v.len());
+    let r = m.clamped_roughness();
+    let dirs: Vec<Vec3> = (0..len)
+        .map(|k| specular_direction(n[k], v[k], r, dominant))
+        .collect();
+    let ld = oracle.prefiltered(r, &dirs);
+    let diffuse = m.diffuse_color().iter().any(|&c| c > 0.0);
+    let e = if diffuse {
+        oracle.irradiance(&n[..len])
+    } else {
+        vec![[0.0; 3]; len]
+    };
+    (0..len)
+        .into_par_iter()
+        .map(|k| {
+            let nv = clamp_nv(n[k].dot(v[k]));
+            let (a, b) = dfg_integral(f64::from(nv), f64::from(r));
+            let ld = ld[k].map(|x| x.max(0.0) as f32);
+            let e = e[k].map(|x| (x / core::f64::consts::PI) as f32);
+            split_sum(m, [a as f32, b as f32], ld, e, multiscatter)
+        })
+        .collect()
+}
+
 /// `a + (b − a)·t` per channel.
 fn lerp3(a: [f32; 3], b: [f32; 3], t: f32) -> [f32; 3] {
     [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * t)
@@ -238,14 +479,15 @@ impl LitSampler<'_> {
     }
 
     /// The level whose roughness is the largest at most `roughness`, and
-    /// the blend towards the next one when `roughness` lies between them.
+    /// the weight of the next one ([`LevelBlend`]) when `roughness` lies
+    /// between them.
     fn levels_of(&self, roughness: f32) -> (usize, Option<f32>) {
         let rs = &self.env.roughness;
         let k = rs.partition_point(|&x| x <= roughness).saturating_sub(1);
         if k + 1 >= rs.len() || roughness <= rs[k] {
             return (k, None);
         }
-        let t = ((roughness - rs[k]) / (rs[k + 1] - rs[k])).clamp(0.0, 1.0);
+        let t = self.env.blend.weight(rs[k], rs[k + 1], roughness);
         (k, Some(t))
     }
 
@@ -268,15 +510,8 @@ impl LitSampler<'_> {
         multiscatter: bool,
     ) -> [f32; 3] {
         let r = m.clamped_roughness();
-        let [a, b] = self.env.dfg.sample_single_scatter(nv.clamp(1e-4, 1.0), r);
-        let (f0, diff) = (m.f0(), m.diffuse_color());
-        [0, 1, 2].map(|i| {
-            let mut s = f0[i] * a + b;
-            if multiscatter && a + b > 0.0 {
-                s *= 1.0 + f0[i] * (1.0 / (a + b) - 1.0);
-            }
-            diff[i] * e[i] + ld[i] * s
-        })
+        let dfg = self.env.dfg.sample_single_scatter(clamp_nv(nv), r);
+        split_sum(m, dfg, ld, e, multiscatter)
     }
 
     /// E(n)/π towards world normal `n`.
@@ -768,6 +1003,84 @@ mod tests {
                 println!("r {r} nv {nv}: MC {got:.5} quadrature {want:.5}");
                 assert!((got - want).abs() < 0.004, "r {r} nv {nv}: {got} vs {want}");
             }
+        }
+    }
+
+    /// An engine's blend is its trilinear filter's: the weight of the next
+    /// level is the fractional part of lod = f(r)·(n − 1) at levels made by
+    /// the same rule; envmap's puts the middle in 1/α at one half, and
+    /// treats a level at roughness 0 as a lobe as wide as `floor`.
+    #[test]
+    fn level_blends() {
+        let n = 6;
+        for rule in [
+            RoughnessRule::Linear,
+            RoughnessRule::Filament,
+            RoughnessRule::Unity,
+        ] {
+            let rs: Vec<f32> = (0..n).map(|k| rule.roughness(k, n)).collect();
+            let blend = LevelBlend::engine(&rule);
+            let lod = |r: f32| match rule {
+                RoughnessRule::Filament => r * (2.0 - r),
+                RoughnessRule::Unity => r * (1.7 - 0.7 * r),
+                _ => r,
+            } * (n - 1) as f32;
+            for r in [0.03f32, 0.21, 0.5, 0.77, 0.99] {
+                let k = rs.partition_point(|&x| x <= r) - 1;
+                let t = blend.weight(rs[k], rs[k + 1], r);
+                let want = lod(r) - k as f32;
+                assert!((t - want).abs() < 1e-4, "{rule:?} {r}: {t} vs {want}");
+            }
+        }
+        let iw = LevelBlend::InverseWidth { floor: 0.0 };
+        let (lo, hi) = (0.2f32, 0.3f32);
+        let mid = (2.0 / (1.0 / (lo * lo) + 1.0 / (hi * hi))).sqrt();
+        assert!((iw.weight(lo, hi, mid) - 0.5).abs() < 1e-5);
+        assert_eq!(iw.weight(lo, hi, lo), 0.0);
+        assert_eq!(iw.weight(lo, hi, hi), 1.0);
+        // Linear in r would give the rougher level less weight at the middle.
+        assert!(LevelBlend::Roughness.weight(lo, hi, mid) < 0.45);
+        // A delta at roughness 0: anything rougher reads the first lobe.
+        assert_eq!(iw.weight(0.0, 0.1, 0.01), 1.0);
+        let floored = LevelBlend::InverseWidth { floor: 0.006 };
+        assert!(floored.weight(0.0, 0.1, 0.01) < 0.05);
+        assert!(floored.weight(0.0, 0.1, 0.09) > 0.8);
+    }
+
+    /// The exact split sum of a constant environment L is L·(F0·A + B) with
+    /// the DFG integral at the point's own N·V (at roughness 1 the closed
+    /// form 1 − μ·ln(1 + 1/μ) for F0 = 1), plus c_diff·L for a diffuse
+    /// part: LD = E/π = L exactly, whatever the lobe.
+    #[test]
+    fn the_exact_split_sum_of_a_constant_sky_has_its_closed_form() {
+        let l = 0.7f32;
+        let repr = crate::image::Representation::default_for(AnyMapping::Cube);
+        let (w, h) = repr.atlas.image_size_for_cell_width(8).unwrap();
+        let env = crate::scene::procedural::fill(repr, w, h, |_| [l; 3]).unwrap();
+        let oracle = Oracle::new(&env);
+        let n = Vec3::Z;
+        for mu in [1.0f32, 0.5, 0.2] {
+            let v = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+            let got = exact_split_sum(&oracle, &mat(1.0, 1.0, 1.0), &[n], &[v], false, true)[0];
+            let m = f64::from(mu);
+            let want = f64::from(l) * (1.0 - m * (1.0 + 1.0 / m).ln());
+            for c in got {
+                assert!(
+                    (f64::from(c) / want - 1.0).abs() < 1e-5,
+                    "{mu}: {c} vs {want}"
+                );
+            }
+            // Plastic at 0.5: its diffuse part and F0 = 0.04.
+            let p = mat(0.6, 0.0, 0.5);
+            let got = exact_split_sum(&oracle, &p, &[n], &[v], false, false)[0];
+            let (a, b) = dfg_integral(m, 0.5);
+            let want = f64::from(l) * (0.6 + 0.04 * a + b);
+            // E is the oracle's cosine quadrature (not normalized as LD is):
+            // within 10⁻³ on this 8² cube.
+            assert!(
+                (f64::from(got[1]) / want - 1.0).abs() < 1e-3,
+                "{got:?} {want}"
+            );
         }
     }
 

@@ -97,11 +97,12 @@ use crate::cancel;
 #[cfg(doc)]
 use crate::error::Error;
 use crate::error::Result;
+use crate::filter::oracle::Oracle;
 use crate::filter::pyramid::{downsample as downsample_level, Pyramid, Trilinear};
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::filter::weights::TexelWeights;
 use crate::image::{EnvImage, RgbImage};
-use crate::scene::lit::{reference, EnvSampling, LitEnvironment, Pcg32};
+use crate::scene::lit::{exact_split_sum, reference, EnvSampling, LitEnvironment, Pcg32};
 use crate::scene::material::Material;
 use crate::scene::mesh::Mesh;
 
@@ -276,6 +277,26 @@ pub enum Shading<'a> {
         multiscatter: bool,
         /// Read the chain along the lobe's dominant direction, mix(R, N,
         /// α), as Filament and Frostbite do, instead of R.
+        dominant: bool,
+    },
+    /// The split sum made exact, the measure [`Shading::SplitSum`] is held
+    /// to: per pixel, the prefiltered integral of the oracle's input at the
+    /// material's own roughness around the same lookup direction, the DFG
+    /// integral at the pixel's own N·V and roughness, and the exact
+    /// irradiance, combined as the split sum combines them
+    /// ([`crate::scene::lit::exact_split_sum`]); no chain, table or
+    /// irradiance map. Slow (an oracle integral per pixel); per-vertex mode
+    /// shades per pixel.
+    ExactSplitSum {
+        /// The input's oracle: the map the split sum's maps are baked
+        /// from, read as piecewise constant over its own texels.
+        oracle: &'a Oracle<'a>,
+        /// The material.
+        material: Material,
+        /// Filament's multiscatter energy compensation.
+        multiscatter: bool,
+        /// Around the lobe's dominant direction mix(R, N, α) instead of R,
+        /// as [`Shading::SplitSum`]'s `dominant`.
         dominant: bool,
     },
     /// The rendering integral of the environment given to [`render`]
@@ -577,6 +598,25 @@ fn render_map(
                             lit[k] = Some(out[j]);
                         }
                     }
+                }
+            }
+            // The exact split sum: the band's hits at once (the oracle's
+            // integrals run in parallel over them).
+            if let Shading::ExactSplitSum {
+                oracle,
+                material,
+                multiscatter,
+                dominant,
+            } = opts.shading
+            {
+                let at: Vec<usize> = (0..px.len()).filter(|&k| hits[k].is_some()).collect();
+                let (ns, vs): (Vec<Vec3>, Vec<Vec3>) = at
+                    .iter()
+                    .filter_map(|&k| hits[k].as_ref().map(|hit| surface(mesh, hit, &view)))
+                    .unzip();
+                let out = exact_split_sum(oracle, &material, &ns, &vs, multiscatter, dominant);
+                for (&k, o) in at.iter().zip(out) {
+                    lit[k] = Some(o);
                 }
             }
             // Per vertex and the reference: one at a time.

@@ -394,7 +394,7 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
     use envmap_render::filter::dfg::DfgTable;
     use envmap_render::filter::sh::IrradianceScale;
     use envmap_render::render::Shading;
-    use envmap_render::scene::lit::LitEnvironment;
+    use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
     use envmap_render::scene::material::Material;
     const S: u32 = 128;
     let env = environment(pattern);
@@ -407,7 +407,9 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
         IrradianceScale::EOverPi,
         DfgTable::new(64).expect("dfg"),
     )
-    .expect("lit");
+    .expect("lit")
+    // Between levels as Bevy reads them: linear in its lod, r·(n − 1).
+    .with_blend(LevelBlend::Roughness);
     let cam = envmap_camera(SPHERE_VIEW);
     let inside = sphere_inside(S);
     let sphere = EnvMesh::sphere(1.0, 128, 64);
