@@ -21,11 +21,14 @@
 //! irradiance), `envmap_dfg_load` and `envmap_split_sum`; the background by
 //! `envmap_cube_chain` at level 0 along each pixel's view ray.
 //!
-//! The CPU part is `envmap render` as a library call:
-//! `envmap render target/shader_lookup/cpu.png --env BAKE_DIR --object
-//! sphere --material gold --samples 1 --no-mip --width 320 --height 240`
-//! writes the same file (one sample per pixel and bilinear lookups in the
-//! chain's level 0, which is what the WGSL reads).
+//! The CPU part is `envmap render`'s split sum as a library call, reading
+//! the bake as an engine reads its files: as `envmap render
+//! target/shader_lookup/cpu.png --env BAKE_DIR --object sphere --material
+//! gold --engine gltf --samples 1 --no-mip --width 320 --height 240` does
+//! (one sample per pixel, bilinear lookups in the chain's level 0, levels
+//! blended linearly in the linear rule's level), but with the DFG table at
+//! texel centres as `dfg.exr` holds it, where the command reads its own on
+//! the edges grid.
 //!
 //! Writes `target/shader_lookup/gpu.png` and `cpu.png` (exposure 0, sRGB),
 //! prints how far apart they are, and fails unless every pixel away from
@@ -40,11 +43,12 @@ use envmap_core::AnyMapping;
 use envmap_render::bakedir::{self, Preset, Provenance};
 use envmap_render::environments::Builtin;
 use envmap_render::filter::bake::{bake, BakeOptions};
+use envmap_render::filter::dfg::{DfgGrid, DfgTable};
 use envmap_render::image::FileAxes;
 use envmap_render::io::{write_rgb, SaveOptions};
 use envmap_render::mesh::Mesh;
 use envmap_render::render::{render, Camera, EnvSource, RenderOptions, Shading};
-use envmap_render::scene::lit::LitEnvironment;
+use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
 use envmap_render::scene::lit_files;
 use envmap_render::scene::material::Material;
 use envmap_render::{EnvImage, Representation, RgbImage};
@@ -72,7 +76,19 @@ fn main() -> Result<(), Error> {
     let lit = lit_files::open(&dir, None, u64::MAX, None)?
         .ok_or_else(|| format!("{}: not a bake directory", dir.display()))?;
     println!("{}", lit.description);
-    let env = lit.env;
+    // Read as an engine reads the files, which is what the WGSL does: the
+    // levels blended linearly in the linear rule's level (`--engine gltf`)
+    // and the DFG table on the bake file's grid, at texel centres
+    // (`envmap render` itself reads a table on the edges grid, exact at
+    // N·V and roughness 0 and 1).
+    let env = LitEnvironment::new(
+        lit.env.levels().to_vec(),
+        lit.env.roughness().to_vec(),
+        lit.env.irradiance().clone(),
+        lit.env.irradiance_scale(),
+        DfgTable::on_grid(lit.env.dfg().size(), DfgGrid::TexelCentres, None)?,
+    )?
+    .with_blend(LevelBlend::Roughness);
     let levels = env.levels();
     if levels[0].mapping() != AnyMapping::Cube || env.irradiance().mapping() != AnyMapping::Cube {
         return Err("this example reads cube chains (envmap bake's default)".into());

@@ -8,7 +8,7 @@
 //!   sets: within 10⁻⁶ relative ([`SH_BOUND`]);
 //! * roughness → level for the linear, Filament and Unity rules against the
 //!   formulas in f64 and against `RoughnessRule::roughness` at every level;
-//! * the split sum of a pixel: a cube chain baked by `LitEnvironment::bake`
+//! * the split sum of a pixel: a cube mip chain baked by `LitEnvironment::bake_with`
 //!   from the built-in sky (and the same levels converted to latlong,
 //!   octahedral and equal-area octahedral chains), its irradiance cube and
 //!   DFG table read by the shipped WGSL (`envmap_*_chain`,
@@ -29,7 +29,8 @@ use envmap_render::environments::Builtin;
 use envmap_render::filter::sh::{IrradianceScale, Sh9, ShKind};
 use envmap_render::filter::specular::RoughnessRule;
 use envmap_render::image::FileAxes;
-use envmap_render::scene::lit::LitEnvironment;
+use envmap_render::filter::bake::BakeOptions;
+use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
 use envmap_render::scene::material::Material;
 use envmap_render::{convert, ConvertOptions, EnvImage, Representation};
 use envmap_tests::{uniform_direction, SplitMix64};
@@ -437,7 +438,12 @@ fn split_sum_of_a_pixel_against_lit_sampler() {
         return;
     };
     let t0 = std::time::Instant::now();
-    let baked = LitEnvironment::bake(&sky_cube(64), 32, None).expect("a bake");
+    // A mip chain as `envmap bake` makes for engines (the linear rule,
+    // the DFG table at texel centres), read blended linearly in roughness
+    // as a GPU's trilinear filter reads it.
+    let mut opts = BakeOptions::default();
+    (opts.size, opts.irradiance_size, opts.dfg_size) = (32, 32, 64);
+    let baked = LitEnvironment::bake_with(&sky_cube(64), &opts).expect("a bake");
     println!(
         "baked a {}-level chain from 32² in {:.2} s",
         baked.levels().len(),
@@ -536,7 +542,8 @@ fn split_sum_of_a_pixel_against_lit_sampler() {
             baked.irradiance_scale(),
             dfg.clone(),
         )
-        .expect("a lit environment");
+        .expect("a lit environment")
+        .with_blend(LevelBlend::Roughness);
         assert_eq!(env.irradiance_scale(), IrradianceScale::EOverPi);
         let sampler = env.sampler();
         let chain_view = upload(&g, &levels);
