@@ -903,7 +903,8 @@ pub(super) struct View<'a> {
     pub(super) pixels: &'a [[f32; 3]],
     /// Instead of `pixels` (then empty): the rows made on demand, for a
     /// format that writes rows as it goes (OpenEXR); see
-    /// [`Outputs::stage_streamed`].
+    /// [`Outputs::stage_streamed`]. Only OpenEXR reads it.
+    #[cfg_attr(not(feature = "exr"), allow(dead_code))]
     pub(super) stream: Option<&'a Streamed<'a>>,
     /// What the file says about itself where its format has a place
     /// ([`crate::image::metadata`]): the `envmap.*` tags and a description.
