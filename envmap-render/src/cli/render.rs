@@ -281,7 +281,19 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         (Some(_), false) => {
             let src = lit_source()?;
             let t = Instant::now();
-            let lit = bake_lit(&src, a.bake_size, a.engine, stop)?;
+            // Seconds for envmap's own chain: a spinner (drawn only when
+            // standard error is a terminal).
+            let spinner = indicatif::ProgressBar::new_spinner();
+            spinner.set_message(format!(
+                "baking the material's maps from the environment ({}² level 0{})",
+                a.bake_size,
+                a.engine
+                    .map_or(String::new(), |t| format!(", as --target {}", t.name()))
+            ));
+            spinner.enable_steady_tick(std::time::Duration::from_millis(120));
+            let lit = bake_lit(&src, a.bake_size, a.engine, stop);
+            spinner.finish_and_clear();
+            let lit = lit?;
             let sizes: Vec<u32> = lit.levels().iter().map(|l| l.cell_size().0).collect();
             eprintln!(
                 "baked {} levels ({}² … {}²{}) and a 32² irradiance map in {:.0} ms",
