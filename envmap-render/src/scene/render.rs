@@ -78,8 +78,10 @@
 //! built in the render, 1.5 times with them made beforehand. The rest is
 //! kept small: eight lookups whose levels are all 0 (the background, the
 //! flatter parts) take the plain path, a level is read only on the lanes
-//! that use it, and a pixel's footprint comes from its neighbours'
-//! directions on the same triangle where it has them.
+//! that use it, a pixel's footprint comes from its neighbours'
+//! directions on the same triangle where it has them, and the levels'
+//! logarithms are taken eight at a time (within 6·10⁻⁷ of a level of the
+//! f64 formula at worst, `lod8_levels_are_the_f64_formula`).
 //! Per-vertex mode keeps seed `002`'s lookups (their artifacts are its
 //! point), [`Filter::Nearest`] stays nearest, and an analytic environment
 //! has no map to filter.
@@ -1148,6 +1150,41 @@ fn downsample(hi: Vec<[f32; 3]>, w: u32, h: u32, s: u32) -> RgbImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `lod8`'s level (log2 eight at a time through `wide`'s `ln`) against
+    /// the same formula in f64 from the texel's exact solid angle, over
+    /// footprints from 10⁻⁶ to 1 rad at texels across a cube face (centre
+    /// to corner): within 10⁻⁵ of a level everywhere, and 0 where the f64
+    /// level is at most 0.
+    #[test]
+    fn lod8_levels_are_the_f64_formula() {
+        let n = 256;
+        let texels = TexelWeights::new(AnyMapping::Cube, n, n);
+        let mut worst = (0.0f64, 0.0f32, 0.0f32);
+        for k in 0..200 {
+            let s = 1e-6f32 * 10f32.powf(6.0 * k as f32 / 199.0);
+            let uvs: [ChartUv; 8] = core::array::from_fn(|l| {
+                let t = (l as f32 + 0.5) / 8.0 * 0.5;
+                ChartUv::new(l as u32 % 6, t, t * 0.9)
+            });
+            let q = Uv8::from_chart_uvs(&uvs);
+            let got = lod8(&texels, &q, &[s; 8]).to_array();
+            for (c, g) in uvs.iter().zip(got) {
+                let (i, j) = ((c.u * n as f32) as u32, (c.v * n as f32) as u32);
+                let omega = texels.get(c.chart, i, j);
+                let want = ((f64::from(s) / omega.sqrt()).log2() + f64::from(LOD_BIAS)).max(0.0);
+                let e = (f64::from(g) - want).abs();
+                if e > worst.0 {
+                    worst = (e, s, c.u);
+                }
+            }
+        }
+        println!(
+            "lod8 against f64: worst {:.2e} levels (footprint {:.2e} rad, u {})",
+            worst.0, worst.1, worst.2
+        );
+        assert!(worst.0 < 1e-5, "{worst:?}");
+    }
 
     /// The footprint and the mip level of the reflection at the centre pixel
     /// of a 64 × 64 view of a sphere of radius `r` whose nearest point is
