@@ -16,7 +16,9 @@
 //!   ([`lobe_chain`]), or `list` with MIN `r0,r1,…;s0,s1,…`; BLEND `r`
 //!   (linear in roughness), `eng` (the rule's lod), `iw` (envmap's, linear
 //!   in 1/α), `iwF` (with floor F); DFG `cN` (N² at texel centres) or
-//!   `eN` (edges grid).
+//!   `eN` (edges grid); a fifth part `src` reads the input itself at
+//!   roughness 0 ([`LitEnvironment::with_source`], as envmap's renders do).
+//!   The exact split sum reads the input bilinearly ([`Oracle::bilinear`]).
 //!
 //! Environment: `PX` (image size, 96), `SIZE`, `ENV_SIZE`, `CACHE=DIR`
 //! (keep the exact renders there: each takes 10–60 s), `VERBOSE=1` (each
@@ -57,7 +59,9 @@ fn load_map(name: &str, env_size: u32) -> EnvImage {
 /// The exact split sum at `r`, from `CACHE` when it holds it.
 fn exact(env: &EnvImage, oracle: &Oracle, key: &str, r: f32, px: u32) -> RgbImage {
     let cache = std::env::var("CACHE").ok();
-    let path = cache.as_ref().map(|d| format!("{d}/{key}_{r:.3}_{px}.bin"));
+    let path = cache
+        .as_ref()
+        .map(|d| format!("{d}/{key}_bilinear_{r:.3}_{px}.bin"));
     if let Some(b) = path.as_ref().and_then(|p| std::fs::read(p).ok()) {
         let f: Vec<f32> = b
             .chunks(4)
@@ -147,6 +151,12 @@ fn lit_for(env: &EnvImage, spec: &str, size: u32) -> (LitEnvironment, String) {
         dfg,
     )
     .unwrap();
+    // A fifth part `src`: the input read at roughness 0 in place of level 0.
+    let lit = if parts.get(4) == Some(&"src") {
+        lit.with_source(env.clone()).unwrap()
+    } else {
+        lit
+    };
     let blend = match parts.get(2).copied().unwrap_or("iw") {
         "r" => LevelBlend::Roughness,
         "eng" => LevelBlend::engine(&engine_rule),
@@ -199,7 +209,7 @@ fn main() {
             env.width()
         );
         let t = Instant::now();
-        let oracle = Oracle::new(&env);
+        let oracle = Oracle::bilinear(&env);
         eprintln!("oracle {key}: {:.2} s", t.elapsed().as_secs_f64());
         let mask = mask(px);
         let exacts: Vec<RgbImage> = rs

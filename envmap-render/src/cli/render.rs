@@ -261,7 +261,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         _ => None,
     };
     let t = Instant::now();
-    let oracle = exact_source.as_ref().map(Oracle::new);
+    let oracle = exact_source.as_ref().map(Oracle::bilinear);
     if oracle.is_some() {
         eprintln!(
             "exact split sum: the oracle of the environment in {:.0} ms",

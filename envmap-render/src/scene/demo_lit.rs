@@ -195,8 +195,9 @@ fn compare(
     })
 }
 
-/// The lit maps of `lit` resampled into `mapping` (each level at about its
-/// cube's texel count), in one representation of envmap's default axes.
+/// The lit maps of `lit` resampled into `mapping` (each level, and the
+/// source read at roughness 0, at about its cube's texel count), in one
+/// representation of envmap's default axes.
 fn resampled(lit: &LitEnvironment, mapping: AnyMapping) -> Result<LitEnvironment> {
     let repr = Representation::for_file(mapping, FileAxes::default());
     let to = |img: &crate::image::EnvImage| {
@@ -208,13 +209,17 @@ fn resampled(lit: &LitEnvironment, mapping: AnyMapping) -> Result<LitEnvironment
     };
     let levels = lit.levels().iter().map(to).collect::<Result<Vec<_>>>()?;
     let irradiance = to(lit.irradiance())?;
-    LitEnvironment::new(
+    let out = LitEnvironment::new(
         levels,
         lit.roughness().to_vec(),
         irradiance,
         lit.irradiance_scale(),
         lit.dfg().clone(),
-    )
+    )?;
+    match lit.source() {
+        Some(src) => out.with_source(to(src)?),
+        None => Ok(out),
+    }
 }
 
 /// Renders the lit section into `run` (see the [module docs](self));
