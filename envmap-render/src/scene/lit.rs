@@ -205,7 +205,7 @@ impl LitEnvironment {
     /// The same maps with `src`, the map the chain was baked from, read at
     /// roughness 0 in place of level 0 (in its own mapping and resolution,
     /// bilinearly, as the mirror render reads it) and, between roughness 0
-    /// and level 1, through the near field ([`NearField`]: the cap around
+    /// and level 1, through the near field (`NearField`: the cap around
     /// R integrated over `src`, the rest of the lobe from level 1). There
     /// the lobe is narrower than level 0's texels and most of its weight
     /// lies in its tail: neither a resampled level 0 (a footprint average)
@@ -255,12 +255,13 @@ impl LitEnvironment {
 
     /// What envmap's split-sum render reads, baked from `src` in its own
     /// axes: the renderer's chain ([`render_chain`]: level 0 at `size`²,
-    /// then levels from roughness 0.1 to 1 spaced evenly in the logarithm
+    /// then levels from roughness 0.13 to 1 spaced evenly in the logarithm
     /// of the lobe's width, each as large as its lobe needs, the smallest
     /// 16²), a 32² irradiance cube of E/π from the SH9, and a 128² DFG
     /// table on the edges grid ([`DfgGrid::Edges`]); read with
     /// [`LevelBlend::InverseWidth`], with `src` itself (a copy) read at
-    /// roughness 0 in place of level 0 ([`LitEnvironment::with_source`]).
+    /// roughness 0 and through the near field below the first level
+    /// ([`LitEnvironment::with_source`]).
     /// Not a mip chain: an engine's files come from `envmap bake`
     /// ([`LitEnvironment::bake_with`] bakes those).
     ///
