@@ -1,5 +1,6 @@
 //! Times the renderer: `cargo run --release -p envmap-render --example render_timing`
-//! (`MIP=1`: mip-aware, `ITERS=n` renders, `PROFILE=1` a black map).
+//! (`MIP=1`: mip-aware, `PREBUILT=1` with its levels made once and timed
+//! apart, `ITERS=n` renders, `PROFILE=1` a black map).
 use std::time::Instant;
 
 use envmap_core::AnyMapping;
@@ -17,12 +18,20 @@ fn main() {
         Builtin::Sky.image(repr, 4096, 3072).unwrap()
     };
     let mesh = Mesh::teapot(10);
+    // PREBUILT=1: the mip levels made once, their time printed apart.
+    let levels = std::env::var("PREBUILT").is_ok().then(|| {
+        let t = Instant::now();
+        let l = envmap_render::render::MipLevels::new(&env).expect("levels");
+        println!("levels made in {} ms", t.elapsed().as_secs_f64() * 1e3);
+        l
+    });
     let opts = RenderOptions {
         width: 1920,
         height: 1080,
         samples: 1,
         // MIP=1: the mip-aware lookups (`envmap render`'s default).
         mip: std::env::var("MIP").is_ok(),
+        mip_levels: levels.as_ref(),
         ..RenderOptions::default()
     };
     for _ in 0..std::env::var("ITERS")

@@ -28,7 +28,10 @@
 //! level 0). Eight points at a time ([`Trilinear::sample8`]) gives each lane
 //! exactly what [`Trilinear::sample`] gives it, bit for bit.
 
+use std::borrow::Cow;
+
 use crate::par::*;
+use envmap_core::atlas::Turn;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 use envmap_simd::Uv8;
@@ -63,81 +66,77 @@ pub fn downsample(img: &EnvImage, weights: &TexelWeights) -> Result<EnvImage> {
     let (w2, h2) = next_chart_size(cw, ch, atlas.cell_aspect_w, atlas.cell_aspect_h);
     let (iw, ih) = (atlas.cols * w2, atlas.rows * h2);
     let mut out = EnvImage::new(iw, ih, repr)?;
+    if cw == 2 * w2 && ch == 2 * h2 {
+        halve(img, weights, &mut out);
+        return Ok(out);
+    }
     let mapping = repr.mapping;
     for chart in 0..mapping.chart_count() {
-        let dst = if cw == 2 * w2 && ch == 2 * h2 {
-            if img.chart_row(chart, 0).is_none() {
-                continue;
-            }
-            halve(img, weights, chart, w2, h2)
-        } else {
-            let Some(src) = img.chart_image(chart) else {
-                continue;
-            };
-            resample(&src, mapping, chart, w2, h2)
+        let Some(src) = img.chart_image(chart) else {
+            continue;
         };
+        let dst = resample(&src, mapping, chart, w2, h2);
         out.set_chart_image(chart, &dst)?;
     }
     Ok(out)
 }
 
-/// The first `w` texels of a chart row as [`EnvImage::chart_row`] gives
-/// it, in the chart's own order (turned where the atlas stores the row
-/// right to left).
-fn own_order((row, turned): (&[[f32; 3]], bool), w: usize) -> std::borrow::Cow<'_, [[f32; 3]]> {
-    if turned {
-        row[..w].iter().rev().copied().collect()
-    } else {
-        std::borrow::Cow::Borrowed(&row[..w])
-    }
-}
-
-/// The even case: each texel the solid-angle-weighted mean of 2 × 2, read
-/// from the chart's rows in place.
-fn halve(img: &EnvImage, weights: &TexelWeights, chart: u32, w2: u32, h2: u32) -> RgbImage {
-    let w = img.cell_size().0 as usize;
-    let mut pixels = vec![[0.0f32; 3]; (w2 * h2) as usize];
-    pixels
-        .par_chunks_mut(w2 as usize)
+/// The even case: each texel of `out` the solid-angle-weighted mean of the
+/// 2 × 2 texels of `img` it covers, every chart at once, written in place
+/// row by row of the stored image (one pass over each, no copies). A chart
+/// stored turned by half a turn is turned alike in both, so its stored
+/// texels pair as they are; only its weights are read in reverse.
+fn halve(img: &EnvImage, weights: &TexelWeights, out: &mut EnvImage) {
+    let (w2, h2) = out.cell_size();
+    let atlas = *out.atlas();
+    let stride = out.width() as usize;
+    out.pixels_mut()
+        .par_chunks_mut(stride)
         .enumerate()
-        .for_each(|(cj, row)| {
-            let cj = cj as u32;
-            let (j0, j1) = (2 * cj, 2 * cj + 1);
-            // The two source rows, in the chart's own order.
-            let (Some(r0), Some(r1)) = (img.chart_row(chart, j0), img.chart_row(chart, j1)) else {
-                return;
-            };
-            // The rows in the chart's own order (turned where the atlas
-            // stores them right to left), and their weights.
-            let (p0, p1) = (own_order(r0, w), own_order(r1, w));
+        .for_each(|(y, line)| {
+            let (cell_row, ly) = (y as u32 / h2, y as u32 % h2);
             let (mut w0, mut w1) = (Vec::new(), Vec::new());
-            weights.row_into(chart, j0, &mut w0);
-            weights.row_into(chart, j1, &mut w1);
-            let pairs = p0
-                .chunks_exact(2)
-                .zip(p1.chunks_exact(2))
-                .zip(w0.chunks_exact(2).zip(w1.chunks_exact(2)));
-            for (out, ((a, b), (wa, wb))) in row.iter_mut().zip(pairs) {
-                let taps = [(wa[0], a[0]), (wa[1], a[1]), (wb[0], b[0]), (wb[1], b[1])];
-                let mut acc = [0.0f64; 3];
-                let mut wsum = 0.0f64;
-                for (wt, p) in taps {
-                    for c in 0..3 {
-                        acc[c] += wt * f64::from(p[c]);
-                    }
-                    wsum += wt;
+            for col in 0..atlas.cols {
+                let Some(cell) = atlas.cell_at(col, cell_row) else {
+                    continue;
+                };
+                let turned = cell.turn == Turn::Half;
+                // The chart row this stored row holds, and the two above it.
+                let cj = if turned { h2 - 1 - ly } else { ly };
+                let (j0, j1) = (2 * cj, 2 * cj + 1);
+                let (Some((r0, _)), Some((r1, _))) =
+                    (img.chart_row(cell.chart, j0), img.chart_row(cell.chart, j1))
+                else {
+                    continue;
+                };
+                weights.row_into(cell.chart, j0, &mut w0);
+                weights.row_into(cell.chart, j1, &mut w1);
+                if turned {
+                    w0.reverse();
+                    w1.reverse();
                 }
-                if wsum > 0.0 {
-                    let inv = 1.0 / wsum;
-                    *out = acc.map(|a| (a * inv) as f32);
+                let dst = &mut line[(col * w2) as usize..][..w2 as usize];
+                let pairs = r0
+                    .chunks_exact(2)
+                    .zip(r1.chunks_exact(2))
+                    .zip(w0.chunks_exact(2).zip(w1.chunks_exact(2)));
+                for (out, ((a, b), (wa, wb))) in dst.iter_mut().zip(pairs) {
+                    let taps = [(wa[0], a[0]), (wa[1], a[1]), (wb[0], b[0]), (wb[1], b[1])];
+                    let mut acc = [0.0f64; 3];
+                    let mut wsum = 0.0f64;
+                    for (wt, p) in taps {
+                        for c in 0..3 {
+                            acc[c] += wt * f64::from(p[c]);
+                        }
+                        wsum += wt;
+                    }
+                    if wsum > 0.0 {
+                        let inv = 1.0 / wsum;
+                        *out = acc.map(|a| (a * inv) as f32);
+                    }
                 }
             }
         });
-    RgbImage {
-        width: w2,
-        height: h2,
-        pixels,
-    }
 }
 
 /// The general case (an odd size): each texel the mean of the parts of the
@@ -271,7 +270,7 @@ impl Pyramid {
 /// corner, the wrapped column of a latlong, ...; [`Sampler`]), so that a
 /// bilinear footprint never leaves its chart's block. Disk charts keep the
 /// plain sampler: their rule renormalises over the taps inside the disk.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Bordered {
     /// RGB floats, chart after chart, each `(w + 2) × (h + 2)` texels row
     /// by row, then eight spare floats.
@@ -282,35 +281,47 @@ struct Bordered {
 }
 
 impl Bordered {
+    /// `img`'s charts with their borders: each stored row of a chart
+    /// copied in one piece (reversed where the atlas stores it turned), and
+    /// only the border texels through the edge rule; all rows of all charts
+    /// in parallel.
     fn new(img: &EnvImage) -> Self {
         let (w, h) = img.cell_size();
         let charts = img.mapping().chart_count();
         let sampler = Sampler::new(img);
         let (bw, bh) = (w as usize + 2, h as usize + 2);
         let mut floats = vec![0.0f32; charts as usize * bw * bh * 3 + 8];
-        for chart in 0..charts {
-            let Some(face) = img.chart_image(chart) else {
-                continue;
-            };
-            let block = chart as usize * bw * bh * 3;
-            floats[block..block + bw * bh * 3]
-                .par_chunks_mut(bw * 3)
-                .enumerate()
-                .for_each(|(by, row)| {
-                    let j = by as i64 - 1;
-                    for bx in 0..bw {
-                        let i = bx as i64 - 1;
-                        let inside =
-                            (0..i64::from(w)).contains(&i) && (0..i64::from(h)).contains(&j);
-                        let p = if inside {
-                            face.pixels[j as usize * w as usize + i as usize]
+        let blocks = charts as usize * bw * bh * 3;
+        floats[..blocks]
+            .par_chunks_mut(bw * 3)
+            .enumerate()
+            .for_each(|(r, row)| {
+                let chart = (r / bh) as u32;
+                let j = (r % bh) as i64 - 1;
+                if img.chart_row(chart, 0).is_none() {
+                    return;
+                }
+                let edge = |row: &mut [f32], bx: usize| {
+                    let p = sampler.edge_texel(chart, bx as i64 - 1, j);
+                    row[3 * bx..3 * bx + 3].copy_from_slice(&p);
+                };
+                let inner = u32::try_from(j).ok().and_then(|j| img.chart_row(chart, j));
+                match inner {
+                    Some((src, turned)) => {
+                        let dst = &mut row[3..3 + 3 * w as usize];
+                        if turned {
+                            for (d, p) in dst.chunks_exact_mut(3).zip(src.iter().rev()) {
+                                d.copy_from_slice(p);
+                            }
                         } else {
-                            sampler.edge_texel(chart, i, j)
-                        };
-                        row[3 * bx..3 * bx + 3].copy_from_slice(&p);
+                            dst.copy_from_slice(src.as_flattened());
+                        }
+                        edge(row, 0);
+                        edge(row, bw - 1);
                     }
-                });
-        }
+                    None => (0..bw).for_each(|bx| edge(row, bx)),
+                }
+            });
         Self {
             floats,
             w,
@@ -408,7 +419,8 @@ impl Bordered {
 /// A level as [`Trilinear`] reads it.
 #[derive(Debug)]
 enum Level<'a> {
-    Bordered(Bordered),
+    /// Made for the sampler, or borrowed from [`PreparedLevels`].
+    Bordered(Cow<'a, Bordered>),
     Plain(Sampler<'a>),
     /// Not prepared ([`Trilinear::starting_at`]): never read.
     Absent,
@@ -438,6 +450,49 @@ impl Level<'_> {
                 .map(|[r, g, b]| f32x4::new([r, g, b, 0.0])),
             Level::Absent => [f32x4::ZERO; 8],
         }
+    }
+}
+
+/// A pyramid's levels made ready for [`Trilinear`] once, for samplers that
+/// borrow them ([`Trilinear::over_prepared`]): each level copied with its
+/// one-texel border, the pyramid itself then let go; a disk map's levels
+/// are kept as they are (its plain sampler reads them in place).
+#[derive(Clone, Debug)]
+pub struct PreparedLevels {
+    kind: Prepared,
+}
+
+#[derive(Clone, Debug)]
+enum Prepared {
+    Bordered(Vec<Bordered>),
+    Plain(Pyramid),
+}
+
+impl PreparedLevels {
+    /// `p`'s levels made ready.
+    #[must_use]
+    pub fn new(p: Pyramid) -> Self {
+        let kind = if p.levels[0].mapping().has_disk_charts() {
+            Prepared::Plain(p)
+        } else {
+            Prepared::Bordered(p.levels.iter().map(Bordered::new).collect())
+        };
+        Self { kind }
+    }
+
+    /// The number of levels.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        match &self.kind {
+            Prepared::Bordered(b) => b.len(),
+            Prepared::Plain(p) => p.len(),
+        }
+    }
+
+    /// Always false: a pyramid has its base at least.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
     }
 }
 
@@ -480,7 +535,7 @@ impl<'a> Trilinear<'a> {
                     } else if disk {
                         Level::Plain(Sampler::new(l))
                     } else {
-                        Level::Bordered(Bordered::new(l))
+                        Level::Bordered(Cow::Owned(Bordered::new(l)))
                     }
                 })
                 .collect(),
@@ -503,6 +558,25 @@ impl<'a> Trilinear<'a> {
         let mut levels = Vec::with_capacity(full.levels.len() + 1);
         levels.push(Level::Plain(Sampler::new(base)));
         levels.extend(full.levels);
+        Self { levels, first: 0 }
+    }
+
+    /// [`Trilinear::over`] with the levels below `base` made ready
+    /// beforehand ([`PreparedLevels::new`] of `below`): reads what `over`
+    /// reads, bit for bit, without copying a level. For many samplers of
+    /// one map (a renderer drawing several images of it).
+    #[must_use]
+    pub fn over_prepared(base: &'a EnvImage, below: &'a PreparedLevels) -> Self {
+        let mut levels = Vec::with_capacity(below.len() + 1);
+        levels.push(Level::Plain(Sampler::new(base)));
+        match &below.kind {
+            Prepared::Bordered(b) => {
+                levels.extend(b.iter().map(|b| Level::Bordered(Cow::Borrowed(b))));
+            }
+            Prepared::Plain(p) => {
+                levels.extend(p.levels.iter().map(|l| Level::Plain(Sampler::new(l))))
+            }
+        }
         Self { levels, first: 0 }
     }
 
@@ -674,17 +748,75 @@ mod tests {
     }
 
     #[test]
+    fn a_chart_stored_turned_halves_as_the_same_chart_stored_upright() {
+        // The vertical cross stores −z turned by half a turn; the strip
+        // stores every face upright. A level of one is the other's,
+        // chart for chart, texel for texel.
+        use envmap_core::atlas::Atlas;
+        let cross = Representation {
+            atlas: Atlas::CUBE_VERTICAL_CROSS,
+            ..Representation::default_for(AnyMapping::Cube)
+        };
+        let (w, h) = cross.atlas.image_size_for_cell_width(48).unwrap();
+        let a = fill(cross, w, h, |d| {
+            [d.x.max(0.0) * 3.0 + d.y, d.z * d.z, 1.0 + d.x * d.y]
+        })
+        .unwrap();
+        let b = a.relayout(Atlas::CUBE_HORIZONTAL_STRIP).unwrap();
+        assert!((0..6).any(|c| cross.atlas.cell_of(c).unwrap().turn == Turn::Half));
+        let weights = TexelWeights::new(AnyMapping::Cube, 48, 48);
+        let (la, lb) = (
+            downsample(&a, &weights).unwrap(),
+            downsample(&b, &weights).unwrap(),
+        );
+        for chart in 0..6 {
+            assert_eq!(
+                la.chart_image(chart),
+                lb.chart_image(chart),
+                "chart {chart}"
+            );
+        }
+    }
+
+    /// A smooth map of `m`, charts 32 texels wide, and its pyramid from one
+    /// level down.
+    fn smooth_and_below(m: AnyMapping) -> (EnvImage, Pyramid) {
+        let repr = Representation::default_for(m);
+        let (w, h) = repr
+            .atlas
+            .image_size_for_cell_width(32 * repr.atlas.cell_aspect_w)
+            .unwrap();
+        let base = fill(repr, w, h, smooth).unwrap();
+        let (cw, ch) = base.cell_size();
+        let below = downsample(&base, &TexelWeights::new(m, cw, ch)).unwrap();
+        (base, Pyramid::new(below, 1).unwrap())
+    }
+
+    #[test]
+    fn prepared_levels_read_as_the_sampler_that_makes_its_own() {
+        for m in [AnyMapping::Cube, AnyMapping::LatLong, AnyMapping::SphereMap] {
+            let (base, below) = smooth_and_below(m);
+            let prepared = PreparedLevels::new(below.clone());
+            let (own, borrowed) = (
+                Trilinear::over(&base, &below),
+                Trilinear::over_prepared(&base, &prepared),
+            );
+            assert_eq!(prepared.len() + 1, own.levels(), "{m}");
+            for chart in 0..m.chart_count() {
+                for k in 0..9 {
+                    let c = ChartUv::new(chart, (k as f32 + 0.3) / 9.0, (k as f32 * 0.61) % 1.0);
+                    for lod in [0.0, 0.4, 1.0, 2.5, 9.0] {
+                        assert_eq!(own.sample(c, lod), borrowed.sample(c, lod), "{m} {c:?}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn a_sampler_over_a_base_and_the_pyramid_below_reads_as_the_full_one() {
         for m in [AnyMapping::Cube, AnyMapping::LatLong, AnyMapping::SphereMap] {
-            let repr = Representation::default_for(m);
-            let (w, h) = repr
-                .atlas
-                .image_size_for_cell_width(32 * repr.atlas.cell_aspect_w)
-                .unwrap();
-            let base = fill(repr, w, h, smooth).unwrap();
-            let (cw, ch) = base.cell_size();
-            let below = downsample(&base, &TexelWeights::new(m, cw, ch)).unwrap();
-            let below = Pyramid::new(below, 1).unwrap();
+            let (base, below) = smooth_and_below(m);
             let p = Pyramid::new(base.clone(), 1).unwrap();
             let (full, over) = (Trilinear::new(&p), Trilinear::over(&base, &below));
             assert_eq!(full.levels(), over.levels(), "{m}");

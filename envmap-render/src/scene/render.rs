@@ -69,13 +69,14 @@
 //!
 //! The pyramid is built for each render unless made beforehand
 //! ([`MipLevels`], [`RenderOptions::mip_levels`]): the map itself is read in place
-//! as level 0 ([`Trilinear::over`]); the levels below it (every level down
-//! to 1², about a third of the map's texels) are made from it, and each but
-//! a disk map's copied once with a one-texel border. That is the option's
-//! main cost, measured beside the plain render in the render bench
-//! (`envmap-bench`, `per-pixel-mip`; `docs/performance.md`): 1920 × 1080
-//! in a 6 × 1024² cube took 2.4 times the plain render with the levels
-//! built in the render, 1.5 times with them made beforehand. The rest is
+//! as level 0 ([`Trilinear::over_prepared`]); the levels below it (every level down
+//! to 1², about a third of the map's texels) are made from it, each in one
+//! parallel pass over the level above (written in place, no copies), and
+//! each but a disk map's copied once with a one-texel border
+//! ([`PreparedLevels`]), which [`MipLevels`] keeps: renders from prebuilt
+//! levels copy nothing. Building them is the option's main cost, measured
+//! beside the plain render in the render bench (`envmap-bench`,
+//! `per-pixel-mip`, `per-pixel-mip-prebuilt`; `docs/performance.md`). The rest is
 //! kept small: eight lookups whose levels are all 0 (the background, the
 //! flatter parts) take the plain path, a level is read only on the lanes
 //! that use it, a pixel's footprint comes from its neighbours'
@@ -100,7 +101,7 @@ use crate::cancel;
 use crate::error::Error;
 use crate::error::Result;
 use crate::filter::oracle::Oracle;
-use crate::filter::pyramid::{downsample as downsample_level, Pyramid, Trilinear};
+use crate::filter::pyramid::{downsample as downsample_level, PreparedLevels, Pyramid, Trilinear};
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::filter::weights::TexelWeights;
 use crate::image::{EnvImage, RgbImage};
@@ -195,11 +196,13 @@ pub struct RenderOptions<'a> {
 
 /// What a mip-aware render reads below an environment map (the map itself
 /// is level 0, read in place): its solid-angle-weighted pyramid from half
-/// its size down to 1², and its texels' solid angles; see
-/// [Mip-aware lookups](self#mip-aware-lookups).
+/// its size down to 1², each level ready for sampling (copied with its
+/// border once, here), and its texels' solid angles; see
+/// [Mip-aware lookups](self#mip-aware-lookups). Make it once to render a
+/// map many times: a render from it copies nothing.
 #[derive(Clone, Debug)]
 pub struct MipLevels {
-    below: Pyramid,
+    below: PreparedLevels,
     texels: TexelWeights,
     mapping: AnyMapping,
     cell: (u32, u32),
@@ -215,7 +218,7 @@ impl MipLevels {
         let (cw, ch) = map.cell_size();
         let mapping = map.mapping();
         let texels = TexelWeights::new(mapping, cw, ch);
-        let below = Pyramid::new(downsample_level(map, &texels)?, 1)?;
+        let below = PreparedLevels::new(Pyramid::new(downsample_level(map, &texels)?, 1)?);
         Ok(Self {
             below,
             texels,
@@ -462,7 +465,7 @@ fn render_map(
         }
         _ => None,
     };
-    let trilinear = mip.map(|(base, l)| Trilinear::over(base, &l.below));
+    let trilinear = mip.map(|(base, l)| Trilinear::over_prepared(base, &l.below));
     let texels = mip.map(|(_, l)| &l.texels);
     // Project every vertex once; per-vertex mode also maps R at each vertex.
     let projected: Vec<(f32, f32, f32)> = mesh.positions.iter().map(|p| view.project(*p)).collect();
