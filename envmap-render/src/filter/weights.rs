@@ -142,6 +142,27 @@ impl TexelWeights {
         }
     }
 
+    /// The smallest solid angle of a texel that holds a direction (the
+    /// smallest non-zero weight; 0 if there is none).
+    #[must_use]
+    pub fn smallest(&self) -> f64 {
+        let tables: &[Vec<f64>] = match &self.kind {
+            Kind::Rows(r) | Kind::Quadrant(r) => core::slice::from_ref(r),
+            Kind::PerChart(t) => t,
+        };
+        let least = tables
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|&x| x > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        if least.is_finite() {
+            least
+        } else {
+            0.0
+        }
+    }
+
     /// The sum over every texel of every chart (4π for a whole sphere).
     #[must_use]
     pub fn total(&self) -> f64 {
@@ -226,6 +247,20 @@ mod tests {
 
     /// A row at once is each texel's weight: every kind of table, odd and
     /// even sizes, rows out of range.
+    #[test]
+    fn the_smallest_weight_is_the_smallest_texel_that_holds_a_direction() {
+        for m in AnyMapping::ALL {
+            let (w, h) = (12 * m.atlas().cell_aspect_w, 12 * m.atlas().cell_aspect_h);
+            let t = TexelWeights::new(m, w, h);
+            let least = (0..m.chart_count())
+                .flat_map(|c| (0..h).flat_map(move |j| (0..w).map(move |i| (c, i, j))))
+                .map(|(c, i, j)| t.get(c, i, j))
+                .filter(|&x| x > 0.0)
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(t.smallest(), least, "{m}");
+        }
+    }
+
     #[test]
     fn a_row_is_its_texels_weights() {
         for m in [AnyMapping::Cube, AnyMapping::LatLong, AnyMapping::SphereMap] {

@@ -467,6 +467,7 @@ fn render_map(
     };
     let trilinear = mip.map(|(base, l)| Trilinear::over_prepared(base, &l.below));
     let texels = mip.map(|(_, l)| &l.texels);
+    let background_at_base = texels.is_some_and(|t| background_stays_at_base(&view, t.smallest()));
     // Project every vertex once; per-vertex mode also maps R at each vertex.
     let projected: Vec<(f32, f32, f32)> = mesh.positions.iter().map(|p| view.project(*p)).collect();
     let vertex_uv: Vec<ChartUv> = if per_vertex {
@@ -709,7 +710,8 @@ fn render_map(
                 dirs.push(d);
             }
             let spread = if trilinear.is_some() {
-                footprints(mesh, &projected, &view, &hits, &need, &dirs, w, y0)
+                let bg = background_at_base;
+                footprints(mesh, &projected, &view, &hits, &need, &dirs, w, y0, bg)
             } else {
                 Vec::new()
             };
@@ -929,6 +931,9 @@ fn footprint(
 /// without making those directions again; the background likewise from
 /// background neighbours' view rays. Pixels without such neighbours make
 /// theirs.
+/// With `background_at_base` ([`background_stays_at_base`]) a background
+/// pixel's footprint is not measured but given as 0: its level is 0
+/// either way.
 #[allow(clippy::too_many_arguments)]
 fn footprints(
     mesh: &Mesh,
@@ -939,6 +944,7 @@ fn footprints(
     dirs: &[Vec3],
     w: u32,
     y0: u32,
+    background_at_base: bool,
 ) -> Vec<f32> {
     let w = w as usize;
     // Pixel → its lookup, where it has one.
@@ -965,6 +971,9 @@ fn footprints(
         .map(|(&k, &d)| {
             let (x, y) = (k % w, k / w);
             let hit = hits[k].as_ref();
+            if hit.is_none() && background_at_base {
+                return 0.0;
+            }
             let from_neighbours = || {
                 // The direction at neighbour `n` if it is on `hit`'s
                 // triangle, or background beside background.
@@ -989,6 +998,24 @@ fn footprints(
             })
         })
         .collect()
+}
+
+/// Whether no background lookup of `view` can read above level 0 in a map
+/// whose smallest texel solid angle is `least`. Two neighbouring pixels'
+/// view rays pass through points Δ = 2·tan(half the field of view) / pixels
+/// apart on the image plane at distance 1; the eye is at least 1 from the
+/// line through them, so the angle between the rays is at most
+/// 2·atan(Δ/2) ≤ Δ, and their chord (the footprint) less. [`lod8`]'s
+/// level is above 0 only where footprint² / Ω > 4, so where Δ² ≤ 4·least
+/// (with room for f32 rounding) every background lookup reads level 0,
+/// and its footprint need not be measured: the background of a 1920 × 1080
+/// view at the default 35° in a 6 × 1024² cube, say (Δ = 5.8·10⁻⁴ against
+/// 2·√least = 1.7·10⁻³).
+fn background_stays_at_base(view: &View, least: f64) -> bool {
+    let dx = 2.0 * f64::from(view.tan_x) / f64::from(view.width);
+    let dy = 2.0 * f64::from(view.tan_y) / f64::from(view.height);
+    let s = dx.max(dy) * 1.001 + 1e-6;
+    s * s <= 3.99 * least
 }
 
 /// Added to every mip-aware lookup's level: one level finer than the
@@ -1187,6 +1214,66 @@ mod tests {
             worst.0, worst.1, worst.2
         );
         assert!(worst.0 < 1e-5, "{worst:?}");
+    }
+
+    /// Where [`background_stays_at_base`] holds, every background pixel's
+    /// measured footprint gives level 0 (checked on a grid of pixels out
+    /// to the image's corners, at several fields of view and map sizes);
+    /// and it does hold for the render bench's view, and not for a coarse
+    /// wide one.
+    #[test]
+    fn a_background_kept_at_the_base_would_read_the_base() {
+        use envmap_core::Mapping as _;
+        let mut held = Vec::new();
+        for (m, n) in [
+            (AnyMapping::Cube, 1024),
+            (AnyMapping::Cube, 64),
+            (AnyMapping::LatLong, 512),
+        ] {
+            let (cw, ch) = (n * m.atlas().cell_aspect_w, n * m.atlas().cell_aspect_h);
+            let texels = TexelWeights::new(m, cw, ch);
+            for fov in [10.0, 35.0, 90.0, 150.0] {
+                for (w, h) in [(64, 48), (640, 480), (1920, 1080)] {
+                    let cam = Camera {
+                        fov_y_deg: fov,
+                        ..Camera::default()
+                    };
+                    let view = View::new(&cam, w, h);
+                    if !background_stays_at_base(&view, texels.smallest()) {
+                        continue;
+                    }
+                    held.push((m, n, fov, w));
+                    let mut spread = Vec::new();
+                    let mut dirs = Vec::new();
+                    for a in 0..=16 {
+                        for b in 0..=16 {
+                            let x = (w - 2) as f32 * a as f32 / 16.0 + 0.5;
+                            let y = (h - 2) as f32 * b as f32 / 16.0 + 0.5;
+                            let d = view.ray(x, y);
+                            let (dx, dy) = (view.ray(x + 1.0, y) - d, view.ray(x, y + 1.0) - d);
+                            spread.push(dx.length().max(dy.length()));
+                            dirs.push(d);
+                        }
+                    }
+                    for (d, s) in dirs.chunks(LANES).zip(spread.chunks(LANES)) {
+                        let q = m.forward8::<Fine>(Dir8::from_partial(d));
+                        let lod = lod8(&texels, &q, s).to_array();
+                        assert!(
+                            lod[..d.len()].iter().all(|&l| l == 0.0),
+                            "{m} {n} fov {fov} {w}x{h}: {lod:?}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(
+            held.contains(&(AnyMapping::Cube, 1024, 35.0, 1920)),
+            "{held:?}"
+        );
+        assert!(
+            !held.contains(&(AnyMapping::Cube, 1024, 90.0, 64)),
+            "{held:?}"
+        );
     }
 
     /// The footprint and the mip level of the reflection at the centre pixel
