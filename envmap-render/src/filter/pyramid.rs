@@ -31,7 +31,7 @@
 use std::borrow::Cow;
 
 use crate::par::*;
-use envmap_core::atlas::Turn;
+use envmap_core::atlas::{Atlas, Turn};
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 use envmap_simd::Uv8;
@@ -40,7 +40,8 @@ use wide::{f32x4, f32x8, i32x8, u32x8};
 use crate::error::Result;
 use crate::filter::sample::{Filter, Sampler};
 use crate::filter::weights::TexelWeights;
-use crate::image::{EnvImage, RgbImage};
+use crate::image::layout::check_compatible;
+use crate::image::{EnvImage, Representation, RgbImage};
 
 /// The chart size one level down: height ⌊h/2⌋ (at least 1), width by the
 /// chart's aspect `aw : ah`.
@@ -60,8 +61,22 @@ pub fn next_chart_size(w: u32, h: u32, aw: u32, ah: u32) -> (u32, u32) {
 /// Only if the smaller image cannot be made (it never exceeds the
 /// original's size, so in practice never).
 pub fn downsample(img: &EnvImage, weights: &TexelWeights) -> Result<EnvImage> {
-    let repr = *img.representation();
-    let atlas = repr.atlas;
+    downsample_to(img, weights, img.representation().atlas)
+}
+
+/// [`downsample`] into another atlas of the same mapping (its charts are
+/// the same texel for texel; only where they are stored differs): a cube
+/// cross's levels as a strip, say, without the cross's empty cells.
+///
+/// # Errors
+///
+/// If `atlas` is not an atlas of `img`'s mapping.
+pub fn downsample_to(img: &EnvImage, weights: &TexelWeights, atlas: Atlas) -> Result<EnvImage> {
+    let repr = Representation {
+        atlas,
+        ..*img.representation()
+    };
+    check_compatible(repr.mapping, &atlas)?;
     let (cw, ch) = img.cell_size();
     let (w2, h2) = next_chart_size(cw, ch, atlas.cell_aspect_w, atlas.cell_aspect_h);
     let (iw, ih) = (atlas.cols * w2, atlas.rows * h2);

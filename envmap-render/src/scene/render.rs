@@ -101,7 +101,7 @@ use crate::cancel;
 use crate::error::Error;
 use crate::error::Result;
 use crate::filter::oracle::Oracle;
-use crate::filter::pyramid::{downsample as downsample_level, PreparedLevels, Pyramid, Trilinear};
+use crate::filter::pyramid::{downsample_to, PreparedLevels, Pyramid, Trilinear};
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::filter::weights::TexelWeights;
 use crate::image::{EnvImage, RgbImage};
@@ -218,7 +218,14 @@ impl MipLevels {
         let (cw, ch) = map.cell_size();
         let mapping = map.mapping();
         let texels = TexelWeights::new(mapping, cw, ch);
-        let below = PreparedLevels::new(Pyramid::new(downsample_level(map, &texels)?, 1)?);
+        // A cube's levels as a strip, whatever its layout: a cross's empty
+        // cells would be half of every level's memory, its pages touched
+        // in every render that builds them.
+        let atlas = match mapping {
+            AnyMapping::Cube => envmap_core::atlas::Atlas::CUBE_HORIZONTAL_STRIP,
+            _ => map.representation().atlas,
+        };
+        let below = PreparedLevels::new(Pyramid::new(downsample_to(map, &texels, atlas)?, 1)?);
         Ok(Self {
             below,
             texels,
