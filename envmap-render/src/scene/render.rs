@@ -204,6 +204,8 @@ pub struct RenderOptions<'a> {
 pub struct MipLevels {
     below: PreparedLevels,
     texels: TexelWeights,
+    /// The smallest texel solid angle ([`TexelWeights::smallest`]).
+    least: f64,
     mapping: AnyMapping,
     cell: (u32, u32),
 }
@@ -228,6 +230,7 @@ impl MipLevels {
         let below = PreparedLevels::new(Pyramid::new(downsample_to(map, &texels, atlas)?, 1)?);
         Ok(Self {
             below,
+            least: texels.smallest(),
             texels,
             mapping,
             cell: (cw, ch),
@@ -474,7 +477,7 @@ fn render_map(
     };
     let trilinear = mip.map(|(base, l)| Trilinear::over_prepared(base, &l.below));
     let texels = mip.map(|(_, l)| &l.texels);
-    let background_at_base = texels.is_some_and(|t| background_stays_at_base(&view, t.smallest()));
+    let background_at_base = mip.is_some_and(|(_, l)| background_stays_at_base(&view, l.least));
     // Project every vertex once; per-vertex mode also maps R at each vertex.
     let projected: Vec<(f32, f32, f32)> = mesh.positions.iter().map(|p| view.project(*p)).collect();
     let vertex_uv: Vec<ChartUv> = if per_vertex {
