@@ -1,6 +1,8 @@
 //! Times the renderer: `cargo run --release -p envmap-render --example render_timing`
 //! (`MIP=1`: mip-aware, `PREBUILT=1` with its levels made once and timed
-//! apart, `ITERS=n` renders, `PROFILE=1` a black map).
+//! apart, `LIT=1` glossy plastic at roughness 0.5 by the split sum from
+//! the map's own bake, made once, `ITERS=n` renders, `PROFILE=1` a black
+//! map).
 use std::time::Instant;
 
 use envmap_core::AnyMapping;
@@ -25,7 +27,24 @@ fn main() {
         println!("levels made in {} ms", t.elapsed().as_secs_f64() * 1e3);
         l
     });
+    // LIT=1: the split sum, as the `render` bench's envmap-chain case.
+    let lit = std::env::var("LIT")
+        .is_ok()
+        .then(|| envmap_render::scene::lit::LitEnvironment::bake(&env, 512, None).expect("bake"));
+    let shading = match &lit {
+        Some(env) => envmap_render::render::Shading::SplitSum {
+            env,
+            material: envmap_render::scene::material::Material {
+                roughness: 0.5,
+                ..envmap_render::scene::material::Material::default()
+            },
+            multiscatter: false,
+            dominant: true,
+        },
+        None => envmap_render::render::Shading::Mirror,
+    };
     let opts = RenderOptions {
+        shading,
         width: 1920,
         height: 1080,
         samples: 1,
