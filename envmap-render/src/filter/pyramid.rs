@@ -98,9 +98,11 @@ pub fn downsample_to(img: &EnvImage, weights: &TexelWeights, atlas: Atlas) -> Re
 
 /// The even case: each texel of `out` the solid-angle-weighted mean of the
 /// 2 × 2 texels of `img` it covers, every chart at once, written in place
-/// row by row of the stored image (one pass over each, no copies). A chart
-/// stored turned by half a turn is turned alike in both, so its stored
-/// texels pair as they are; only its weights are read in reverse.
+/// row by row of the stored image (one pass over each, no copies). A row
+/// stored turned by half a turn pairs its stored texels as they are, its
+/// weights read in reverse; the row made is turned over where `out` stores
+/// the chart the other way round (`out` in another atlas: a cross's levels
+/// as a strip).
 fn halve(img: &EnvImage, weights: &TexelWeights, out: &mut EnvImage) {
     let (w2, h2) = out.cell_size();
     let atlas = *out.atlas();
@@ -118,40 +120,106 @@ fn halve(img: &EnvImage, weights: &TexelWeights, out: &mut EnvImage) {
                 let turned = cell.turn == Turn::Half;
                 // The chart row this stored row holds, and the two above it.
                 let cj = if turned { h2 - 1 - ly } else { ly };
-                let (j0, j1) = (2 * cj, 2 * cj + 1);
-                let (Some((r0, _)), Some((r1, _))) =
-                    (img.chart_row(cell.chart, j0), img.chart_row(cell.chart, j1))
-                else {
-                    continue;
-                };
-                weights.row_into(cell.chart, j0, &mut w0);
-                weights.row_into(cell.chart, j1, &mut w1);
-                if turned {
-                    w0.reverse();
-                    w1.reverse();
-                }
                 let dst = &mut line[(col * w2) as usize..][..w2 as usize];
-                let pairs = r0
-                    .chunks_exact(2)
-                    .zip(r1.chunks_exact(2))
-                    .zip(w0.chunks_exact(2).zip(w1.chunks_exact(2)));
-                for (out, ((a, b), (wa, wb))) in dst.iter_mut().zip(pairs) {
-                    let taps = [(wa[0], a[0]), (wa[1], a[1]), (wb[0], b[0]), (wb[1], b[1])];
-                    let mut acc = [0.0f64; 3];
-                    let mut wsum = 0.0f64;
-                    for (wt, p) in taps {
-                        for c in 0..3 {
-                            acc[c] += wt * f64::from(p[c]);
-                        }
-                        wsum += wt;
-                    }
-                    if wsum > 0.0 {
-                        let inv = 1.0 / wsum;
-                        *out = acc.map(|a| (a * inv) as f32);
-                    }
-                }
+                halve_chart_row(
+                    img,
+                    weights,
+                    cell.chart,
+                    cj,
+                    turned,
+                    dst,
+                    (&mut w0, &mut w1),
+                );
             }
         });
+}
+
+/// Row `cj` of `chart` one level down from `src` into `dst`, turned (its
+/// texels in reverse) where `turned`; `scratch` holds the weights' rows.
+/// Left as it is where `src` lacks the chart.
+fn halve_chart_row(
+    src: &impl ChartRows,
+    weights: &TexelWeights,
+    chart: u32,
+    cj: u32,
+    turned: bool,
+    dst: &mut [[f32; 3]],
+    (w0, w1): (&mut Vec<f64>, &mut Vec<f64>),
+) {
+    let (j0, j1) = (2 * cj, 2 * cj + 1);
+    let (Some((r0, stored_turned)), Some((r1, _))) =
+        (src.chart_row(chart, j0), src.chart_row(chart, j1))
+    else {
+        return;
+    };
+    weights.row_into(chart, j0, w0);
+    weights.row_into(chart, j1, w1);
+    if stored_turned {
+        w0.reverse();
+        w1.reverse();
+    }
+    halve_row(r0, r1, w0, w1, dst);
+    if stored_turned != turned {
+        dst.reverse();
+    }
+}
+
+/// The rows of a level's charts, as halving reads them.
+trait ChartRows: Sync {
+    /// Row `j` of `chart` as stored, and whether it is stored turned (its
+    /// texels in reverse order); `None` for a chart or row not stored.
+    fn chart_row(&self, chart: u32, j: u32) -> Option<(&[[f32; 3]], bool)>;
+}
+
+impl ChartRows for EnvImage {
+    fn chart_row(&self, chart: u32, j: u32) -> Option<(&[[f32; 3]], bool)> {
+        EnvImage::chart_row(self, chart, j)
+    }
+}
+
+impl ChartRows for Bordered {
+    fn chart_row(&self, chart: u32, j: u32) -> Option<(&[[f32; 3]], bool)> {
+        if chart >= self.charts || j >= self.h {
+            return None;
+        }
+        let (bw, bh) = (self.w as usize + 2, self.h as usize + 2);
+        let at = ((chart as usize * bh + j as usize + 1) * bw + 1) * 3;
+        let row = self.floats.get(at..at + 3 * self.w as usize)?;
+        Some((row.as_chunks::<3>().0, false))
+    }
+}
+
+/// The charts of `mapping` that `src` stores, a bit per chart.
+fn present(src: &impl ChartRows, mapping: AnyMapping) -> u32 {
+    (0..mapping.chart_count().min(32))
+        .filter(|&c| src.chart_row(c, 0).is_some())
+        .fold(0, |m, c| m | 1 << c)
+}
+
+/// One row of the even case: `dst[k]` the mean of texels `2k` and
+/// `2k + 1` of rows `r0` and `r1`, weighted by `w0` and `w1` (in the rows'
+/// order), summed in f64. A texel whose four weights are all 0 is left as
+/// it is.
+fn halve_row(r0: &[[f32; 3]], r1: &[[f32; 3]], w0: &[f64], w1: &[f64], dst: &mut [[f32; 3]]) {
+    let pairs = r0
+        .chunks_exact(2)
+        .zip(r1.chunks_exact(2))
+        .zip(w0.chunks_exact(2).zip(w1.chunks_exact(2)));
+    for (out, ((a, b), (wa, wb))) in dst.iter_mut().zip(pairs) {
+        let taps = [(wa[0], a[0]), (wa[1], a[1]), (wb[0], b[0]), (wb[1], b[1])];
+        let mut acc = [0.0f64; 3];
+        let mut wsum = 0.0f64;
+        for (wt, p) in taps {
+            for c in 0..3 {
+                acc[c] += wt * f64::from(p[c]);
+            }
+            wsum += wt;
+        }
+        if wsum > 0.0 {
+            let inv = 1.0 / wsum;
+            *out = acc.map(|a| (a * inv) as f32);
+        }
+    }
 }
 
 /// The general case (an odd size): each texel the mean of the parts of the
@@ -285,7 +353,7 @@ impl Pyramid {
 /// corner, the wrapped column of a latlong, ...; [`Sampler`]), so that a
 /// bilinear footprint never leaves its chart's block. Disk charts keep the
 /// plain sampler: their rule renormalises over the taps inside the disk.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 struct Bordered {
     /// RGB floats, chart after chart, each `(w + 2) × (h + 2)` texels row
     /// by row, then eight spare floats.
@@ -297,52 +365,123 @@ struct Bordered {
 
 impl Bordered {
     /// `img`'s charts with their borders: each stored row of a chart
-    /// copied in one piece (reversed where the atlas stores it turned), and
-    /// only the border texels through the edge rule; all rows of all charts
-    /// in parallel.
+    /// copied in one piece (reversed where the atlas stores it turned), all
+    /// rows of all charts in parallel, then the frames ([`Bordered::frame`]).
     fn new(img: &EnvImage) -> Self {
         let (w, h) = img.cell_size();
-        let charts = img.mapping().chart_count();
-        let sampler = Sampler::new(img);
-        let (bw, bh) = (w as usize + 2, h as usize + 2);
-        let mut floats = vec![0.0f32; charts as usize * bw * bh * 3 + 8];
-        let blocks = charts as usize * bw * bh * 3;
-        floats[..blocks]
-            .par_chunks_mut(bw * 3)
-            .enumerate()
-            .for_each(|(r, row)| {
-                let chart = (r / bh) as u32;
-                let j = (r % bh) as i64 - 1;
-                if img.chart_row(chart, 0).is_none() {
-                    return;
+        let mapping = img.mapping();
+        let mut b = Self::blank(w, h, mapping.chart_count());
+        b.rows_mut().for_each(|(chart, j, dst)| {
+            if let Some((src, turned)) = img.chart_row(chart, j) {
+                dst.copy_from_slice(src);
+                if turned {
+                    dst.reverse();
                 }
-                let edge = |row: &mut [f32], bx: usize| {
-                    let p = sampler.edge_texel(chart, bx as i64 - 1, j);
-                    row[3 * bx..3 * bx + 3].copy_from_slice(&p);
-                };
-                let inner = u32::try_from(j).ok().and_then(|j| img.chart_row(chart, j));
-                match inner {
-                    Some((src, turned)) => {
-                        let dst = &mut row[3..3 + 3 * w as usize];
-                        if turned {
-                            for (d, p) in dst.chunks_exact_mut(3).zip(src.iter().rev()) {
-                                d.copy_from_slice(p);
-                            }
-                        } else {
-                            dst.copy_from_slice(src.as_flattened());
-                        }
-                        edge(row, 0);
-                        edge(row, bw - 1);
-                    }
-                    None => (0..bw).for_each(|bx| edge(row, bx)),
-                }
-            });
+            }
+        });
+        b.frame(mapping, present(img, mapping));
+        b
+    }
+
+    /// One level down from `src` in the even case (its charts `2w × 2h`,
+    /// `weights` their texel solid angles), made straight into the
+    /// bordered layout: each chart row halved into its place, upright,
+    /// then the frames. Bit for bit [`Bordered::new`] of the level
+    /// [`downsample`] makes, without that level or a copy of it.
+    fn halved(
+        src: &impl ChartRows,
+        weights: &TexelWeights,
+        mapping: AnyMapping,
+        (w, h): (u32, u32),
+    ) -> Self {
+        let mut b = Self::blank(w, h, mapping.chart_count());
+        b.rows_mut().for_each_init(
+            || (Vec::new(), Vec::new()),
+            |(w0, w1), (chart, j, dst)| {
+                halve_chart_row(src, weights, chart, j, false, dst, (w0, w1));
+            },
+        );
+        b.frame(mapping, present(src, mapping));
+        b
+    }
+
+    /// Black charts of `w × h`, frames and all.
+    fn blank(w: u32, h: u32, charts: u32) -> Self {
+        let floats = vec![0.0f32; charts as usize * (w as usize + 2) * (h as usize + 2) * 3 + 8];
         Self {
             floats,
             w,
             h,
             charts,
         }
+    }
+
+    /// Every chart row inside the frames, in parallel: (chart, row, its
+    /// texels).
+    fn rows_mut(&mut self) -> impl ParallelIterator<Item = (u32, u32, &mut [[f32; 3]])> {
+        let (w, bh) = (self.w as usize, self.h as usize + 2);
+        let row = (w + 2) * 3;
+        let blocks = self.charts as usize * bh * row;
+        self.floats[..blocks]
+            .par_chunks_mut(row)
+            .enumerate()
+            .filter_map(move |(r, line)| {
+                let (chart, jb) = (r / bh, r % bh);
+                (jb != 0 && jb != bh - 1).then(|| {
+                    let texels = line[3..3 + 3 * w].as_chunks_mut::<3>().0;
+                    (chart as u32, jb as u32 - 1, texels)
+                })
+            })
+    }
+
+    /// Fills the one-texel frame around each chart in `present` (a bit per
+    /// chart) with what the edge rule reads there ([`Sampler::edge_texel`],
+    /// from the charts themselves).
+    fn frame(&mut self, mapping: AnyMapping, present: u32) {
+        let (w, h) = (self.w, self.h);
+        let (bw, bh) = (w as usize + 2, h as usize + 2);
+        let ring: Vec<(u32, usize, usize)> = (0..self.charts)
+            .filter(|c| present >> c & 1 != 0)
+            .flat_map(|c| {
+                let rows = [0, bh - 1]
+                    .into_iter()
+                    .flat_map(move |y| (0..bw).map(move |x| (x, y)));
+                let sides = (1..bh - 1).flat_map(move |y| [(0, y), (bw - 1, y)]);
+                rows.chain(sides).map(move |(x, y)| (c, x, y))
+            })
+            .collect();
+        let blocks = self.charts as usize * bw * bh * 3;
+        let values: Vec<[f32; 3]> = {
+            let texels = self.floats[..blocks].as_chunks::<3>().0;
+            let sampler = Sampler::over_blocks(texels, w, h, mapping);
+            ring.par_iter()
+                .map(|&(c, x, y)| sampler.edge_texel(c, x as i64 - 1, y as i64 - 1))
+                .collect()
+        };
+        for (&(c, x, y), v) in ring.iter().zip(values) {
+            let at = ((c as usize * bh + y) * bw + x) * 3;
+            self.floats[at..at + 3].copy_from_slice(&v);
+        }
+    }
+
+    /// The charts without their frames, as an image in `repr`.
+    fn to_image(&self, repr: Representation) -> Result<EnvImage> {
+        let (w, h) = (self.w, self.h);
+        let a = repr.atlas;
+        let mut img = EnvImage::new(a.cols * w, a.rows * h, repr)?;
+        for chart in 0..self.charts {
+            let pixels = (0..h)
+                .flat_map(|j| self.chart_row(chart, j).map_or(&[][..], |r| r.0))
+                .copied()
+                .collect();
+            let chart_image = RgbImage {
+                width: w,
+                height: h,
+                pixels,
+            };
+            img.set_chart_image(chart, &chart_image)?;
+        }
+        Ok(img)
     }
 
     /// Where chart point (u, v)'s footprint starts (in floats) and its
@@ -472,12 +611,12 @@ impl Level<'_> {
 /// borrow them ([`Trilinear::over_prepared`]): each level copied with its
 /// one-texel border, the pyramid itself then let go; a disk map's levels
 /// are kept as they are (its plain sampler reads them in place).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PreparedLevels {
     kind: Prepared,
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 enum Prepared {
     Bordered(Vec<Bordered>),
     Plain(Pyramid),
@@ -493,6 +632,59 @@ impl PreparedLevels {
             Prepared::Bordered(p.levels.iter().map(Bordered::new).collect())
         };
         Self { kind }
+    }
+
+    /// The levels below `map`, from half its size down to charts of height
+    /// 1, as [`PreparedLevels::new`] of `Pyramid::new(downsample_to(map,
+    /// weights, atlas)?, 1)?` makes them, bit for bit, with less work: a
+    /// level of an even size is halved straight into its bordered copy
+    /// from the one above (no level image made, none copied). `weights` are
+    /// `map`'s texel solid angles; `atlas`, one of its mapping's, is how
+    /// an odd level in between is laid out.
+    ///
+    /// # Errors
+    ///
+    /// If `atlas` is not an atlas of `map`'s mapping, or a level cannot be
+    /// made (see [`downsample`]).
+    pub fn below(map: &EnvImage, weights: &TexelWeights, atlas: Atlas) -> Result<Self> {
+        let mapping = map.mapping();
+        if mapping.has_disk_charts() {
+            return Ok(Self::new(Pyramid::new(
+                downsample_to(map, weights, atlas)?,
+                1,
+            )?));
+        }
+        check_compatible(mapping, &atlas)?;
+        let repr = Representation {
+            atlas,
+            ..*map.representation()
+        };
+        let mut levels: Vec<Bordered> = Vec::new();
+        let (mut cw, mut ch) = map.cell_size();
+        loop {
+            let next = next_chart_size(cw, ch, atlas.cell_aspect_w, atlas.cell_aspect_h);
+            let even = (cw, ch) == (2 * next.0, 2 * next.1);
+            let level = match levels.last() {
+                None if even => Bordered::halved(map, weights, mapping, next),
+                None => Bordered::new(&downsample_to(map, weights, atlas)?),
+                Some(above) => {
+                    let weights = TexelWeights::new(mapping, cw, ch);
+                    if even {
+                        Bordered::halved(above, &weights, mapping, next)
+                    } else {
+                        Bordered::new(&downsample(&above.to_image(repr)?, &weights)?)
+                    }
+                }
+            };
+            levels.push(level);
+            (cw, ch) = next;
+            if ch <= 1 {
+                break;
+            }
+        }
+        Ok(Self {
+            kind: Prepared::Bordered(levels),
+        })
     }
 
     /// The number of levels.
@@ -790,6 +982,77 @@ mod tests {
                 lb.chart_image(chart),
                 "chart {chart}"
             );
+        }
+    }
+
+    #[test]
+    fn a_level_made_into_another_atlas_holds_the_same_charts() {
+        // The vertical cross's −z is stored turned, the strip's upright:
+        // its level made into the strip is the level made in the cross.
+        use envmap_core::atlas::Atlas;
+        let cross = Representation {
+            atlas: Atlas::CUBE_VERTICAL_CROSS,
+            ..Representation::default_for(AnyMapping::Cube)
+        };
+        let (w, h) = cross.atlas.image_size_for_cell_width(16).unwrap();
+        let a = fill(cross, w, h, smooth).unwrap();
+        let weights = TexelWeights::new(AnyMapping::Cube, 16, 16);
+        let own = downsample(&a, &weights).unwrap();
+        let strip = downsample_to(&a, &weights, Atlas::CUBE_HORIZONTAL_STRIP).unwrap();
+        for chart in 0..6 {
+            assert_eq!(
+                own.chart_image(chart),
+                strip.chart_image(chart),
+                "chart {chart}"
+            );
+        }
+    }
+
+    #[test]
+    fn levels_halved_into_their_borders_are_the_levels_bordered_afterwards() {
+        use envmap_core::atlas::Atlas;
+        let strip = Atlas::CUBE_HORIZONTAL_STRIP;
+        let cube = |atlas| Representation {
+            atlas,
+            ..Representation::default_for(AnyMapping::Cube)
+        };
+        // (representation, chart width, the levels' atlas if not the
+        // map's): turned charts,
+        // a change of atlas, sizes that turn odd on the way down (40: 20,
+        // 10, 5, 2, 1; 24: 12, 6, 3, 1), and the non-cube edge rules.
+        let cases = [
+            (cube(Atlas::CUBE_VERTICAL_CROSS), 32, Some(strip)),
+            (cube(Atlas::CUBE_HORIZONTAL_CROSS), 40, Some(strip)),
+            (cube(Atlas::CUBE_VERTICAL_CROSS), 24, None),
+            (Representation::default_for(AnyMapping::LatLong), 64, None),
+            (
+                Representation::default_for(AnyMapping::Octahedral),
+                24,
+                None,
+            ),
+            (
+                Representation::default_for(AnyMapping::Tennisball),
+                36,
+                None,
+            ),
+            (Representation::default_for(AnyMapping::SphereMap), 32, None),
+        ];
+        for (repr, cell, atlas) in cases {
+            let m = repr.mapping;
+            let atlas = atlas.unwrap_or(repr.atlas);
+            let (w, h) = repr.atlas.image_size_for_cell_width(cell).unwrap();
+            let map = fill(repr, w, h, |d| {
+                [d.x.max(0.0) * 3.0 + d.y, d.z * d.z, 1.0 + d.x * d.y]
+            })
+            .unwrap();
+            let (cw, ch) = map.cell_size();
+            let weights = TexelWeights::new(m, cw, ch);
+            let made = PreparedLevels::below(&map, &weights, atlas).unwrap();
+            let want = PreparedLevels::new(
+                Pyramid::new(downsample_to(&map, &weights, atlas).unwrap(), 1).unwrap(),
+            );
+            assert_eq!(made.len(), want.len(), "{m} {cell}");
+            assert!(made == want, "{m} {cell}");
         }
     }
 

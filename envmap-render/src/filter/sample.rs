@@ -164,29 +164,63 @@ impl<'a> Sampler<'a> {
                 };
             }
         }
-        let width = img.width() as usize;
+        Self::from_parts(
+            img.pixels(),
+            img.width() as usize,
+            img.mapping(),
+            cw,
+            ch,
+            rects,
+        )
+    }
+
+    /// A sampler over charts stored one below the other in blocks of
+    /// `(w + 2) × (h + 2)` texels, each chart upright inside a one-texel
+    /// frame (the layout of the pyramid's bordered levels), `pixels` the
+    /// blocks row by row: for reading the charts' edge rule
+    /// ([`Sampler::edge_texel`]) before their frames are filled.
+    pub(crate) fn over_blocks(pixels: &'a [[f32; 3]], w: u32, h: u32, mapping: AnyMapping) -> Self {
+        let rects = core::array::from_fn(|c| Rect {
+            x0: 1,
+            y0: c as u32 * (h + 2) + 1,
+            turn: Turn::None,
+        });
+        Self::from_parts(pixels, w as usize + 2, mapping, w, h, rects)
+    }
+
+    /// The sampler over `pixels`, `width` texels a row, whose charts of
+    /// `cw × ch` texels start at `rects`.
+    fn from_parts(
+        pixels: &'a [[f32; 3]],
+        width: usize,
+        mapping: AnyMapping,
+        cw: u32,
+        ch: u32,
+        rects: [Rect; 6],
+    ) -> Self {
+        let charts = mapping.chart_count().min(6);
         let mut origin = [usize::MAX; 6];
         for (c, (o, r)) in origin.iter_mut().zip(&rects).enumerate() {
             if (c as u32) < charts && r.turn == Turn::None {
                 *o = 3 * (r.y0 as usize * width + r.x0 as usize);
             }
         }
-        let floats = 3 * img.pixels().len();
+        let floats = 3 * pixels.len();
         let last = |reach: usize| match floats.checked_sub(reach) {
             Some(l) if floats < i32::MAX as usize => l as i32,
             _ => -1,
         };
         Self {
             last: [last(4), last(3 * width + 8)],
-            pixels: img.pixels(),
+            pixels,
             width,
             origin,
-            mapping: img.mapping(),
+            mapping,
             cw,
             ch,
             rects,
             charts,
-            disk: img.mapping().has_disk_charts(),
+            disk: mapping.has_disk_charts(),
             disk_inner: {
                 let margin = 1.0 - 2.0 * core::f32::consts::SQRT_2 / cw.min(ch).max(1) as f32;
                 if margin > 0.0 {

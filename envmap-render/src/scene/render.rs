@@ -21,9 +21,9 @@
 //! A mirror magnifies the environment where it curves: neighbouring pixels
 //! of a distant or strongly curved part reflect directions far apart, and a
 //! plain bilinear lookup per pixel then skips texels and aliases. With
-//! [`RenderOptions::mip`], per-pixel lookups in a map read a mip
-//! [`Pyramid`] of it ([`crate::filter::pyramid`]: solid-angle-weighted box
-//! levels, the representation's edge rule at each) through [`Trilinear`],
+//! [`RenderOptions::mip`], per-pixel lookups in a map read a mip pyramid
+//! of it ([`crate::filter::pyramid`]: solid-angle-weighted box levels, the
+//! representation's edge rule at each) through [`Trilinear`],
 //! at a level chosen per pixel from the footprint of the looked-up
 //! direction:
 //!
@@ -71,10 +71,10 @@
 //! ([`MipLevels`], [`RenderOptions::mip_levels`]): the map itself is read in place
 //! as level 0 ([`Trilinear::over_prepared`]); the levels below it (every level down
 //! to 1², about a third of the map's texels) are made from it, each in one
-//! parallel pass over the level above (written in place, no copies), and
-//! each but a disk map's copied once with a one-texel border
-//! ([`PreparedLevels`]), which [`MipLevels`] keeps: renders from prebuilt
-//! levels copy nothing. Building them is the option's main cost, measured
+//! parallel pass over the level above, written straight into its copy with
+//! a one-texel border (each but a disk map's; [`PreparedLevels::below`]: no
+//! level image made, none copied), which [`MipLevels`] keeps: renders from
+//! prebuilt levels copy nothing. Building them is the option's main cost, measured
 //! beside the plain render in the render bench (`envmap-bench`,
 //! `per-pixel-mip`, `per-pixel-mip-prebuilt`; `docs/performance.md`). The rest is
 //! kept small: eight lookups whose levels are all 0 (the background, the
@@ -101,7 +101,7 @@ use crate::cancel;
 use crate::error::Error;
 use crate::error::Result;
 use crate::filter::oracle::Oracle;
-use crate::filter::pyramid::{downsample_to, PreparedLevels, Pyramid, Trilinear};
+use crate::filter::pyramid::{PreparedLevels, Trilinear};
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::filter::weights::TexelWeights;
 use crate::image::{EnvImage, RgbImage};
@@ -174,7 +174,7 @@ pub struct RenderOptions<'a> {
     pub cancel: Option<&'a AtomicBool>,
     /// Mip-aware lookups: per pixel, every lookup in an environment map
     /// (the mirror's reflections and the background) reads a mip
-    /// [`Pyramid`] of the map trilinearly, at the level of the looked-up
+    /// pyramid of the map trilinearly, at the level of the looked-up
     /// ray's footprint (see [Mip-aware lookups](self#mip-aware-lookups)),
     /// so that distant or strongly curved reflections stop aliasing. Off
     /// (the default here), every lookup reads the map itself with
@@ -196,8 +196,8 @@ pub struct RenderOptions<'a> {
 
 /// What a mip-aware render reads below an environment map (the map itself
 /// is level 0, read in place): its solid-angle-weighted pyramid from half
-/// its size down to 1², each level ready for sampling (copied with its
-/// border once, here), and its texels' solid angles; see
+/// its size down to 1², each level ready for sampling (made with its
+/// border, once, here), and its texels' solid angles; see
 /// [Mip-aware lookups](self#mip-aware-lookups). Make it once to render a
 /// map many times: a render from it copies nothing.
 #[derive(Clone, Debug)]
@@ -215,7 +215,7 @@ impl MipLevels {
     ///
     /// # Errors
     ///
-    /// Only if a level cannot be made (see [`Pyramid::new`]).
+    /// Only if a level cannot be made (see [`PreparedLevels::below`]).
     pub fn new(map: &EnvImage) -> Result<Self> {
         let (cw, ch) = map.cell_size();
         let mapping = map.mapping();
@@ -227,7 +227,7 @@ impl MipLevels {
             AnyMapping::Cube => envmap_core::atlas::Atlas::CUBE_HORIZONTAL_STRIP,
             _ => map.representation().atlas,
         };
-        let below = PreparedLevels::new(Pyramid::new(downsample_to(map, &texels, atlas)?, 1)?);
+        let below = PreparedLevels::below(map, &texels, atlas)?;
         Ok(Self {
             below,
             least: texels.smallest(),
