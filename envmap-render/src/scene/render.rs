@@ -570,16 +570,13 @@ fn render_map(
                 let v = tri.map(|i| projected[i as usize]);
                 raster(&v, t, y0, rows, w, &mut hits);
             }
-            // Lit materials: shaded here, per pixel (per vertex: from lookup
-            // points interpolated across the triangle); the lookups below
-            // then fill only the background.
-            // (A mirror has no lit pixels: nothing to hold.)
+            // Lit materials: shaded here, straight into the band (which
+            // starts black), per pixel (per vertex: from lookup points
+            // interpolated across the triangle); the lookups below then
+            // fill only the background. A mirror has no lit pixels.
             let mirror = matches!(opts.shading, Shading::Mirror);
-            let mut lit: Vec<Option<[f32; 3]>> = if mirror {
-                Vec::new()
-            } else {
-                vec![None; px.len()]
-            };
+            // Whether every hit of the band is shaded already.
+            let mut shaded = false;
             if let (
                 Some(ls),
                 Shading::SplitSum {
@@ -611,9 +608,10 @@ fn render_map(
                             &mut out,
                         );
                         for (j, &k) in chunk.iter().enumerate() {
-                            lit[k] = Some(out[j]);
+                            px[k] = out[j];
                         }
                     }
+                    shaded = true;
                 }
             }
             // The exact split sum: the band's hits at once (the oracle's
@@ -632,18 +630,16 @@ fn render_map(
                     .unzip();
                 let out = exact_split_sum(oracle, &material, &ns, &vs, multiscatter, dominant);
                 for (&k, o) in at.iter().zip(out) {
-                    lit[k] = Some(o);
+                    px[k] = o;
                 }
+                shaded = true;
             }
             // Per vertex and the reference: one at a time.
-            if !matches!(opts.shading, Shading::Mirror) {
+            if !mirror && !shaded {
                 for (k, hit) in hits.iter().enumerate() {
-                    if lit[k].is_some() {
-                        continue;
-                    }
                     let Some(hit) = hit else { continue };
                     let (n, v) = surface(mesh, hit, &view);
-                    lit[k] = Some(match (&lit_sampler, opts.shading) {
+                    px[k] = match (&lit_sampler, opts.shading) {
                         (
                             Some(ls),
                             Shading::SplitSum {
@@ -679,7 +675,7 @@ fn render_map(
                             reference(&look, light, &material, n, v, samples, &mut rng)
                         }
                         _ => [0.0; 3],
-                    });
+                    };
                 }
             }
             // Directions to look up: the reflection (per pixel), or the view
@@ -694,7 +690,7 @@ fn render_map(
                 (0..px.len())
                     .filter(|&k| match hits[k] {
                         None => opts.background,
-                        Some(_) => lit.get(k).is_none_or(Option::is_none),
+                        Some(_) => mirror,
                     })
                     .collect()
             };
@@ -765,12 +761,7 @@ fn render_map(
                     }
                 }
             } else {
-                if mirror {
-                    px.fill([0.0; 3]);
-                }
-                for (out, l) in px.iter_mut().zip(&lit) {
-                    *out = l.unwrap_or([0.0; 3]);
-                }
+                // The lit pixels are in place; the rest black but these.
                 for ((&k, v), f) in need.iter().zip(&buffer).zip(&fres) {
                     px[k] = match hits[k] {
                         None => *v,
@@ -835,7 +826,14 @@ fn lookups(
         for start in (0..vals.len()).step_by(LANES) {
             let at = start..(start + LANES).min(vals.len());
             let q = mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at.clone()]));
-            let lod = lod8(texels, &q, &spread[at.clone()]);
+            // A footprint of 0 (the background kept at the base) is level
+            // 0 whatever its texel: no level to find.
+            let spread = &spread[at.clone()];
+            if spread.iter().all(|&s| s == 0.0) {
+                ahead.push(sampler, &q, filter, at.start, at.len(), vals);
+                continue;
+            }
+            let lod = lod8(texels, &q, spread);
             if lod.simd_eq(f32x8::ZERO).all() {
                 ahead.push(sampler, &q, filter, at.start, at.len(), vals);
             } else {
