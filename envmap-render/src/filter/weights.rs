@@ -51,13 +51,33 @@ fn table(mapping: AnyMapping, chart: u32, w: u32, h: u32) -> Vec<f64> {
 /// outside the chart.
 /// A cube face's quadrant: a face is symmetric under u → 1 − u and
 /// v → 1 − v, so texel (i, j) has the solid angle of (w − 1 − i, j) and of
-/// (i, h − 1 − j); only ⌈w/2⌉ × ⌈h/2⌉ texels are measured and stored.
+/// (i, h − 1 − j); only ⌈w/2⌉ × ⌈h/2⌉ texels are stored. A square face is
+/// also symmetric under u ↔ v: there (i, j) below the diagonal takes the
+/// solid angle measured at (j, i), and only half the quadrant is measured.
 fn cube_quadrant(w: u32, h: u32) -> Vec<f64> {
     let (qw, qh) = (w.div_ceil(2), h.div_ceil(2));
-    (0..qh)
+    let square = w == h;
+    let mut t: Vec<f64> = (0..qh)
         .into_par_iter()
-        .flat_map_iter(|j| (0..qw).map(move |i| weight(AnyMapping::Cube, 0, i, j, w, h)))
-        .collect()
+        .flat_map_iter(|j| {
+            (0..qw).map(move |i| {
+                if square && i < j {
+                    0.0 // the mirror image of (j, i), below
+                } else {
+                    weight(AnyMapping::Cube, 0, i, j, w, h)
+                }
+            })
+        })
+        .collect();
+    if square {
+        let q = qw as usize;
+        for j in 0..q {
+            for i in 0..j {
+                t[j * q + i] = t[i * q + j];
+            }
+        }
+    }
+    t
 }
 
 #[inline]
