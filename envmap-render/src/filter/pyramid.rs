@@ -135,8 +135,8 @@ fn halve(img: &EnvImage, weights: &TexelWeights, out: &mut EnvImage) {
 }
 
 /// Row `cj` of `chart` one level down from `src` into `dst`, turned (its
-/// texels in reverse) where `turned`; `scratch` holds the weights' rows.
-/// Left as it is where `src` lacks the chart.
+/// texels in reverse) where `turned`; `(w0, w1)` hold the weights of the
+/// two rows it is made from. Left as it is where `src` lacks the chart.
 fn halve_chart_row(
     src: &impl ChartRows,
     weights: &TexelWeights,
@@ -1017,9 +1017,9 @@ mod tests {
             ..Representation::default_for(AnyMapping::Cube)
         };
         // (representation, chart width, the levels' atlas if not the
-        // map's): turned charts,
-        // a change of atlas, sizes that turn odd on the way down (40: 20,
-        // 10, 5, 2, 1; 24: 12, 6, 3, 1), and the non-cube edge rules.
+        // map's): turned charts, a change of atlas, sizes that turn odd on
+        // the way down (40: 20, 10, 5, 2, 1; 24: 12, 6, 3, 1), and the
+        // non-cube edge rules.
         let cases = [
             (cube(Atlas::CUBE_VERTICAL_CROSS), 32, Some(strip)),
             (cube(Atlas::CUBE_HORIZONTAL_CROSS), 40, Some(strip)),
