@@ -95,19 +95,31 @@ pub fn latlong(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
 /// is the solid angle of the spherical quadrilateral whose corners are the rectangle's corners
 /// (straight lines of the face are great-circle arcs). It is evaluated as that quadrilateral,
 /// split into two spherical triangles measured with the Van Oosterom–Strackee formula, which
-/// gives the same value without the cancellation of the four-term sum for small texels. Each
-/// face totals 4π/6. Orientation, clipping and NaN as in the [module documentation](self).
+/// gives the same value without the cancellation of the four-term sum for small texels. The
+/// two halves, tan(Ωᵢ/2) = nᵢ/dᵢ, are added as one angle, Ω = 2·atan2(n₁d₂ + n₂d₁,
+/// d₁d₂ − n₁n₂) (the tangent of a sum; both terms of the first argument are non-negative and
+/// Ω/2 ≤ π/3 on a face, so nothing cancels), one arctangent and the four corners' lengths
+/// per rectangle. Each face totals 4π/6. Orientation, clipping and NaN as in the
+/// [module documentation](self).
 #[must_use]
 #[inline]
 pub fn cube_face(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
     oriented(u0, u1, v0, v1, |u0, u1, v0, v1| {
-        let corner = Vec3d::new(2.0 * u0 - 1.0, 2.0 * v0 - 1.0, 1.0);
+        let a = Vec3d::new(2.0 * u0 - 1.0, 2.0 * v0 - 1.0, 1.0);
         let dx = 2.0 * (u1 - u0);
         let dy = 2.0 * (v1 - v0);
         let ex = Vec3d::new(dx, 0.0, 0.0);
         let ey = Vec3d::new(0.0, dy, 0.0);
         let diagonal = Vec3d::new(dx, dy, 0.0);
-        spherical_triangle(corner, ex, diagonal) + spherical_triangle(corner, diagonal, ey)
+        // Corners a, b = a + ex, c = a + diagonal, d = a + ey; triangles
+        // (a, b, c) and (a, c, d).
+        let (b, c, d) = (a + ex, a + diagonal, a + ey);
+        let (la, lb, lc, ld) = (a.length(), b.length(), c.length(), d.length());
+        let n1 = fabs(a.dot(ex.cross(diagonal)));
+        let d1 = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+        let n2 = fabs(a.dot(diagonal.cross(ey)));
+        let d2 = la * lc * ld + a.dot(c) * ld + a.dot(d) * lc + c.dot(d) * la;
+        2.0 * atan2(n1 * d2 + n2 * d1, d1 * d2 - n1 * n2)
     })
 }
 
