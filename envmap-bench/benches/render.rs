@@ -47,6 +47,13 @@ fn bench(c: &mut Criterion) {
     // The mip levels made once, as a program rendering one map many times
     // would (the `per-pixel-mip` case builds them in every render).
     let levels = envmap_render::render::MipLevels::new(&env).expect("mip levels");
+    // What the `per-pixel-mip` case adds to the prebuilt one: the levels.
+    let pool = common::pool(2);
+    g.bench_function("mip-levels/2-threads", |b| {
+        b.iter(|| {
+            pool.install(|| envmap_render::render::MipLevels::new(black_box(&env)).expect("levels"))
+        })
+    });
     for (name, mode, threads, mip, prebuilt) in [
         ("per-pixel", Mode::PerPixel, 1, false, false),
         ("per-pixel", Mode::PerPixel, 2, false, false),

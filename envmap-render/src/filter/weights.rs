@@ -112,6 +112,14 @@ impl TexelWeights {
         (self.w, self.h)
     }
 
+    /// Whether every chart has the same weights (a latlong's one chart, a
+    /// cube's six faces), so that what is made from one chart's row serves
+    /// every chart's.
+    #[must_use]
+    pub fn shared(&self) -> bool {
+        matches!(self.kind, Kind::Rows(_) | Kind::Quadrant(_))
+    }
+
     /// The solid angle of texel `(i, j)` of `chart` (0 out of range).
     #[inline]
     #[must_use]
