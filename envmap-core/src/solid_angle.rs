@@ -111,14 +111,16 @@ pub fn cube_face(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
         let ex = Vec3d::new(dx, 0.0, 0.0);
         let ey = Vec3d::new(0.0, dy, 0.0);
         let diagonal = Vec3d::new(dx, dy, 0.0);
-        // Corners a, b = a + ex, c = a + diagonal, d = a + ey; triangles
-        // (a, b, c) and (a, c, d).
-        let (b, c, d) = (a + ex, a + diagonal, a + ey);
-        let (la, lb, lc, ld) = (a.length(), b.length(), c.length(), d.length());
-        let n1 = fabs(a.dot(ex.cross(diagonal)));
-        let d1 = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-        let n2 = fabs(a.dot(diagonal.cross(ey)));
-        let d2 = la * lc * ld + a.dot(c) * ld + a.dot(d) * lc + c.dot(d) * la;
+        // Triangles (a, a + ex, a + diagonal) and (a, a + diagonal,
+        // a + ey), their four corners measured once.
+        let (la, lb, lc, ld) = (
+            a.length(),
+            (a + ex).length(),
+            (a + diagonal).length(),
+            (a + ey).length(),
+        );
+        let (n1, d1) = triangle_tangent(a, ex, diagonal, (la, lb, lc));
+        let (n2, d2) = triangle_tangent(a, diagonal, ey, (la, lc, ld));
         2.0 * atan2(n1 * d2 + n2 * d1, d1 * d2 - n1 * n2)
     })
 }
@@ -529,18 +531,25 @@ impl core::ops::Add for Vec3d {
 }
 
 /// Solid angle of the spherical triangle with vertices `a`, `a + e1`, `a + e2` (any lengths,
-/// not through the origin), by Van Oosterom & Strackee (1983):
-/// tan(Ω/2) = |a·(b × c)| / (|a||b||c| + (a·b)|c| + (a·c)|b| + (b·c)|a|). The triple product
-/// is taken as `a·(e1 × e2)` from the edge vectors, so a small triangle keeps its relative
-/// precision.
+/// not through the origin), 2·atan2 of [`triangle_tangent`].
 #[inline]
 fn spherical_triangle(a: Vec3d, e1: Vec3d, e2: Vec3d) -> f64 {
-    let b = a + e1;
-    let c = a + e2;
-    let numerator = fabs(a.dot(e1.cross(e2)));
-    let (la, lb, lc) = (a.length(), b.length(), c.length());
-    let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    let lengths = (a.length(), (a + e1).length(), (a + e2).length());
+    let (numerator, denominator) = triangle_tangent(a, e1, e2, lengths);
     2.0 * atan2(numerator, denominator)
+}
+
+/// tan(Ω/2) of the spherical triangle with vertices `a`, `b = a + e1`, `c = a + e2`, as a
+/// numerator and denominator, by Van Oosterom & Strackee (1983):
+/// tan(Ω/2) = |a·(b × c)| / (|a||b||c| + (a·b)|c| + (a·c)|b| + (b·c)|a|), given the three
+/// lengths (corners shared by two triangles are measured once). The triple product is taken as
+/// `a·(e1 × e2)` from the edge vectors, so a small triangle keeps its relative precision.
+#[inline]
+fn triangle_tangent(a: Vec3d, e1: Vec3d, e2: Vec3d, (la, lb, lc): (f64, f64, f64)) -> (f64, f64) {
+    let (b, c) = (a + e1, a + e2);
+    let numerator = fabs(a.dot(e1.cross(e2)));
+    let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    (numerator, denominator)
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -232,10 +232,10 @@ fn present(src: &impl ChartRows, mapping: AnyMapping) -> u32 {
 /// `r0` and b of `r1` (chart order) with `taps[k]`, in f32, four floats at
 /// a time (each texel's three channels and one to spare); a texel whose
 /// weights are all 0 is left as it is. `TURNED`: the rows are stored in
-/// reverse, so chart texel `2k` is stored at `n − 1 − 2k`, and `dst` is
-/// written in the rows' stored order. The weights sum to 1 to f32
-/// rounding, so the sum is within a few f32 roundings of the f64 mean of
-/// the four texels.
+/// reverse, so chart texel `2k` is stored at `2n − 1 − 2k` (`n` texels
+/// made), and `dst` is written in the rows' stored order. The weights sum
+/// to 1 to f32 rounding, so the sum is within a few f32 roundings of the
+/// f64 mean of the four texels.
 fn halve_row<const TURNED: bool>(
     r0: &[[f32; 3]],
     r1: &[[f32; 3]],
