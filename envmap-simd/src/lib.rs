@@ -9,6 +9,8 @@
 //! * [`forward_slice`] and [`inverse_slice`]: any length, into caller-provided
 //!   output; no threads and no allocation, so engines call them from their own
 //!   job systems.
+//! * [`solid_angle::cube_face4`]: a cube face's texel solid angles four at a
+//!   time in f64 (the weights of mip levels and integrals).
 //! * [`approx`]: the `atan`, `atan2`, `asin`, `acos` and `sin_cos`
 //!   approximations behind the tiers, and `atan2_sqrt` (a polar angle from
 //!   squares).
@@ -46,6 +48,7 @@ pub mod dual_paraboloid;
 pub mod kernel;
 pub mod latlong;
 pub mod octahedral;
+pub mod solid_angle;
 pub mod sphere_map;
 pub mod tennisball;
 

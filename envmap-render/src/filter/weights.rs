@@ -13,8 +13,10 @@
 //! cover.
 
 use crate::par::*;
-use envmap_core::texel::texel_center;
+use envmap_core::texel::{texel_bounds, texel_center};
 use envmap_core::{AnyMapping, Mapping};
+use envmap_simd::solid_angle::cube_face4;
+use wide::f64x4;
 
 /// Texel solid angles of a representation's charts, `w × h` texels each;
 /// see the [module docs](self).
@@ -54,20 +56,36 @@ fn table(mapping: AnyMapping, chart: u32, w: u32, h: u32) -> Vec<f64> {
 /// (i, h − 1 − j); only ⌈w/2⌉ × ⌈h/2⌉ texels are stored. A square face is
 /// also symmetric under u ↔ v: there (i, j) below the diagonal takes the
 /// solid angle measured at (j, i), and only half the quadrant is measured.
+/// Measured four texels at a time ([`cube_face4`]: the core's formula,
+/// within 10⁻¹⁵ relative of it).
 fn cube_quadrant(w: u32, h: u32) -> Vec<f64> {
     let (qw, qh) = (w.div_ceil(2), h.div_ceil(2));
     let square = w == h;
+    // Row j of the quadrant from texel `from` on (the rest 0).
+    let row = move |j: u32, from: u32| {
+        let mut out = vec![0.0; qw as usize];
+        let (v0, v1) = texel_bounds(j, h);
+        for i0 in (from..qw).step_by(4) {
+            // Lanes past the quadrant's edge repeat its last texel, unused.
+            let u: [(f64, f64); 4] =
+                core::array::from_fn(|k| texel_bounds((i0 + k as u32).min(qw - 1), w));
+            let omega = cube_face4(
+                f64x4::new(u.map(|b| b.0)),
+                f64x4::new(u.map(|b| b.1)),
+                f64x4::splat(v0),
+                f64x4::splat(v1),
+            );
+            for (o, x) in out[i0 as usize..].iter_mut().zip(omega.to_array()) {
+                *o = x;
+            }
+        }
+        out
+    };
+    // Below the diagonal of a square face: the mirror images of (j, i),
+    // filled in afterwards.
     let mut t: Vec<f64> = (0..qh)
         .into_par_iter()
-        .flat_map_iter(|j| {
-            (0..qw).map(move |i| {
-                if square && i < j {
-                    0.0 // the mirror image of (j, i), below
-                } else {
-                    weight(AnyMapping::Cube, 0, i, j, w, h)
-                }
-            })
-        })
+        .flat_map_iter(|j| row(j, if square { j.min(qw) } else { 0 }))
         .collect();
     if square {
         let q = qw as usize;
