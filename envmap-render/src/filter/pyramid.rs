@@ -420,7 +420,7 @@ impl Pyramid {
 /// bilinear footprint never leaves its chart's block. Disk charts keep the
 /// plain sampler: their rule renormalises over the taps inside the disk.
 #[derive(Clone, Debug, PartialEq)]
-struct Bordered {
+pub(crate) struct Bordered {
     /// RGB floats, chart after chart, each `(w + 2) × (h + 2)` texels row
     /// by row, then eight spare floats.
     floats: Vec<f32>,
@@ -467,6 +467,13 @@ impl Bordered {
             });
         b.frame(mapping, present(src, mapping));
         b
+    }
+
+    /// `img`'s bordered copy for reading many times ([`Level::of`]), or
+    /// `None` for a map with disk charts (read in place: its plain
+    /// sampler renormalises over the taps inside the disk).
+    pub(crate) fn for_reading(img: &EnvImage) -> Option<Self> {
+        (!img.mapping().has_disk_charts()).then(|| Self::new(img))
     }
 
     /// Black charts of `w × h`, frames and all.
@@ -639,9 +646,10 @@ impl Bordered {
     }
 }
 
-/// A level as [`Trilinear`] reads it.
+/// A level as [`Trilinear`] reads it (and the split sum's chain,
+/// `LitSampler`): bilinear with its representation's edge rule.
 #[derive(Debug)]
-enum Level<'a> {
+pub(crate) enum Level<'a> {
     /// Made for the sampler, or borrowed from [`PreparedLevels`].
     Bordered(Cow<'a, Bordered>),
     Plain(Sampler<'a>),
@@ -649,9 +657,20 @@ enum Level<'a> {
     Absent,
 }
 
-impl Level<'_> {
+impl<'a> Level<'a> {
+    /// `img` read through `copy`, its bordered copy
+    /// ([`Bordered::for_reading`]), where there is one, else in place.
+    pub(crate) fn of(img: &'a EnvImage, copy: Option<&'a Bordered>) -> Self {
+        match copy {
+            Some(b) => Level::Bordered(Cow::Borrowed(b)),
+            None => Level::Plain(Sampler::new(img)),
+        }
+    }
+
+    /// Bilinear at a chart point (red, green, blue and a zero); black for
+    /// a chart out of range or NaN.
     #[inline]
-    fn sample(&self, c: ChartUv) -> f32x4 {
+    pub(crate) fn sample(&self, c: ChartUv) -> f32x4 {
         match self {
             Level::Bordered(b) => b.sample(c),
             Level::Plain(s) => {
@@ -665,7 +684,7 @@ impl Level<'_> {
     /// Lane `k` of `q` where bit `k` of `lanes` is set; the others are
     /// zero, or read anyway where that costs nothing more.
     #[inline]
-    fn sample8(&self, q: &Uv8, lanes: u32) -> [f32x4; 8] {
+    pub(crate) fn sample8(&self, q: &Uv8, lanes: u32) -> [f32x4; 8] {
         match self {
             Level::Bordered(b) => b.sample8_lanes(q, lanes),
             Level::Plain(s) => s
@@ -798,7 +817,6 @@ impl<'a> Trilinear<'a> {
     /// samples never ask for the finest levels, it saves their copies.
     #[must_use]
     pub fn starting_at(p: &'a Pyramid, first: usize) -> Self {
-        let disk = p.levels[0].mapping().has_disk_charts();
         let first = first.min(p.levels.len() - 1);
         Self {
             levels: p
@@ -807,11 +825,11 @@ impl<'a> Trilinear<'a> {
                 .enumerate()
                 .map(|(k, l)| {
                     if k < first {
-                        Level::Absent
-                    } else if disk {
-                        Level::Plain(Sampler::new(l))
-                    } else {
-                        Level::Bordered(Cow::Owned(Bordered::new(l)))
+                        return Level::Absent;
+                    }
+                    match Bordered::for_reading(l) {
+                        Some(b) => Level::Bordered(Cow::Owned(b)),
+                        None => Level::Plain(Sampler::new(l)),
                     }
                 })
                 .collect(),

@@ -43,6 +43,7 @@ use crate::error::{Error, Result};
 use crate::filter::bake::render_chain;
 use crate::filter::dfg::{dfg_integral, DfgGrid, DfgTable};
 use crate::filter::oracle::Oracle;
+use crate::filter::pyramid::{Bordered, Level};
 use crate::filter::sample::{Filter, Sampler};
 use crate::filter::sh::IrradianceScale;
 use crate::filter::specular::RoughnessRule;
@@ -138,6 +139,14 @@ pub const RENDER_DFG_SIZE: u32 = 128;
 #[derive(Clone, Debug)]
 pub struct LitEnvironment {
     levels: Vec<EnvImage>,
+    /// Every level but the first, and the irradiance map, copied with a
+    /// one-texel border that holds their edge rule, so that every bilinear
+    /// read is four loads with no edge case: a small level's edges are
+    /// read often (a 16² face's by one lookup in eight). The first, the
+    /// largest, is read in place (its edges seldom). `None` where the
+    /// mapping has disk charts.
+    copies: Vec<Option<Bordered>>,
+    irradiance_copy: Option<Bordered>,
     /// The input itself, read in place of level 0 (roughness 0) when given.
     source: Option<EnvImage>,
     roughness: Vec<f32>,
@@ -191,7 +200,18 @@ impl LitEnvironment {
         let blend = LevelBlend::InverseWidth {
             floor: texel_alpha(&levels[0]),
         };
+        let copies = (levels.iter().enumerate())
+            .map(|(k, l)| {
+                if k == 0 {
+                    None
+                } else {
+                    Bordered::for_reading(l)
+                }
+            })
+            .collect();
         Ok(Self {
+            irradiance_copy: Bordered::for_reading(&irradiance),
+            copies,
             levels,
             source: None,
             roughness,
@@ -358,10 +378,12 @@ impl LitEnvironment {
     pub fn sampler(&self) -> LitSampler<'_> {
         LitSampler {
             env: self,
-            levels: self.levels.iter().map(Sampler::new).collect(),
+            levels: (self.levels.iter().zip(&self.copies))
+                .map(|(l, c)| Level::of(l, c.as_ref()))
+                .collect(),
             source: self.source.as_ref().map(|s| (Sampler::new(s), s.mapping())),
             near: std::sync::Mutex::new(Vec::new()),
-            irradiance: Sampler::new(&self.irradiance),
+            irradiance: Level::of(&self.irradiance, self.irradiance_copy.as_ref()),
             to_map: self.levels[0].representation().frame.matrix().transpose(),
             mapping: self.levels[0].mapping(),
             irr_mapping: self.irradiance.mapping(),
@@ -372,12 +394,12 @@ impl LitEnvironment {
 /// [`LitEnvironment`]'s maps ready to be read.
 pub struct LitSampler<'a> {
     env: &'a LitEnvironment,
-    levels: Vec<Sampler<'a>>,
+    levels: Vec<Level<'a>>,
     /// The source read in place of level 0, and its mapping.
     source: Option<(Sampler<'a>, AnyMapping)>,
     /// The near-field quadratures made so far, by roughness (bits).
     near: std::sync::Mutex<Vec<(u32, std::sync::Arc<NearField>)>>,
-    irradiance: Sampler<'a>,
+    irradiance: Level<'a>,
     to_map: Mat3,
     mapping: AnyMapping,
     irr_mapping: AnyMapping,
@@ -506,6 +528,13 @@ fn non_negative(x: [f32; 3]) -> [f32; 3] {
     x.map(|v| v.max(0.0))
 }
 
+/// A sampled level's red, green and blue.
+#[inline(always)]
+fn rgb(v: wide::f32x4) -> [f32; 3] {
+    let [r, g, b, _] = v.to_array();
+    [r, g, b]
+}
+
 /// `a + (b − a)·t` per channel.
 fn lerp3(a: [f32; 3], b: [f32; 3], t: f32) -> [f32; 3] {
     [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * t)
@@ -536,7 +565,7 @@ impl LitSampler<'_> {
             self.near_field(k, blend, roughness),
             self.mapping.inverse(c),
         ) {
-            let l1 = self.levels[1].sample(c, Filter::Bilinear);
+            let l1 = rgb(self.levels[1].sample(c));
             return self.near_value(&nf, d, l1);
         }
         let a = match (&self.source, k) {
@@ -545,11 +574,11 @@ impl LitSampler<'_> {
                 .inverse(c)
                 .and_then(|d| m.forward(d))
                 .map_or([0.0; 3], |q| non_negative(s.sample(q, Filter::Bilinear))),
-            _ => self.levels[k].sample(c, Filter::Bilinear),
+            _ => rgb(self.levels[k].sample(c)),
         };
         match blend {
             None => a,
-            Some(t) => lerp3(a, self.levels[k + 1].sample(c, Filter::Bilinear), t),
+            Some(t) => lerp3(a, rgb(self.levels[k + 1].sample(c)), t),
         }
     }
 
@@ -651,7 +680,7 @@ impl LitSampler<'_> {
     /// E/π at chart point `c` of the irradiance map.
     #[must_use]
     pub fn irradiance_at(&self, c: ChartUv) -> [f32; 3] {
-        self.as_e_over_pi(self.irradiance.sample(c, Filter::Bilinear))
+        self.as_e_over_pi(rgb(self.irradiance.sample(c)))
     }
 
     /// Where [`LitSampler::shade`] looks: the chart points of the specular
@@ -710,6 +739,7 @@ impl LitSampler<'_> {
     ) {
         use envmap_simd::{Dir8, Fine, Mapping8, LANES};
         let lanes = n.len().min(v.len()).min(out.len()).min(LANES);
+        let mask = (1u32 << lanes) - 1;
         let r = m.clamped_roughness();
         let mut spec = [Vec3::Z; LANES];
         let mut irr = [Vec3::Z; LANES];
@@ -724,8 +754,8 @@ impl LitSampler<'_> {
         // One roughness for all lanes: the same two levels and blend.
         let (level, blend) = self.levels_of(r);
         if let Some(nf) = self.near_field(level, blend, r) {
-            let l1 = self.levels[1].sample8(&qs, Filter::Bilinear);
-            let e = self.irradiance.sample8(&qi, Filter::Bilinear);
+            let l1 = self.levels[1].sample8(&qs, mask).map(rgb);
+            let e = self.irradiance.sample8(&qi, mask).map(rgb);
             for k in 0..lanes {
                 let ld = self.near_value(&nf, spec[k], l1[k]);
                 out[k] = self.combine(m, nv[k], ld, self.as_e_over_pi(e[k]), multiscatter);
@@ -739,15 +769,15 @@ impl LitSampler<'_> {
                     Filter::Bilinear,
                 )
                 .map(non_negative),
-            _ => self.levels[level].sample8(&qs, Filter::Bilinear),
+            _ => self.levels[level].sample8(&qs, mask).map(rgb),
         };
         if let Some(t) = blend {
-            let b = self.levels[level + 1].sample8(&qs, Filter::Bilinear);
+            let b = self.levels[level + 1].sample8(&qs, mask).map(rgb);
             for (a, b) in ld.iter_mut().zip(&b) {
                 *a = lerp3(*a, *b, t);
             }
         }
-        let e = self.irradiance.sample8(&qi, Filter::Bilinear);
+        let e = self.irradiance.sample8(&qi, mask).map(rgb);
         for k in 0..lanes {
             out[k] = self.combine(m, nv[k], ld[k], self.as_e_over_pi(e[k]), multiscatter);
         }
@@ -1326,6 +1356,68 @@ mod tests {
                     (got - want).abs() < 0.01 * want,
                     "{d} r {r}: {got} vs {want}"
                 );
+            }
+        }
+    }
+
+    /// The chain's levels and the irradiance map read through their
+    /// bordered copies as their own bilinear sampler reads them (to f32
+    /// rounding: the two group the blend differently), at points all over
+    /// each chart, its edges and corners included, one at a time and eight
+    /// at a time; a sphere map's, which has no copies, bit for bit.
+    #[test]
+    fn the_chain_reads_through_its_copies_as_in_place() {
+        use crate::image::Representation;
+        use crate::procedural::{fill, smooth};
+        use envmap_core::Mapping;
+        use envmap_simd::Uv8;
+        for m in [AnyMapping::Cube, AnyMapping::LatLong, AnyMapping::SphereMap] {
+            let repr = Representation::default_for(m);
+            let map = |cell: u32| {
+                let a = repr.atlas;
+                let (w, h) = a.image_size_for_cell_width(cell * a.cell_aspect_w).unwrap();
+                fill(repr, w, h, smooth).unwrap()
+            };
+            let levels = vec![map(16), map(8), map(4)];
+            let env = LitEnvironment::new(
+                levels,
+                vec![0.0, 0.5, 1.0],
+                map(2),
+                IrradianceScale::EOverPi,
+                DfgTable::new(8).unwrap(),
+            )
+            .unwrap();
+            assert_eq!(env.copies[0], None, "{m}: level 0 is read in place");
+            let copied = !m.has_disk_charts();
+            assert_eq!(env.copies[1].is_some(), copied, "{m}");
+            assert_eq!(env.irradiance_copy.is_some(), copied, "{m}");
+            let s = env.sampler();
+            let maps = env.levels.iter().zip(&s.levels);
+            let all = maps.chain([(&env.irradiance, &s.irradiance)]);
+            let ts = [0.0, 0.01, 0.2, 0.5, 0.77, 0.99, 1.0];
+            for (img, level) in all {
+                let own = Sampler::new(img);
+                for chart in 0..m.chart_count() {
+                    let points: Vec<ChartUv> = ts
+                        .iter()
+                        .flat_map(|&u| ts.iter().map(move |&v| ChartUv::new(chart, u, v)))
+                        .collect();
+                    for batch in points.chunks(8) {
+                        let got8 = level.sample8(&Uv8::from_partial(batch), 0xff);
+                        for (k, &c) in batch.iter().enumerate() {
+                            let want = own.sample(c, Filter::Bilinear);
+                            let got = rgb(level.sample(c));
+                            assert_eq!(rgb(got8[k]), got, "{m} {c:?}");
+                            for i in 0..3 {
+                                let tol = if copied { 1e-6 * want[i].abs() } else { 0.0 };
+                                assert!(
+                                    (got[i] - want[i]).abs() <= tol,
+                                    "{m} {c:?}: {got:?} {want:?}"
+                                );
+                            }
+                        }
+                    }
+                }
             }
         }
     }
