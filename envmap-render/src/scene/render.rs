@@ -954,7 +954,7 @@ fn footprints(
     y0: u32,
     background_at_base: bool,
 ) -> Vec<f32> {
-    let w = w as usize;
+    let (w32, w) = (w, w as usize);
     // Pixel → its lookup, where it has one.
     let every = need.len() == hits.len();
     let mut slot = Vec::new();
@@ -977,11 +977,12 @@ fn footprints(
     need.iter()
         .zip(dirs)
         .map(|(&k, &d)| {
-            let (x, y) = (k % w, k / w);
             let hit = hits[k].as_ref();
             if hit.is_none() && background_at_base {
                 return 0.0;
             }
+            // A band has fewer than 2³² pixels: a 32-bit division.
+            let (x, y) = ((k as u32 % w32) as usize, (k as u32 / w32) as usize);
             let from_neighbours = || {
                 // The direction at neighbour `n` if it is on `hit`'s
                 // triangle, or background beside background.
