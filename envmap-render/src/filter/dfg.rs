@@ -944,6 +944,20 @@ impl DfgTable {
         bilinear(&self.single, self.size, self.grid, mu, r)
     }
 
+    /// [`DfgTable::sample_single_scatter`] at each of `mu` and one `r`,
+    /// into `out` (as many as both have): the r axis found once, each
+    /// value the single lookup's bit for bit.
+    pub fn sample_single_scatter_at(&self, mu: &[f32], r: f32, out: &mut [[f32; 2]]) {
+        let (n, r_axis) = (self.size as usize, axis(self.grid, self.size, r));
+        for (o, &m) in out.iter_mut().zip(mu) {
+            *o = if n == 0 || self.single.len() < n * n {
+                [0.0; 2]
+            } else {
+                blend(&self.single, n, axis(self.grid, self.size, m), r_axis)
+            };
+        }
+    }
+
     /// The multiscatter `[bias, scale + bias]` at μ and r, bilinear as in
     /// [`DfgTable::sample_single_scatter`].
     #[must_use]
@@ -1060,18 +1074,35 @@ fn to_f16_bits(texels: &[[f32; 2]]) -> Vec<[u16; 2]> {
 /// Bilinear lookup between the texels' points on `grid`, clamped to the
 /// outermost ones.
 fn bilinear(texels: &[[f32; 2]], size: u32, grid: DfgGrid, mu: f32, r: f32) -> [f32; 2] {
-    let n = size as usize;
+    let (n, r_axis) = (size as usize, axis(grid, size, r));
     if n == 0 || texels.len() < n * n {
         return [0.0; 2];
     }
-    let axis = |v: f32| -> (usize, usize, f32) {
-        let v = if v.is_nan() { 0.0 } else { v };
-        let x = grid.index_of(v, size).clamp(0.0, (n - 1) as f32);
-        let i0 = (x as usize).min(n - 1);
-        (i0, (i0 + 1).min(n - 1), x - i0 as f32)
-    };
-    let (i0, i1, fx) = axis(mu);
-    let (j0, j1, fy) = axis(r);
+    blend(texels, n, axis(grid, size, mu), r_axis)
+}
+
+/// Where `v` falls on one axis of a table of `size` on `grid`: the texel
+/// before it, the one after (the same at the last) and the fraction
+/// between them; clamped to the outermost texels, NaN taken as 0.
+#[inline]
+fn axis(grid: DfgGrid, size: u32, v: f32) -> (usize, usize, f32) {
+    let n = size.max(1) as usize;
+    let v = if v.is_nan() { 0.0 } else { v };
+    let x = grid.index_of(v, size).clamp(0.0, (n - 1) as f32);
+    let i0 = (x as usize).min(n - 1);
+    (i0, (i0 + 1).min(n - 1), x - i0 as f32)
+}
+
+/// The bilinear blend of a table of `n` × `n` texels (at least that many)
+/// at the places [`axis`] found across (μ) and down (r): across first,
+/// then down.
+#[inline]
+fn blend(
+    texels: &[[f32; 2]],
+    n: usize,
+    (i0, i1, fx): (usize, usize, f32),
+    (j0, j1, fy): (usize, usize, f32),
+) -> [f32; 2] {
     let at = |i: usize, j: usize| texels[j * n + i];
     let lerp =
         |a: [f32; 2], b: [f32; 2], f: f32| [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])];
@@ -1527,6 +1558,16 @@ mod tests {
         let far = t.multiscatter(n - 1, n - 1).unwrap();
         assert_eq!(t.sample_multiscatter(1.0, 1.0), far);
         assert_eq!(t.sample_multiscatter(7.0, f32::INFINITY), far);
+        // Many μ at one r: each the single lookup, bit for bit.
+        let mu = [0.0, 0.013, 0.3, 0.5, 0.77, 0.999, 1.0, -2.0, 3.0, f32::NAN];
+        for r in [0.0, 0.07, 0.5, 0.93, 1.0, f32::NAN, 5.0] {
+            let mut many = [[9.0f32; 2]; 10];
+            t.sample_single_scatter_at(&mu, r, &mut many);
+            for (m, got) in mu.iter().zip(many) {
+                let one = t.sample_single_scatter(*m, r);
+                assert_eq!(got.map(f32::to_bits), one.map(f32::to_bits), "{m} {r}");
+            }
+        }
     }
 
     #[test]

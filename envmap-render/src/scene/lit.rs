@@ -778,8 +778,13 @@ impl LitSampler<'_> {
             }
         }
         let e = self.irradiance.sample8(&qi, mask).map(rgb);
+        let mut dfg = [[0.0f32; 2]; LANES];
+        self.env
+            .dfg
+            .sample_single_scatter_at(&nv.map(clamp_nv), r, &mut dfg);
         for k in 0..lanes {
-            out[k] = self.combine(m, nv[k], ld[k], self.as_e_over_pi(e[k]), multiscatter);
+            let e = self.as_e_over_pi(e[k]);
+            out[k] = split_sum(m, dfg[k], ld[k], e, multiscatter);
         }
     }
 
