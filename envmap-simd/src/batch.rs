@@ -161,12 +161,19 @@ impl Dir8 {
 
     /// Loads up to eight `Vec3`s, filling missing lanes with +z (a valid
     /// direction, so padding never produces NaN work).
-    #[inline]
+    #[inline(always)]
     #[must_use]
     pub fn from_partial(v: &[Vec3]) -> Self {
+        // A full batch loads in place; a short one is copied lane by lane
+        // (a copy of a length known only at run time is a call whose wide
+        // stores the loads after it cannot be forwarded from).
+        if let Some(full) = v.first_chunk::<8>() {
+            return Self::from_vec3s(full);
+        }
         let mut a = [Vec3::Z; 8];
-        let n = v.len().min(8);
-        a[..n].copy_from_slice(&v[..n]);
+        for (a, v) in a.iter_mut().zip(v) {
+            *a = *v;
+        }
         Self::from_vec3s(&a)
     }
 
@@ -235,9 +242,15 @@ impl Uv8 {
     #[inline]
     #[must_use]
     pub fn from_partial(c: &[ChartUv]) -> Self {
+        // As `Dir8::from_partial`: a full batch in place, a short one lane
+        // by lane.
+        if let Some(full) = c.first_chunk::<8>() {
+            return Self::from_chart_uvs(full);
+        }
         let mut a = [ChartUv::new(0, 0.5, 0.5); 8];
-        let n = c.len().min(8);
-        a[..n].copy_from_slice(&c[..n]);
+        for (a, c) in a.iter_mut().zip(c) {
+            *a = *c;
+        }
         Self::from_chart_uvs(&a)
     }
 
@@ -331,6 +344,29 @@ pub(crate) fn finish(valid: f32x8, chart: u32x8, u: f32x8, v: f32x8) -> Uv8 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A batch from a slice of any length: its first eight lanes, the
+    /// rest the documented padding.
+    #[test]
+    fn partial_batches_pad_their_missing_lanes() {
+        let v: [Vec3; 10] =
+            core::array::from_fn(|k| Vec3::new(k as f32, 10.0 + k as f32, -(k as f32)));
+        let c: [ChartUv; 10] = core::array::from_fn(|k| {
+            ChartUv::new(k as u32 % 6, k as f32 / 10.0, 1.0 - k as f32 / 10.0)
+        });
+        for n in 0..=10 {
+            let (d, q) = (Dir8::from_partial(&v[..n]), Uv8::from_partial(&c[..n]));
+            for k in 0..8 {
+                let (want_d, want_q) = if k < n {
+                    (v[k], c[k])
+                } else {
+                    (Vec3::Z, ChartUv::new(0, 0.5, 0.5))
+                };
+                assert_eq!(d.lane(k), want_d, "{n} lanes, lane {k}");
+                assert_eq!(q.lane_raw(k), want_q, "{n} lanes, lane {k}");
+            }
+        }
+    }
 
     #[test]
     fn transpose_round_trip() {
