@@ -26,6 +26,9 @@ pub struct TexelWeights {
     h: u32,
     charts: u32,
     kind: Kind,
+    /// A square cube face's quadrant folded across its diagonal too and
+    /// rounded to f32, for [`TexelWeights::get_f32`]; empty otherwise.
+    folded: Vec<f32>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -49,8 +52,6 @@ fn table(mapping: AnyMapping, chart: u32, w: u32, h: u32) -> Vec<f64> {
         .collect()
 }
 
-/// The weight of one texel: its solid angle, or 0 where its centre is
-/// outside the chart.
 /// A cube face's quadrant: a face is symmetric under u → 1 − u and
 /// v → 1 − v, so texel (i, j) has the solid angle of (w − 1 − i, j) and of
 /// (i, h − 1 − j); only ⌈w/2⌉ × ⌈h/2⌉ texels are stored. A square face is
@@ -98,6 +99,18 @@ fn cube_quadrant(w: u32, h: u32) -> Vec<f64> {
     t
 }
 
+/// The lower triangle of a square quadrant `q` texels wide (row `a`
+/// holds columns `0..=a`), rounded to f32: by the face's symmetry across
+/// its diagonal, every texel of the quadrant.
+fn fold_diagonal(t: &[f64], q: u32) -> Vec<f32> {
+    let q = q as usize;
+    (0..q)
+        .flat_map(|a| t[a * q..a * q + a + 1].iter().map(|&x| x as f32))
+        .collect()
+}
+
+/// The weight of one texel: its solid angle, or 0 where its centre is
+/// outside the chart.
 #[inline]
 pub(crate) fn weight(mapping: AnyMapping, chart: u32, i: u32, j: u32, w: u32, h: u32) -> f64 {
     let (u, v) = (texel_center(i, w), texel_center(j, h));
@@ -121,7 +134,17 @@ impl TexelWeights {
             AnyMapping::Cube => Kind::Quadrant(cube_quadrant(w, h)),
             _ => Kind::PerChart((0..charts).map(|c| table(mapping, c, w, h)).collect()),
         };
-        Self { w, h, charts, kind }
+        let folded = match &kind {
+            Kind::Quadrant(t) if w == h => fold_diagonal(t, w.div_ceil(2)),
+            _ => Vec::new(),
+        };
+        Self {
+            w,
+            h,
+            charts,
+            kind,
+            folded,
+        }
     }
 
     /// Chart size in texels.
@@ -154,6 +177,25 @@ impl TexelWeights {
             }
             Kind::PerChart(t) => t[chart as usize][k],
         }
+    }
+
+    /// [`TexelWeights::get`] rounded to f32, bit for bit, from a table a
+    /// quarter the size where the face is a square cube face's (its
+    /// eighth: 512 KiB for 1024² faces, against the f64 quadrant's 2 MiB),
+    /// for reading one texel at a time in no order (a mip-aware render's
+    /// levels, a lookup per pixel): the smaller table stays in the cache.
+    #[inline]
+    #[must_use]
+    pub fn get_f32(&self, chart: u32, i: u32, j: u32) -> f32 {
+        if self.folded.is_empty() {
+            return self.get(chart, i, j) as f32;
+        }
+        if chart >= self.charts || i >= self.w || j >= self.h {
+            return 0.0;
+        }
+        let (i, j) = (i.min(self.w - 1 - i), j.min(self.h - 1 - j));
+        let (a, b) = (i.max(j) as usize, i.min(j) as usize);
+        self.folded.get(a * (a + 1) / 2 + b).copied().unwrap_or(0.0)
     }
 
     /// Row `j` of `chart`, `w` values.
@@ -344,6 +386,43 @@ mod tests {
                         (got - direct).abs() <= 1e-13 * direct,
                         "{w}×{h} ({i}, {j}): {got} {direct}"
                     );
+                }
+            }
+        }
+    }
+
+    /// The f32 lookup is the f64 one rounded, bit for bit, through the
+    /// folded table of a square cube face (odd and even sizes, every face,
+    /// texels out of range) and the plain rounding elsewhere.
+    #[test]
+    fn an_f32_lookup_is_the_f64_weight_rounded() {
+        let cases = [
+            (AnyMapping::Cube, 1, 1),
+            (AnyMapping::Cube, 2, 2),
+            (AnyMapping::Cube, 7, 7),
+            (AnyMapping::Cube, 16, 16),
+            (AnyMapping::Cube, 6, 4),
+            (AnyMapping::LatLong, 12, 6),
+            (AnyMapping::Octahedral, 9, 9),
+        ];
+        for (m, w, h) in cases {
+            let t = TexelWeights::new(m, w, h);
+            if m == AnyMapping::Cube && w == h {
+                assert_eq!(
+                    t.folded.len() as u32,
+                    w.div_ceil(2) * (w.div_ceil(2) + 1) / 2
+                );
+            }
+            for chart in 0..=m.chart_count() {
+                for j in 0..=h {
+                    for i in 0..=w {
+                        let (want, got) = (t.get(chart, i, j) as f32, t.get_f32(chart, i, j));
+                        assert_eq!(
+                            got.to_bits(),
+                            want.to_bits(),
+                            "{m} {w}×{h} {chart} ({i}, {j})"
+                        );
+                    }
                 }
             }
         }

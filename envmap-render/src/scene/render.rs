@@ -1061,7 +1061,7 @@ fn lod8(texels: &TexelWeights, q: &Uv8, spread: &[f32]) -> f32x8 {
     for (k, sp) in spread.iter().enumerate().take(LANES) {
         let i = ((u[k].clamp(0.0, 1.0) * cw as f32) as u32).min(cw - 1);
         let j = ((v[k].clamp(0.0, 1.0) * ch as f32) as u32).min(ch - 1);
-        omega[k] = texels.get(chart[k], i, j) as f32;
+        omega[k] = texels.get_f32(chart[k], i, j);
         s[k] = *sp;
     }
     let (omega, s) = (f32x8::new(omega), f32x8::new(s));
