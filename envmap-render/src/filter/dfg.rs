@@ -949,8 +949,9 @@ impl DfgTable {
     /// value the single lookup's bit for bit.
     pub fn sample_single_scatter_at(&self, mu: &[f32], r: f32, out: &mut [[f32; 2]]) {
         let (n, r_axis) = (self.size as usize, axis(self.grid, self.size, r));
+        let empty = n == 0 || self.single.len() < n * n;
         for (o, &m) in out.iter_mut().zip(mu) {
-            *o = if n == 0 || self.single.len() < n * n {
+            *o = if empty {
                 [0.0; 2]
             } else {
                 blend(&self.single, n, axis(self.grid, self.size, m), r_axis)

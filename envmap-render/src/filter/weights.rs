@@ -27,7 +27,8 @@ pub struct TexelWeights {
     charts: u32,
     kind: Kind,
     /// A square cube face's quadrant folded across its diagonal too and
-    /// rounded to f32, for [`TexelWeights::get_f32`]; empty otherwise.
+    /// rounded to f32, for [`TexelWeights::get_f32`], made by
+    /// [`TexelWeights::for_lookups`]; empty otherwise.
     folded: Vec<f32>,
 }
 
@@ -134,17 +135,28 @@ impl TexelWeights {
             AnyMapping::Cube => Kind::Quadrant(cube_quadrant(w, h)),
             _ => Kind::PerChart((0..charts).map(|c| table(mapping, c, w, h)).collect()),
         };
-        let folded = match &kind {
-            Kind::Quadrant(t) if w == h => fold_diagonal(t, w.div_ceil(2)),
-            _ => Vec::new(),
-        };
         Self {
             w,
             h,
             charts,
             kind,
-            folded,
+            folded: Vec::new(),
         }
+    }
+
+    /// The same weights, made ready for [`TexelWeights::get_f32`] one texel
+    /// at a time in no order: a square cube face's quadrant also folded
+    /// across its diagonal in f32 (its eighth: 512 KiB for 1024² faces,
+    /// against the f64 quadrant's 2 MiB), which stays in the cache. Other
+    /// tables are read as they are.
+    #[must_use]
+    pub fn for_lookups(mut self) -> Self {
+        if let Kind::Quadrant(t) = &self.kind {
+            if self.w == self.h {
+                self.folded = fold_diagonal(t, self.w.div_ceil(2));
+            }
+        }
+        self
     }
 
     /// Chart size in texels.
@@ -179,11 +191,9 @@ impl TexelWeights {
         }
     }
 
-    /// [`TexelWeights::get`] rounded to f32, bit for bit, from a table a
-    /// quarter the size where the face is a square cube face's (its
-    /// eighth: 512 KiB for 1024² faces, against the f64 quadrant's 2 MiB),
-    /// for reading one texel at a time in no order (a mip-aware render's
-    /// levels, a lookup per pixel): the smaller table stays in the cache.
+    /// [`TexelWeights::get`] rounded to f32, bit for bit; from the folded
+    /// table where [`TexelWeights::for_lookups`] made one (a mip-aware
+    /// render's levels, a lookup per pixel).
     #[inline]
     #[must_use]
     pub fn get_f32(&self, chart: u32, i: u32, j: u32) -> f32 {
@@ -406,7 +416,7 @@ mod tests {
             (AnyMapping::Octahedral, 9, 9),
         ];
         for (m, w, h) in cases {
-            let t = TexelWeights::new(m, w, h);
+            let t = TexelWeights::new(m, w, h).for_lookups();
             if m == AnyMapping::Cube && w == h {
                 assert_eq!(
                     t.folded.len() as u32,

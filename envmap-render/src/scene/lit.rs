@@ -136,6 +136,12 @@ impl LevelBlend {
 pub const RENDER_DFG_SIZE: u32 = 128;
 
 /// The maps a split-sum render reads; see the [module docs](self).
+///
+/// Besides the maps it keeps a bordered copy of every level but the first
+/// and of the irradiance map (one texel more on each side of each chart),
+/// made once here so that renders read them without an edge case: about
+/// the memory of the chain below its first level and the irradiance map
+/// once more (a third of the first level's, for a chain that halves).
 #[derive(Clone, Debug)]
 pub struct LitEnvironment {
     levels: Vec<EnvImage>,
@@ -200,14 +206,9 @@ impl LitEnvironment {
         let blend = LevelBlend::InverseWidth {
             floor: texel_alpha(&levels[0]),
         };
-        let copies = (levels.iter().enumerate())
-            .map(|(k, l)| {
-                if k == 0 {
-                    None
-                } else {
-                    Bordered::for_reading(l)
-                }
-            })
+        // The first level is read in place.
+        let copies = core::iter::once(None)
+            .chain(levels.iter().skip(1).map(Bordered::for_reading))
             .collect();
         Ok(Self {
             irradiance_copy: Bordered::for_reading(&irradiance),

@@ -219,7 +219,7 @@ impl MipLevels {
     pub fn new(map: &EnvImage) -> Result<Self> {
         let (cw, ch) = map.cell_size();
         let mapping = map.mapping();
-        let texels = TexelWeights::new(mapping, cw, ch);
+        let texels = TexelWeights::new(mapping, cw, ch).for_lookups();
         // A cube's levels as a strip, whatever its layout: a cross's empty
         // cells would be half of every level's memory, its pages touched
         // in every render that builds them.
