@@ -575,6 +575,14 @@ fn render_map(
             // interpolated across the triangle); the lookups below then
             // fill only the background. A mirror has no lit pixels.
             let mirror = matches!(opts.shading, Shading::Mirror);
+            // The pixels hit, in order, found in one pass over `hits` for
+            // the shading and the lookups below (a mirror with its
+            // background looks up every pixel and needs no list).
+            let hit_at: Vec<usize> = if mirror && opts.background {
+                Vec::new()
+            } else {
+                (0..px.len()).filter(|&k| hits[k].is_some()).collect()
+            };
             // Whether every hit of the band is shaded already.
             let mut shaded = false;
             if let (
@@ -589,8 +597,7 @@ fn render_map(
             {
                 if !per_vertex_lit {
                     // Per pixel: eight at a time.
-                    let at: Vec<usize> = (0..px.len()).filter(|&k| hits[k].is_some()).collect();
-                    for chunk in at.chunks(LANES) {
+                    for chunk in hit_at.chunks(LANES) {
                         let (mut ns, mut vs) = ([Vec3::Z; LANES], [Vec3::Z; LANES]);
                         for (j, &k) in chunk.iter().enumerate() {
                             if let Some(hit) = &hits[k] {
@@ -623,7 +630,7 @@ fn render_map(
                 dominant,
             } = opts.shading
             {
-                let at: Vec<usize> = (0..px.len()).filter(|&k| hits[k].is_some()).collect();
+                let at = &hit_at;
                 let (ns, vs): (Vec<Vec3>, Vec<Vec3>) = at
                     .iter()
                     .filter_map(|&k| hits[k].as_ref().map(|hit| surface(mesh, hit, &view)))
@@ -684,15 +691,11 @@ fn render_map(
             // angle it turns through from one pixel to the next.
             // Only the pixels that need them: the background (when shown)
             // and mirror hits; `need[j]` is the pixel of lookup `j`.
-            let need: Vec<usize> = if mirror && opts.background {
-                (0..px.len()).collect()
-            } else {
-                (0..px.len())
-                    .filter(|&k| match hits[k] {
-                        None => opts.background,
-                        Some(_) => mirror,
-                    })
-                    .collect()
+            let need: Vec<usize> = match (mirror, opts.background) {
+                (true, true) => (0..px.len()).collect(),
+                (true, false) => hit_at,
+                (false, true) => missed(&hit_at, px.len()),
+                (false, false) => Vec::new(),
             };
             let mut dirs = Vec::with_capacity(need.len());
             let mut fres = vec![1.0f32; need.len()];
@@ -776,6 +779,18 @@ fn render_map(
         });
     cancel::check(opts.cancel)?;
     Ok(downsample(hi, w, h, s))
+}
+
+/// The indices below `n` that are not in `at` (ascending), in order: the
+/// background of a band from its pixels hit.
+fn missed(at: &[usize], n: usize) -> Vec<usize> {
+    let mut out = Vec::with_capacity(n.saturating_sub(at.len()));
+    let mut next = 0;
+    for &k in at.iter().chain(core::iter::once(&n)) {
+        out.extend(next..k);
+        next = k + 1;
+    }
+    out
 }
 
 /// The map lookups of one band: directions `dirs` (world axes, turned into
@@ -1189,6 +1204,25 @@ fn downsample(hi: Vec<[f32; 3]>, w: u32, h: u32, s: u32) -> RgbImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A band's background from its pixels hit: every index not hit, in
+    /// order, whether hits start, end or run together.
+    #[test]
+    fn the_background_is_every_pixel_not_hit() {
+        let n = 12;
+        for at in [
+            vec![],
+            vec![0],
+            vec![11],
+            vec![0, 1, 2],
+            vec![3, 4, 9, 11],
+            (0..12).collect(),
+        ] {
+            let want: Vec<usize> = (0..n).filter(|k| !at.contains(k)).collect();
+            assert_eq!(missed(&at, n), want, "{at:?}");
+        }
+        assert!(missed(&[], 0).is_empty());
+    }
 
     /// `lod8`'s level (log2 eight at a time through `wide`'s `ln`) against
     /// the same formula in f64 from the texel's exact solid angle, over
