@@ -263,7 +263,9 @@ impl TexelWeights {
                     }
                 })
             })
-            .reduce(|| f64::INFINITY, |a, b| if a < b { a } else { b });
+            .collect::<Vec<f64>>()
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
         if least.is_finite() {
             least
         } else {
