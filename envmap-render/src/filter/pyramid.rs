@@ -646,6 +646,42 @@ impl Bordered {
     }
 }
 
+impl Bordered {
+    /// Asks the processor to start loading both rows of the footprints of
+    /// the lanes of `q` set in `lanes`, as [`Bordered::sample8_lanes`]
+    /// addresses them, without waiting for them. Only a hint: results never
+    /// depend on it. Does nothing off x86-64.
+    #[inline(always)]
+    fn prefetch8(&self, q: &Uv8, lanes: u32) {
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+        {
+            let (w, h) = (f32x8::splat(self.w as f32), f32x8::splat(self.h as f32));
+            let half = f32x8::splat(0.5);
+            let x = q.u.max(f32x8::ZERO).min(f32x8::ONE) * w + half;
+            let y = q.v.max(f32x8::ZERO).min(f32x8::ONE) * h + half;
+            let (i, j) = (x.fast_trunc_int(), y.fast_trunc_int());
+            let (bw, bh) = (self.w as i32 + 2, self.h as i32 + 2);
+            let chart = bytemuck::cast::<u32x8, i32x8>(q.chart.min(u32x8::splat(self.charts - 1)));
+            let at = ((chart * i32x8::splat(bw * bh) + j * i32x8::splat(bw) + i) * i32x8::splat(3))
+                .to_array();
+            let row = bw as usize * 3;
+            for (k, &a) in at.iter().enumerate() {
+                if lanes >> k & 1 == 0 {
+                    continue;
+                }
+                // A NaN lane's address is garbage: `get` keeps it in range.
+                let a = a as usize;
+                if let (Some(t), Some(b)) = (self.floats.get(a), self.floats.get(a + row)) {
+                    safe_arch::prefetch_t0(t);
+                    safe_arch::prefetch_t0(b);
+                }
+            }
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
+        let _ = (q, lanes);
+    }
+}
+
 /// A level as [`Trilinear`] reads it (and the split sum's chain,
 /// `LitSampler`): bilinear with its representation's edge rule.
 #[derive(Debug)]
@@ -678,6 +714,18 @@ impl<'a> Level<'a> {
                 f32x4::new([r, g, b, 0.0])
             }
             Level::Absent => f32x4::ZERO,
+        }
+    }
+
+    /// Starts loading what [`Level::sample8`] reads for the lanes set in
+    /// `lanes` (a hint only; a level read in place is asked for on every
+    /// lane).
+    #[inline(always)]
+    pub(crate) fn prefetch8(&self, q: &Uv8, lanes: u32) {
+        match self {
+            Level::Bordered(b) => b.prefetch8(q, lanes),
+            Level::Plain(s) => s.prefetch8(&s.footprint8(q, Filter::Bilinear)),
+            Level::Absent => {}
         }
     }
 
@@ -957,6 +1005,32 @@ impl<'a> Trilinear<'a> {
         })
     }
 
+    /// Starts loading what [`Trilinear::sample8`] reads at `q` and `lod`
+    /// (a hint only: results never depend on it), so that a batch asked
+    /// for some batches ahead of its sampling rarely waits for memory.
+    #[inline]
+    pub fn prefetch8(&self, q: &Uv8, lod: f32x8) {
+        let lods = lod.to_array();
+        // A bit per lane for each level read.
+        let mut read = [0u32; 32];
+        for (k, &l) in lods.iter().enumerate() {
+            let (i, f) = self.split(l);
+            if let Some(m) = read.get_mut(i) {
+                *m |= 1 << k;
+            }
+            if f != 0.0 {
+                if let Some(m) = read.get_mut(i + 1) {
+                    *m |= 1 << k;
+                }
+            }
+        }
+        for (level, &lanes) in self.levels.iter().zip(&read) {
+            if lanes != 0 {
+                level.prefetch8(q, lanes);
+            }
+        }
+    }
+
     /// Eight chart points at one level `lod`, as red, green, blue and a
     /// spare float per lane: lane `k` equals `sample(q.lane_raw(k), lod)`
     /// bit for bit (the fast path of importance sampling, whose lanes share
@@ -971,6 +1045,72 @@ impl<'a> Trilinear<'a> {
         }
         let b = self.levels[i + 1].sample8(q, 0xff);
         core::array::from_fn(|k| blend(a[k], b[k], f))
+    }
+}
+
+/// How many batches [`TrilinearAhead`] asks for before sampling the first.
+const TRILINEAR_AHEAD: usize = 32;
+
+/// Batches of trilinear lookups whose texels are loading
+/// ([`Trilinear::prefetch8`]), sampled `TRILINEAR_AHEAD` batches later so
+/// that the sampling rarely waits for memory: the mip-aware render's
+/// counterpart of the plain lookups' queue (`Ahead`). Each batch is
+/// sampled by [`Trilinear::sample8`] into its own place, so only the time
+/// of its sampling changes, never a value.
+#[derive(Default)]
+pub(crate) struct TrilinearAhead {
+    /// Chart points, levels, and where the lanes go.
+    queue: Vec<(Uv8, f32x8, core::ops::Range<usize>)>,
+    /// The slot the next batch goes into once the queue is full.
+    next: usize,
+}
+
+impl TrilinearAhead {
+    /// Queues the batch `q` at levels `lod` for `out[at]` (at most eight
+    /// values): starts loading its texels, after sampling the oldest batch
+    /// when the queue is full.
+    #[inline]
+    pub(crate) fn push(
+        &mut self,
+        tri: &Trilinear<'_>,
+        q: Uv8,
+        lod: f32x8,
+        at: core::ops::Range<usize>,
+        out: &mut [[f32; 3]],
+    ) {
+        tri.prefetch8(&q, lod);
+        if self.queue.len() < TRILINEAR_AHEAD {
+            self.queue.push((q, lod, at));
+            return;
+        }
+        let k = self.next;
+        self.next = (k + 1) % TRILINEAR_AHEAD;
+        let (q, lod, at) = core::mem::replace(&mut self.queue[k], (q, lod, at));
+        Self::sample_into(tri, &q, lod, at, out);
+    }
+
+    /// Samples every queued batch (in slot order: each has its own place).
+    pub(crate) fn drain(&mut self, tri: &Trilinear<'_>, out: &mut [[f32; 3]]) {
+        for (q, lod, at) in self.queue.drain(..) {
+            Self::sample_into(tri, &q, lod, at, out);
+        }
+        self.next = 0;
+    }
+
+    /// `tri.sample8` of the batch into `out[at]`.
+    #[inline]
+    fn sample_into(
+        tri: &Trilinear<'_>,
+        q: &Uv8,
+        lod: f32x8,
+        at: core::ops::Range<usize>,
+        out: &mut [[f32; 3]],
+    ) {
+        let rgb = tri.sample8(q, lod);
+        if let Some(dst) = out.get_mut(at) {
+            let n = dst.len().min(8);
+            dst[..n].copy_from_slice(&rgb[..n]);
+        }
     }
 }
 
@@ -1245,6 +1385,41 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// The queue that samples batches some batches after asking for their
+    /// texels puts every batch where it belongs, bit for bit what sampling
+    /// each batch at once gives: more batches than the queue holds, short
+    /// batches, lanes at different levels, a drain with a part-full queue.
+    #[test]
+    fn queued_batches_read_as_batches_read_at_once() {
+        let (base, below) = smooth_and_below(AnyMapping::Cube);
+        let prepared = PreparedLevels::new(below);
+        let tri = Trilinear::over_prepared(&base, &prepared);
+        let batches = 2 * TRILINEAR_AHEAD + 5;
+        let mut want = vec![[0.0f32; 3]; 8 * batches];
+        let mut got = vec![[f32::NAN; 3]; 8 * batches];
+        let mut queue = TrilinearAhead::default();
+        for b in 0..batches {
+            let chart = u32x8::new(core::array::from_fn(|k| ((b + k) % 6) as u32));
+            let u = f32x8::new(core::array::from_fn(|k| ((b * 8 + k) as f32 * 0.137) % 1.0));
+            let v = f32x8::new(core::array::from_fn(|k| ((b * 5 + k) as f32 * 0.291) % 1.0));
+            let lod = f32x8::new(core::array::from_fn(|k| ((b + 3 * k) % 11) as f32 * 0.45));
+            let q = Uv8 { chart, u, v };
+            // Every seventh batch is short.
+            let n = if b % 7 == 3 { 5 } else { 8 };
+            let at = 8 * b..8 * b + n;
+            want[at.clone()].copy_from_slice(&tri.sample8(&q, lod)[..n]);
+            queue.push(&tri, q, lod, at, &mut got);
+        }
+        queue.drain(&tri, &mut got);
+        for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+            if k % 8 >= 5 && (k / 8) % 7 == 3 {
+                assert!(g[0].is_nan(), "lane {k} beyond its batch was written");
+                continue;
+            }
+            assert_eq!(g.map(f32::to_bits), w.map(f32::to_bits), "lane {k}");
         }
     }
 

@@ -101,7 +101,7 @@ use crate::cancel;
 use crate::error::Error;
 use crate::error::Result;
 use crate::filter::oracle::Oracle;
-use crate::filter::pyramid::{PreparedLevels, Trilinear};
+use crate::filter::pyramid::{PreparedLevels, Trilinear, TrilinearAhead};
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::filter::weights::TexelWeights;
 use crate::image::{EnvImage, RgbImage};
@@ -838,6 +838,7 @@ fn lookups(
         // background, the flatter parts of an object) take the plain
         // path, their texels loaded ahead; the others read their levels.
         let mut ahead = Ahead::default();
+        let mut levels = TrilinearAhead::default();
         for start in (0..vals.len()).step_by(LANES) {
             let at = start..(start + LANES).min(vals.len());
             let q = mapping.forward8::<Fine>(Dir8::from_partial(&dirs[at.clone()]));
@@ -852,10 +853,10 @@ fn lookups(
             if lod.simd_eq(f32x8::ZERO).all() {
                 ahead.push(sampler, &q, filter, at.start, at.len(), vals);
             } else {
-                let rgb = tri.sample8(&q, lod);
-                vals[at.clone()].copy_from_slice(&rgb[..at.len()]);
+                levels.push(tri, q, lod, at, vals);
             }
         }
+        levels.drain(tri, vals);
         ahead.drain(sampler, vals);
     } else {
         let mut ahead = Ahead::default();
