@@ -54,6 +54,28 @@ fn bench(c: &mut Criterion) {
             pool.install(|| envmap_render::render::MipLevels::new(black_box(&env)).expect("levels"))
         })
     });
+    // Levels made again for each render into the memory of the last
+    // (`MipLevels::rebuild`), as for a map that changes between frames.
+    let mut again = levels.clone();
+    let opts = RenderOptions {
+        width,
+        height,
+        samples: 1,
+        mip: true,
+        ..RenderOptions::default()
+    };
+    g.bench_function("per-pixel-mip-rebuilt/2-threads", |b| {
+        b.iter(|| {
+            pool.install(|| {
+                again.rebuild(black_box(&env)).expect("levels");
+                let opts = RenderOptions {
+                    mip_levels: Some(&again),
+                    ..opts
+                };
+                render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts).expect("render")
+            })
+        })
+    });
     for (name, mode, threads, mip, prebuilt) in [
         ("per-pixel", Mode::PerPixel, 1, false, false),
         ("per-pixel", Mode::PerPixel, 2, false, false),

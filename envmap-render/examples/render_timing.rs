@@ -1,8 +1,9 @@
 //! Times the renderer: `cargo run --release -p envmap-render --example render_timing`
 //! (`MIP=1`: mip-aware, `PREBUILT=1` with its levels made once and timed
 //! apart, `LIT=1` glossy plastic at roughness 0.5 by the split sum from
-//! the map's own bake, made once, `ITERS=n` renders, `PROFILE=1` a black
-//! map).
+//! the map's own bake, made once, `REBUILD=1` the levels made again in
+//! every render into the last render's memory, `ITERS=n` renders,
+//! `PROFILE=1` a black map).
 use std::time::Instant;
 
 use envmap_core::AnyMapping;
@@ -53,12 +54,24 @@ fn main() {
         mip_levels: levels.as_ref(),
         ..RenderOptions::default()
     };
+    // REBUILD=1 (with MIP=1): the levels made again in every render, into
+    // the memory of the last (`MipLevels::rebuild`).
+    let mut again = std::env::var("REBUILD")
+        .is_ok()
+        .then(|| envmap_render::render::MipLevels::new(&env).expect("levels"));
     for _ in 0..std::env::var("ITERS")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(5)
     {
         let t = Instant::now();
+        if let Some(l) = again.as_mut() {
+            l.rebuild(&env).expect("levels");
+        }
+        let opts = RenderOptions {
+            mip_levels: again.as_ref().or(opts.mip_levels),
+            ..opts
+        };
         let img = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts).expect("render");
         println!(
             "{} ms ({} px)",

@@ -236,22 +236,46 @@ fn prebuilt_mip_levels_render_the_same() {
         MipLevels::new(&other).unwrap(),
     );
     assert!(own.fits(&env) && !wrong.fits(&env));
-    let draw = |levels: Option<&MipLevels>| {
-        render(
-            &Mesh::teapot(6),
-            EnvSource::Map(&env),
-            &Camera::default(),
-            &RenderOptions {
-                width: 80,
-                height: 60,
-                mip: true,
-                mip_levels: levels,
-                ..RenderOptions::default()
-            },
-        )
-        .unwrap()
-    };
-    let built = draw(None);
-    assert_eq!(draw(Some(&own)).pixels, built.pixels);
-    assert_eq!(draw(Some(&wrong)).pixels, built.pixels);
+    let built = draw_mip(&env, None);
+    assert_eq!(draw_mip(&env, Some(&own)), built);
+    assert_eq!(draw_mip(&env, Some(&wrong)), built);
+}
+
+/// A small mip-aware render of the teapot in `env`, from `levels` if given.
+fn draw_mip(env: &EnvImage, levels: Option<&envmap_render::render::MipLevels>) -> Vec<[f32; 3]> {
+    render(
+        &Mesh::teapot(6),
+        EnvSource::Map(env),
+        &Camera::default(),
+        &RenderOptions {
+            width: 80,
+            height: 60,
+            mip: true,
+            mip_levels: levels,
+            ..RenderOptions::default()
+        },
+    )
+    .unwrap()
+    .pixels
+}
+
+/// Levels made again for another map of the same geometry (in place) or of
+/// another size (anew) render what levels made for that map render, bit
+/// for bit, and so does a render that builds its own.
+#[test]
+fn rebuilt_mip_levels_render_as_levels_made_anew() {
+    use envmap_render::render::MipLevels;
+    let (sky, room) = (cube(Builtin::Sky, 64), cube(Builtin::Room, 64));
+    let small = cube(Builtin::Room, 32);
+    let draw = draw_mip;
+    let mut levels = MipLevels::new(&sky).unwrap();
+    assert_eq!(draw(&sky, Some(&levels)), draw(&sky, None));
+    for env in [&room, &sky, &small, &room] {
+        levels.rebuild(env).unwrap();
+        assert!(levels.fits(env));
+        let fresh = MipLevels::new(env).unwrap();
+        let (again, anew) = (draw(env, Some(&levels)), draw(env, Some(&fresh)));
+        assert!(again == anew, "rebuilt levels render otherwise");
+        assert!(again == draw(env, None));
+    }
 }

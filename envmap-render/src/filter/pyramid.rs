@@ -231,7 +231,7 @@ fn present(src: &impl ChartRows, mapping: AnyMapping) -> u32 {
 /// ((a₀·t₀ + a₁·t₁) + b₀·t₂) + b₁·t₃ of texels a = `2k`, `2k + 1` of row
 /// `r0` and b of `r1` (chart order) with `taps[k]`, in f32, four floats at
 /// a time (each texel's three channels and one to spare); a texel whose
-/// weights are all 0 is left as it is. `TURNED`: the rows are stored in
+/// weights are all 0 is black. `TURNED`: the rows are stored in
 /// reverse, so chart texel `2k` is stored at `2n − 1 − 2k` (`n` texels
 /// made), and `dst` is written in the rows' stored order. The weights sum
 /// to 1 to f32 rounding, so the sum is within a few f32 roundings of the
@@ -262,6 +262,7 @@ fn halve_row<const TURNED: bool>(
     for (k, (out, (a, b))) in dst[..n - 1].iter_mut().zip(pairs).enumerate() {
         let t = tap(k);
         if t == [0.0; 4] {
+            *out = [0.0; 3];
             continue;
         }
         let four = |p: &[f32], at: usize| {
@@ -279,13 +280,15 @@ fn halve_row<const TURNED: bool>(
     }
     let k = n - 1;
     let t = tap(k);
-    if t != [0.0; 4] {
+    dst[k] = if t == [0.0; 4] {
+        [0.0; 3]
+    } else {
         let (i0, i1) = if TURNED { (1, 0) } else { (0, 1) };
         let (a, b) = (&r0[2 * k..2 * k + 2], &r1[2 * k..2 * k + 2]);
-        dst[k] = core::array::from_fn(|c| {
+        core::array::from_fn(|c| {
             a[i0][c] * t[0] + a[i1][c] * t[1] + b[i0][c] * t[2] + b[i1][c] * t[3]
-        });
-    }
+        })
+    };
 }
 
 /// The general case (an odd size): each texel the mean of the parts of the
@@ -461,12 +464,20 @@ impl Bordered {
         (w, h): (u32, u32),
     ) -> Self {
         let mut b = Self::blank(w, h, mapping.chart_count());
-        b.rows_mut()
+        b.halve_from(src, weights, mapping);
+        b
+    }
+
+    /// Every chart row made again, in place, one level down from `src`
+    /// (its charts twice this level's size), then the frames: what
+    /// [`Bordered::halved`] makes, where `src` has every chart (a chart it
+    /// lacks keeps what this level held).
+    fn halve_from(&mut self, src: &impl ChartRows, weights: &TexelWeights, mapping: AnyMapping) {
+        self.rows_mut()
             .for_each_init(RowTaps::default, |taps, (chart, j, dst)| {
                 halve_chart_row(src, weights, chart, j, false, dst, taps);
             });
-        b.frame(mapping, present(src, mapping));
-        b
+        self.frame(mapping, present(src, mapping));
     }
 
     /// `img`'s bordered copy for reading many times ([`Level::of`]), or
@@ -830,6 +841,59 @@ impl PreparedLevels {
             Prepared::Bordered(b) => b.len(),
             Prepared::Plain(p) => p.len(),
         }
+    }
+
+    /// The chart size of every level, largest first.
+    #[must_use]
+    pub fn chart_sizes(&self) -> Vec<(u32, u32)> {
+        match &self.kind {
+            Prepared::Bordered(b) => b.iter().map(|l| (l.w, l.h)).collect(),
+            Prepared::Plain(p) => p.levels.iter().map(EnvImage::cell_size).collect(),
+        }
+    }
+
+    /// The levels below `map` made again in place, into the memory they
+    /// hold, where they are [`PreparedLevels::below`] of a map of `map`'s
+    /// mapping and chart size and every level halves evenly (no level
+    /// allocated, none zeroed: for a map that changes between renders);
+    /// bit for bit what `below` makes of `map`. `weights` are `map`'s
+    /// texel solid angles and `above[k]` those of level `k + 1` (the level
+    /// that level `k + 2` is made from). Returns false, changing nothing,
+    /// where they cannot be made in place (sizes that turn odd, a disk
+    /// map, a map that lacks a chart, weights of other sizes).
+    pub fn remake_below(
+        &mut self,
+        map: &EnvImage,
+        weights: &TexelWeights,
+        above: &[TexelWeights],
+    ) -> bool {
+        let Prepared::Bordered(levels) = &mut self.kind else {
+            return false;
+        };
+        let mapping = map.mapping();
+        let charts = mapping.chart_count();
+        if charts >= 32 || present(map, mapping) != (1 << charts) - 1 {
+            return false;
+        }
+        if above.len() + 1 != levels.len() || weights.size() != map.cell_size() {
+            return false;
+        }
+        let mut size = map.cell_size();
+        for (k, l) in levels.iter().enumerate() {
+            let w = if k == 0 { weights } else { &above[k - 1] };
+            if size != (2 * l.w, 2 * l.h) || w.size() != size || l.charts != charts {
+                return false;
+            }
+            size = (l.w, l.h);
+        }
+        for k in 0..levels.len() {
+            let (made, rest) = levels.split_at_mut(k);
+            match made.last() {
+                None => rest[0].halve_from(map, weights, mapping),
+                Some(src) => rest[0].halve_from(src, &above[k - 1], mapping),
+            }
+        }
+        true
     }
 
     /// Always false: a pyramid has its base at least.
@@ -1350,6 +1414,75 @@ mod tests {
             );
             assert_eq!(made.len(), want.len(), "{m} {cell}");
             assert!(made == want, "{m} {cell}");
+        }
+    }
+
+    /// Levels made again in place for a second map of the same geometry
+    /// are, bit for bit, the levels `below` makes of it, turned charts and
+    /// a change of atlas included; where sizes turn odd or the map is a
+    /// disk, nothing is made in place and the levels are left as they were.
+    #[test]
+    fn levels_remade_in_place_are_the_levels_made_anew() {
+        use envmap_core::atlas::Atlas;
+        let strip = Atlas::CUBE_HORIZONTAL_STRIP;
+        let cube = |atlas| Representation {
+            atlas,
+            ..Representation::default_for(AnyMapping::Cube)
+        };
+        // (representation, chart width, the levels' atlas if not the
+        // map's, whether every level halves evenly).
+        let cases = [
+            (cube(Atlas::CUBE_VERTICAL_CROSS), 32, Some(strip), true),
+            (cube(Atlas::CUBE_HORIZONTAL_CROSS), 40, Some(strip), false),
+            (
+                Representation::default_for(AnyMapping::LatLong),
+                64,
+                None,
+                true,
+            ),
+            (
+                Representation::default_for(AnyMapping::Octahedral),
+                16,
+                None,
+                true,
+            ),
+            (
+                Representation::default_for(AnyMapping::Tennisball),
+                36,
+                None,
+                false,
+            ),
+            (
+                Representation::default_for(AnyMapping::SphereMap),
+                32,
+                None,
+                false,
+            ),
+        ];
+        for (repr, cell, atlas, even) in cases {
+            let m = repr.mapping;
+            let atlas = atlas.unwrap_or(repr.atlas);
+            let (w, h) = repr.atlas.image_size_for_cell_width(cell).unwrap();
+            let first = fill(repr, w, h, |d| [d.x.max(0.0) * 3.0 + d.y, d.z * d.z, 1.0]).unwrap();
+            let second = fill(repr, w, h, |d| [d.y * d.y, 2.0 - d.x, d.z.min(0.0)]).unwrap();
+            let (cw, ch) = first.cell_size();
+            let weights = TexelWeights::new(m, cw, ch);
+            let mut levels = PreparedLevels::below(&first, &weights, atlas).unwrap();
+            let sizes = levels.chart_sizes();
+            let above: Vec<TexelWeights> = sizes[..sizes.len() - 1]
+                .iter()
+                .map(|&(w, h)| TexelWeights::new(m, w, h))
+                .collect();
+            let made = levels.remake_below(&second, &weights, &above);
+            assert_eq!(made, even, "{m} {cell}");
+            let want = if even { &second } else { &first };
+            assert!(
+                levels == PreparedLevels::below(want, &weights, atlas).unwrap(),
+                "{m} {cell}"
+            );
+            // Weights of another size: nothing made.
+            let wrong = TexelWeights::new(m, cw / 2, ch / 2);
+            assert!(!levels.remake_below(&first, &wrong, &above), "{m} {cell}");
         }
     }
 

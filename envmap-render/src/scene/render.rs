@@ -68,7 +68,8 @@
 //! which no texture filter touches.
 //!
 //! The pyramid is built for each render unless made beforehand
-//! ([`MipLevels`], [`RenderOptions::mip_levels`]): the map itself is read in place
+//! ([`MipLevels`], [`RenderOptions::mip_levels`]; made again in place for a
+//! map that changes, [`MipLevels::rebuild`]): the map itself is read in place
 //! as level 0 ([`Trilinear::over_prepared`]); the levels below it (every level down
 //! to 1², about a third of the map's texels) are made from it, each in one
 //! parallel pass over the level above, written straight into its copy with
@@ -187,7 +188,12 @@ pub struct RenderOptions<'a> {
     /// For [`RenderOptions::mip`]: the map's levels made beforehand
     /// ([`MipLevels::new`]), so that many renders of one map build them
     /// once; ignored unless made from a map of the environment's mapping
-    /// and size (then they are built for the render, as when `None`).
+    /// and size (then they are built for the render, as when `None`). For
+    /// a map that changes between renders, keep one [`MipLevels`] and
+    /// [`MipLevels::rebuild`] it before each: a render that builds its own
+    /// allocates them anew (a third of the map's size), and the system's
+    /// work of handing out and taking back that memory can cost more than
+    /// building them.
     pub mip_levels: Option<&'a MipLevels>,
     /// Called from the workers as bands of rows finish, with the bands done
     /// and their number (for a progress bar on long renders: the reference).
@@ -208,6 +214,12 @@ pub struct MipLevels {
     least: f64,
     mapping: AnyMapping,
     cell: (u32, u32),
+    /// Where the levels' charts are laid out.
+    atlas: envmap_core::atlas::Atlas,
+    /// The texel solid angles of each level from the first down that the
+    /// next is made from, for [`MipLevels::rebuild`] (made by its first
+    /// call).
+    above: Vec<TexelWeights>,
 }
 
 impl MipLevels {
@@ -220,13 +232,7 @@ impl MipLevels {
         let (cw, ch) = map.cell_size();
         let mapping = map.mapping();
         let texels = TexelWeights::new(mapping, cw, ch).for_lookups();
-        // A cube's levels as a strip, whatever its layout: a cross's empty
-        // cells would be half of every level's memory, its pages touched
-        // in every render that builds them.
-        let atlas = match mapping {
-            AnyMapping::Cube => envmap_core::atlas::Atlas::CUBE_HORIZONTAL_STRIP,
-            _ => map.representation().atlas,
-        };
+        let atlas = Self::atlas_for(map);
         let below = PreparedLevels::below(map, &texels, atlas)?;
         Ok(Self {
             below,
@@ -234,7 +240,50 @@ impl MipLevels {
             texels,
             mapping,
             cell: (cw, ch),
+            atlas,
+            above: Vec::new(),
         })
+    }
+
+    /// Where the levels of `map` are laid out: a cube's as a strip,
+    /// whatever its layout (a cross's empty cells would be half of every
+    /// level's memory, its pages touched in every render that builds
+    /// them), any other map's as the map is.
+    fn atlas_for(map: &EnvImage) -> envmap_core::atlas::Atlas {
+        match map.mapping() {
+            AnyMapping::Cube => envmap_core::atlas::Atlas::CUBE_HORIZONTAL_STRIP,
+            _ => map.representation().atlas,
+        }
+    }
+
+    /// These levels made again for `map`, a map that changes between
+    /// renders (an environment captured anew for each frame): where `map`
+    /// has the mapping, chart size and layout of the map they were made
+    /// for, and its levels halve evenly, each level is halved again into
+    /// the memory it holds, and the texel solid angles are kept (they
+    /// depend on the geometry only): no allocation, no page of memory new
+    /// to the process. Otherwise as [`MipLevels::new`]. Either way, bit for
+    /// bit the levels `MipLevels::new(map)` makes.
+    ///
+    /// # Errors
+    ///
+    /// As [`MipLevels::new`].
+    pub fn rebuild(&mut self, map: &EnvImage) -> Result<()> {
+        if self.fits(map) && Self::atlas_for(map) == self.atlas {
+            let sizes = self.below.chart_sizes();
+            let chain = sizes.len().saturating_sub(1);
+            if self.above.len() != chain {
+                self.above = sizes[..chain]
+                    .iter()
+                    .map(|&(w, h)| TexelWeights::new(self.mapping, w, h))
+                    .collect();
+            }
+            if self.below.remake_below(map, &self.texels, &self.above) {
+                return Ok(());
+            }
+        }
+        *self = Self::new(map)?;
+        Ok(())
     }
 
     /// Whether these are levels of a map of `map`'s mapping and size.
