@@ -260,17 +260,20 @@ fn draw_mip(env: &EnvImage, levels: Option<&envmap_render::render::MipLevels>) -
 }
 
 /// Levels made again for another map of the same geometry (in place) or of
-/// another size (anew) render what levels made for that map render, bit
-/// for bit, and so does a render that builds its own.
+/// another size or one whose levels turn odd (anew) render what levels made
+/// for that map render, bit for bit, and so does a render that builds its
+/// own.
 #[test]
 fn rebuilt_mip_levels_render_as_levels_made_anew() {
     use envmap_render::render::MipLevels;
     let (sky, room) = (cube(Builtin::Sky, 64), cube(Builtin::Room, 64));
     let small = cube(Builtin::Room, 32);
+    // 48² faces: 24, 12, 6, 3, 1: levels that cannot be made in place.
+    let odd = cube(Builtin::Sky, 48);
     let draw = draw_mip;
     let mut levels = MipLevels::new(&sky).unwrap();
     assert_eq!(draw(&sky, Some(&levels)), draw(&sky, None));
-    for env in [&room, &sky, &small, &room] {
+    for env in [&room, &sky, &small, &room, &odd, &odd, &sky] {
         levels.rebuild(env).unwrap();
         assert!(levels.fits(env));
         let fresh = MipLevels::new(env).unwrap();

@@ -619,17 +619,17 @@ impl Bordered {
         self.blend(at, fx, fy)
     }
 
-    /// Eight chart points, on the lanes set in `lanes` only (the others are
-    /// zero: the lanes of a batch that read this level); lane `k` is
-    /// `sample(q.lane_raw(k))` bit for bit. The footprints are addressed
-    /// eight at a time.
-    #[inline]
-    fn sample8_lanes(&self, q: &Uv8, lanes: u32) -> [f32x4; 8] {
+    /// Where the footprints of eight chart points start (in floats) and
+    /// their fractions, addressed eight at a time as [`Bordered::sample`]
+    /// addresses one (a chart out of range clamped to the last: such lanes
+    /// and NaN ones are for the caller to leave out).
+    #[inline(always)]
+    fn footprints8(&self, q: &Uv8) -> ([i32; 8], [f32; 8], [f32; 8]) {
         let (w, h) = (f32x8::splat(self.w as f32), f32x8::splat(self.h as f32));
         let half = f32x8::splat(0.5);
         let x = q.u.max(f32x8::ZERO).min(f32x8::ONE) * w + half;
         let y = q.v.max(f32x8::ZERO).min(f32x8::ONE) * h + half;
-        // x, y ≥ ½ (or NaN, on lanes made black below): truncation is floor.
+        // x, y ≥ ½ (or NaN, on lanes the caller leaves out): truncation is floor.
         let (i, j) = (x.fast_trunc_int(), y.fast_trunc_int());
         let (fx, fy) = (
             (x - i.round_float()).to_array(),
@@ -639,6 +639,16 @@ impl Bordered {
         let chart = bytemuck::cast::<u32x8, i32x8>(q.chart.min(u32x8::splat(self.charts - 1)));
         let at = ((chart * i32x8::splat(bw * bh) + j * i32x8::splat(bw) + i) * i32x8::splat(3))
             .to_array();
+        (at, fx, fy)
+    }
+
+    /// Eight chart points, on the lanes set in `lanes` only (the others are
+    /// zero: the lanes of a batch that read this level); lane `k` is
+    /// `sample(q.lane_raw(k))` bit for bit. The footprints are addressed
+    /// eight at a time.
+    #[inline]
+    fn sample8_lanes(&self, q: &Uv8, lanes: u32) -> [f32x4; 8] {
+        let (at, fx, fy) = self.footprints8(q);
         let bad = q.chart.simd_ge(u32x8::splat(self.charts)).to_bitmask()
             | q.u.simd_ne(q.u).to_bitmask()
             | q.v.simd_ne(q.v).to_bitmask()
@@ -655,9 +665,7 @@ impl Bordered {
         }
         out
     }
-}
 
-impl Bordered {
     /// Asks the processor to start loading both rows of the footprints of
     /// the lanes of `q` set in `lanes`, as [`Bordered::sample8_lanes`]
     /// addresses them, without waiting for them. Only a hint: results never
@@ -666,16 +674,8 @@ impl Bordered {
     fn prefetch8(&self, q: &Uv8, lanes: u32) {
         #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
         {
-            let (w, h) = (f32x8::splat(self.w as f32), f32x8::splat(self.h as f32));
-            let half = f32x8::splat(0.5);
-            let x = q.u.max(f32x8::ZERO).min(f32x8::ONE) * w + half;
-            let y = q.v.max(f32x8::ZERO).min(f32x8::ONE) * h + half;
-            let (i, j) = (x.fast_trunc_int(), y.fast_trunc_int());
-            let (bw, bh) = (self.w as i32 + 2, self.h as i32 + 2);
-            let chart = bytemuck::cast::<u32x8, i32x8>(q.chart.min(u32x8::splat(self.charts - 1)));
-            let at = ((chart * i32x8::splat(bw * bh) + j * i32x8::splat(bw) + i) * i32x8::splat(3))
-                .to_array();
-            let row = bw as usize * 3;
+            let (at, _, _) = self.footprints8(q);
+            let row = (self.w as usize + 2) * 3;
             for (k, &a) in at.iter().enumerate() {
                 if lanes >> k & 1 == 0 {
                     continue;

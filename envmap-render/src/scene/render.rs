@@ -269,8 +269,18 @@ impl MipLevels {
     ///
     /// As [`MipLevels::new`].
     pub fn rebuild(&mut self, map: &EnvImage) -> Result<()> {
-        if self.fits(map) && Self::atlas_for(map) == self.atlas {
-            let sizes = self.below.chart_sizes();
+        let sizes = self.below.chart_sizes();
+        // Every level half the one above it (else the levels are made anew,
+        // and the solid angles below are not worth making).
+        let even = sizes
+            .iter()
+            .scan(self.cell, |above, &(w, h)| {
+                let halves = *above == (2 * w, 2 * h);
+                *above = (w, h);
+                Some(halves)
+            })
+            .all(|h| h);
+        if even && self.fits(map) && Self::atlas_for(map) == self.atlas {
             let chain = sizes.len().saturating_sub(1);
             if self.above.len() != chain {
                 self.above = sizes[..chain]
