@@ -1123,42 +1123,47 @@ const TRILINEAR_AHEAD: usize = 32;
 /// of its sampling changes, never a value.
 #[derive(Default)]
 pub(crate) struct TrilinearAhead {
-    /// Chart points, levels, and where the lanes go.
-    queue: Vec<(Uv8, f32x8, core::ops::Range<usize>)>,
-    /// The slot the next batch goes into once the queue is full.
+    /// Chart points, levels, and where the lanes go (start, count).
+    queue: [(Uv8, f32x8, usize, usize); TRILINEAR_AHEAD],
+    /// The slot the next batch goes into: when the queue is full, the
+    /// oldest batch's.
     next: usize,
+    len: usize,
 }
 
 impl TrilinearAhead {
-    /// Queues the batch `q` at levels `lod` for `out[at]` (at most eight
-    /// values): starts loading its texels, after sampling the oldest batch
-    /// when the queue is full.
+    /// Queues the batch `q` at levels `lod` for `out[at..at + len]` (at
+    /// most eight values): starts loading its texels, after sampling the
+    /// oldest batch when the queue is full.
     #[inline]
     pub(crate) fn push(
         &mut self,
         tri: &Trilinear<'_>,
         q: Uv8,
         lod: f32x8,
-        at: core::ops::Range<usize>,
+        (at, len): (usize, usize),
         out: &mut [[f32; 3]],
     ) {
         tri.prefetch8(&q, lod);
-        if self.queue.len() < TRILINEAR_AHEAD {
-            self.queue.push((q, lod, at));
-            return;
-        }
         let k = self.next;
         self.next = (k + 1) % TRILINEAR_AHEAD;
-        let (q, lod, at) = core::mem::replace(&mut self.queue[k], (q, lod, at));
-        Self::sample_into(tri, &q, lod, at, out);
+        if self.len == TRILINEAR_AHEAD {
+            let (q, lod, at, len) = self.queue[k];
+            Self::sample_into(tri, &q, lod, at..at + len, out);
+        } else {
+            self.len += 1;
+        }
+        self.queue[k] = (q, lod, at, len);
     }
 
-    /// Samples every queued batch (in slot order: each has its own place).
+    /// Samples every queued batch, oldest first.
     pub(crate) fn drain(&mut self, tri: &Trilinear<'_>, out: &mut [[f32; 3]]) {
-        for (q, lod, at) in self.queue.drain(..) {
-            Self::sample_into(tri, &q, lod, at, out);
+        let oldest = self.next + TRILINEAR_AHEAD - self.len;
+        for k in oldest..oldest + self.len {
+            let (q, lod, at, len) = self.queue[k % TRILINEAR_AHEAD];
+            Self::sample_into(tri, &q, lod, at..at + len, out);
         }
-        self.next = 0;
+        self.len = 0;
     }
 
     /// `tri.sample8` of the batch into `out[at]`.
@@ -1369,36 +1374,33 @@ mod tests {
         }
     }
 
-    #[test]
-    fn levels_halved_into_their_borders_are_the_levels_bordered_afterwards() {
-        use envmap_core::atlas::Atlas;
+    /// Maps whose levels the bordered tests make: (representation, chart
+    /// width, the levels' atlas if not the map's, whether every level
+    /// halves evenly): turned charts, a change of atlas, sizes that turn
+    /// odd on the way down (40: 20, 10, 5, 2, 1; 24: 12, 6, 3, 1; 36: 18,
+    /// 9, ...), the non-cube edge rules and a disk map.
+    fn level_cases() -> [(Representation, u32, Option<Atlas>, bool); 8] {
         let strip = Atlas::CUBE_HORIZONTAL_STRIP;
         let cube = |atlas| Representation {
             atlas,
             ..Representation::default_for(AnyMapping::Cube)
         };
-        // (representation, chart width, the levels' atlas if not the
-        // map's): turned charts, a change of atlas, sizes that turn odd on
-        // the way down (40: 20, 10, 5, 2, 1; 24: 12, 6, 3, 1), and the
-        // non-cube edge rules.
-        let cases = [
-            (cube(Atlas::CUBE_VERTICAL_CROSS), 32, Some(strip)),
-            (cube(Atlas::CUBE_HORIZONTAL_CROSS), 40, Some(strip)),
-            (cube(Atlas::CUBE_VERTICAL_CROSS), 24, None),
-            (Representation::default_for(AnyMapping::LatLong), 64, None),
-            (
-                Representation::default_for(AnyMapping::Octahedral),
-                24,
-                None,
-            ),
-            (
-                Representation::default_for(AnyMapping::Tennisball),
-                36,
-                None,
-            ),
-            (Representation::default_for(AnyMapping::SphereMap), 32, None),
-        ];
-        for (repr, cell, atlas) in cases {
+        let other = Representation::default_for;
+        [
+            (cube(Atlas::CUBE_VERTICAL_CROSS), 32, Some(strip), true),
+            (cube(Atlas::CUBE_HORIZONTAL_CROSS), 40, Some(strip), false),
+            (cube(Atlas::CUBE_VERTICAL_CROSS), 24, None, false),
+            (other(AnyMapping::LatLong), 64, None, true),
+            (other(AnyMapping::Octahedral), 24, None, false),
+            (other(AnyMapping::Octahedral), 16, None, true),
+            (other(AnyMapping::Tennisball), 36, None, false),
+            (other(AnyMapping::SphereMap), 32, None, false),
+        ]
+    }
+
+    #[test]
+    fn levels_halved_into_their_borders_are_the_levels_bordered_afterwards() {
+        for (repr, cell, atlas, _) in level_cases() {
             let m = repr.mapping;
             let atlas = atlas.unwrap_or(repr.atlas);
             let (w, h) = repr.atlas.image_size_for_cell_width(cell).unwrap();
@@ -1423,43 +1425,7 @@ mod tests {
     /// disk, nothing is made in place and the levels are left as they were.
     #[test]
     fn levels_remade_in_place_are_the_levels_made_anew() {
-        use envmap_core::atlas::Atlas;
-        let strip = Atlas::CUBE_HORIZONTAL_STRIP;
-        let cube = |atlas| Representation {
-            atlas,
-            ..Representation::default_for(AnyMapping::Cube)
-        };
-        // (representation, chart width, the levels' atlas if not the
-        // map's, whether every level halves evenly).
-        let cases = [
-            (cube(Atlas::CUBE_VERTICAL_CROSS), 32, Some(strip), true),
-            (cube(Atlas::CUBE_HORIZONTAL_CROSS), 40, Some(strip), false),
-            (
-                Representation::default_for(AnyMapping::LatLong),
-                64,
-                None,
-                true,
-            ),
-            (
-                Representation::default_for(AnyMapping::Octahedral),
-                16,
-                None,
-                true,
-            ),
-            (
-                Representation::default_for(AnyMapping::Tennisball),
-                36,
-                None,
-                false,
-            ),
-            (
-                Representation::default_for(AnyMapping::SphereMap),
-                32,
-                None,
-                false,
-            ),
-        ];
-        for (repr, cell, atlas, even) in cases {
+        for (repr, cell, atlas, even) in level_cases() {
             let m = repr.mapping;
             let atlas = atlas.unwrap_or(repr.atlas);
             let (w, h) = repr.atlas.image_size_for_cell_width(cell).unwrap();
@@ -1542,9 +1508,8 @@ mod tests {
             let q = Uv8 { chart, u, v };
             // Every seventh batch is short.
             let n = if b % 7 == 3 { 5 } else { 8 };
-            let at = 8 * b..8 * b + n;
-            want[at.clone()].copy_from_slice(&tri.sample8(&q, lod)[..n]);
-            queue.push(&tri, q, lod, at, &mut got);
+            want[8 * b..8 * b + n].copy_from_slice(&tri.sample8(&q, lod)[..n]);
+            queue.push(&tri, q, lod, (8 * b, n), &mut got);
         }
         queue.drain(&tri, &mut got);
         for (k, (g, w)) in got.iter().zip(&want).enumerate() {

@@ -261,8 +261,9 @@ impl MipLevels {
     /// has the mapping, chart size and layout of the map they were made
     /// for, and its levels halve evenly, each level is halved again into
     /// the memory it holds, and the texel solid angles are kept (they
-    /// depend on the geometry only): no allocation, no page of memory new
-    /// to the process. Otherwise as [`MipLevels::new`]. Either way, bit for
+    /// depend on the geometry only): no level allocated, no page of memory
+    /// new to the process (the first call makes the solid angles of the
+    /// levels that the next are made from, and keeps them). Otherwise as [`MipLevels::new`]. Either way, bit for
     /// bit the levels `MipLevels::new(map)` makes.
     ///
     /// # Errors
@@ -912,7 +913,7 @@ fn lookups(
             if lod.simd_eq(f32x8::ZERO).all() {
                 ahead.push(sampler, &q, filter, at.start, at.len(), vals);
             } else {
-                levels.push(tri, q, lod, at, vals);
+                levels.push(tri, q, lod, (at.start, at.len()), vals);
             }
         }
         levels.drain(tri, vals);
