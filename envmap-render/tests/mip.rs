@@ -224,6 +224,62 @@ fn the_no_mip_flag_parses_and_changes_the_picture() {
     assert_eq!(plain, run("plain2.exr", &["--no-mip"]));
 }
 
+/// A mirror that shrinks the map reads only its levels: in a cube map
+/// checkered texel by texel (512² faces), a 40 × 30 view of the teapot
+/// turns through several texels from one pixel to the next everywhere on
+/// it, so every one of its pixels is a level's grey (about ½, the weighted
+/// mean of 2 × 2 texels), never the base's black or white, while the plain
+/// lookups show the checks. A lookup on the object whose footprint were
+/// not measured (taken as 0, level 0) would show them too.
+#[test]
+fn every_lookup_on_a_shrinking_mirror_reads_the_levels() {
+    let repr = Representation::default_for(AnyMapping::Cube);
+    let n = 512;
+    let mut env = EnvImage::new(4 * n, 3 * n, repr).unwrap();
+    let width = env.width() as usize;
+    for (k, p) in env.pixels_mut().iter_mut().enumerate() {
+        let (x, y) = (k % width, k / width);
+        *p = [((x + y) % 2) as f32; 3];
+    }
+    let white = fill(repr, 4 * 8, 3 * 8, |_| [1.0; 3]).unwrap();
+    let draw = |env: &EnvImage, mip: bool, background: bool| {
+        let opts = RenderOptions {
+            width: 40,
+            height: 30,
+            mip,
+            background,
+            ..RenderOptions::default()
+        };
+        render(
+            &Mesh::teapot(6),
+            EnvSource::Map(env),
+            &Camera::default(),
+            &opts,
+        )
+        .unwrap()
+        .pixels
+    };
+    let on_object: Vec<bool> = draw(&white, false, false)
+        .iter()
+        .map(|p| p[0] > 0.0)
+        .collect();
+    let count = on_object.iter().filter(|&&o| o).count();
+    assert!(count > 200, "{count} teapot pixels");
+    let off_grey = |img: &[[f32; 3]]| {
+        img.iter()
+            .zip(&on_object)
+            .filter(|&(p, &o)| o && (p[0] - 0.5).abs() > 0.05)
+            .count()
+    };
+    let (plain, mip) = (draw(&env, false, true), draw(&env, true, true));
+    assert!(
+        off_grey(&plain) > count / 4,
+        "{} of {count}",
+        off_grey(&plain)
+    );
+    assert_eq!(off_grey(&mip), 0, "of {count} teapot pixels");
+}
+
 /// Levels made beforehand render exactly what the render would build; a
 /// set made from another map's size is not used (the render builds its own).
 #[test]

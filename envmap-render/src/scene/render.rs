@@ -757,30 +757,15 @@ fn render_map(
                 (false, true) => missed(&hit_at, px.len()),
                 (false, false) => Vec::new(),
             };
-            let mut dirs = Vec::with_capacity(need.len());
-            let mut fres = vec![1.0f32; need.len()];
-            for (j, &k) in need.iter().enumerate() {
-                let hit = &hits[k];
-                let (x, y) = (
-                    (k as u32 % w) as f32 + 0.5,
-                    (y0 + k as u32 / w) as f32 + 0.5,
-                );
-                let d = match hit {
-                    None => view.ray(x, y),
-                    Some(hit) => {
-                        let (n, vv) = surface(mesh, hit, &view);
-                        if let Some(f0) = opts.fresnel_f0 {
-                            let c = n.dot(vv).clamp(0.0, 1.0);
-                            fres[j] = f0 + (1.0 - f0) * (1.0 - c).powi(5);
-                        }
-                        reflect_view(n, vv)
-                    }
-                };
-                dirs.push(d);
-            }
+            let BandLookups {
+                mut dirs,
+                fresnel: fres,
+                on_object,
+            } = band_lookups(mesh, &view, &hits, &need, w, y0, opts.fresnel_f0);
             let spread = if trilinear.is_some() {
                 let bg = background_at_base;
-                footprints(mesh, &projected, &view, &hits, &need, &dirs, w, y0, bg)
+                let on = &on_object;
+                footprints(mesh, &projected, &view, &hits, &need, &dirs, w, y0, bg, on)
             } else {
                 Vec::new()
             };
@@ -839,6 +824,61 @@ fn render_map(
         });
     cancel::check(opts.cancel)?;
     Ok(downsample(hi, w, h, s))
+}
+
+/// What a band's lookups start from ([`band_lookups`]).
+struct BandLookups {
+    /// Lookup `j`'s direction (world axes): the reflection at a pixel hit,
+    /// else the view ray.
+    dirs: Vec<Vec3>,
+    /// Lookup `j`'s Schlick factor (1 without `fresnel_f0`, and off the
+    /// object).
+    fresnel: Vec<f32>,
+    /// The lookups of pixels hit, ascending: the ones whose footprints
+    /// [`footprints`] measures when the background stays at the base.
+    on_object: Vec<usize>,
+}
+
+/// The directions to look up for the pixels `need` of a band of rows from
+/// `y0`, `w` wide: the reflection (per pixel) where the pixel is hit, the
+/// view ray through its centre elsewhere; with each, Schlick's factor for
+/// `fresnel_f0`, and which lookups are on the object.
+fn band_lookups(
+    mesh: &Mesh,
+    view: &View,
+    hits: &[Option<Hit>],
+    need: &[usize],
+    w: u32,
+    y0: u32,
+    fresnel_f0: Option<f32>,
+) -> BandLookups {
+    let mut dirs = Vec::with_capacity(need.len());
+    let mut fresnel = vec![1.0f32; need.len()];
+    let mut on_object = Vec::new();
+    for (j, &k) in need.iter().enumerate() {
+        let (x, y) = (
+            (k as u32 % w) as f32 + 0.5,
+            (y0 + k as u32 / w) as f32 + 0.5,
+        );
+        let d = match &hits[k] {
+            None => view.ray(x, y),
+            Some(hit) => {
+                on_object.push(j);
+                let (n, vv) = surface(mesh, hit, view);
+                if let Some(f0) = fresnel_f0 {
+                    let c = n.dot(vv).clamp(0.0, 1.0);
+                    fresnel[j] = f0 + (1.0 - f0) * (1.0 - c).powi(5);
+                }
+                reflect_view(n, vv)
+            }
+        };
+        dirs.push(d);
+    }
+    BandLookups {
+        dirs,
+        fresnel,
+        on_object,
+    }
 }
 
 /// The indices below `n` that are not in `at` (ascending), in order: the
@@ -1016,8 +1056,9 @@ fn footprint(
 /// background neighbours' view rays. Pixels without such neighbours make
 /// theirs.
 /// With `background_at_base` ([`background_stays_at_base`]) a background
-/// pixel's footprint is not measured but given as 0: its level is 0
-/// either way.
+/// pixel's footprint is not measured but given as 0 (its level is 0
+/// either way), and only the lookups `on_object` (those of pixels hit,
+/// ascending) are visited.
 #[allow(clippy::too_many_arguments)]
 fn footprints(
     mesh: &Mesh,
@@ -1029,6 +1070,7 @@ fn footprints(
     w: u32,
     y0: u32,
     background_at_base: bool,
+    on_object: &[usize],
 ) -> Vec<f32> {
     let (w32, w) = (w, w as usize);
     // Pixel → its lookup, where it has one.
@@ -1050,39 +1092,46 @@ fn footprints(
                 .map(|j| j as usize)
         }
     };
-    need.iter()
-        .zip(dirs)
-        .map(|(&k, &d)| {
-            let hit = hits[k].as_ref();
-            if hit.is_none() && background_at_base {
-                return 0.0;
-            }
-            // A band has fewer than 2³² pixels: a 32-bit division.
-            let (x, y) = ((k as u32 % w32) as usize, (k as u32 / w32) as usize);
-            let from_neighbours = || {
-                // The direction at neighbour `n` if it is on `hit`'s
-                // triangle, or background beside background.
-                let same = |n: usize| match (hit, hits.get(n)?) {
-                    (Some(h), Some(o)) if o.tri == h.tri => lookup(n).map(|j| dirs[j]),
-                    (None, None) => lookup(n).map(|j| dirs[j]),
-                    _ => None,
-                };
-                let dx = (x + 1 < w)
-                    .then(|| same(k + 1))
-                    .flatten()
-                    .map(|r| r - d)
-                    .or_else(|| (x > 0).then(|| same(k - 1)).flatten().map(|l| d - l))?;
-                let dy = same(k + w)
-                    .map(|r| r - d)
-                    .or_else(|| (k >= w).then(|| same(k - w)).flatten().map(|l| d - l))?;
-                Some(dx.length_squared().max(dy.length_squared()).sqrt())
+    let measure = |k: usize, d: Vec3| -> f32 {
+        let hit = hits[k].as_ref();
+        // A band has fewer than 2³² pixels: a 32-bit division.
+        let (x, y) = ((k as u32 % w32) as usize, (k as u32 / w32) as usize);
+        let from_neighbours = || {
+            // The direction at neighbour `n` if it is on `hit`'s
+            // triangle, or background beside background.
+            let same = |n: usize| match (hit, hits.get(n)?) {
+                (Some(h), Some(o)) if o.tri == h.tri => lookup(n).map(|j| dirs[j]),
+                (None, None) => lookup(n).map(|j| dirs[j]),
+                _ => None,
             };
-            from_neighbours().unwrap_or_else(|| {
-                let (px, py) = (x as f32 + 0.5, (y0 as usize + y) as f32 + 0.5);
-                footprint(mesh, projected, hit, view, px, py, d)
-            })
+            let dx = (x + 1 < w)
+                .then(|| same(k + 1))
+                .flatten()
+                .map(|r| r - d)
+                .or_else(|| (x > 0).then(|| same(k - 1)).flatten().map(|l| d - l))?;
+            let dy = same(k + w)
+                .map(|r| r - d)
+                .or_else(|| (k >= w).then(|| same(k - w)).flatten().map(|l| d - l))?;
+            Some(dx.length_squared().max(dy.length_squared()).sqrt())
+        };
+        from_neighbours().unwrap_or_else(|| {
+            let (px, py) = (x as f32 + 0.5, (y0 as usize + y) as f32 + 0.5);
+            footprint(mesh, projected, hit, view, px, py, d)
         })
-        .collect()
+    };
+    if background_at_base {
+        // Only the object's lookups are measured; the rest stay 0.
+        let mut out = vec![0.0f32; need.len()];
+        for &j in on_object {
+            out[j] = measure(need[j], dirs[j]);
+        }
+        out
+    } else {
+        need.iter()
+            .zip(dirs)
+            .map(|(&k, &d)| measure(k, d))
+            .collect()
+    }
 }
 
 /// Whether no background lookup of `view` can read above level 0 in a map
@@ -1380,11 +1429,15 @@ mod tests {
         );
     }
 
-    /// The footprint and the mip level of the reflection at the centre pixel
-    /// of a 64 × 64 view of a sphere of radius `r` whose nearest point is
-    /// `gap` in front of the eye, in a cube map of 256² faces.
-    fn centre(r: f32, gap: f32) -> (f32, f32) {
-        let mut mesh = Mesh::sphere(r, 192, 96);
+    /// [`sphere_band`]'s mesh, view, projected vertices and hits.
+    type SphereBand = (Mesh, View, Vec<(f32, f32, f32)>, Vec<Option<Hit>>);
+
+    /// A sphere of radius `r` whose nearest point is `gap` in front of the
+    /// eye (`detail` segments around), seen head-on in a 64 × 64 view of
+    /// 30°: the mesh, the view, its projected vertices and the hits of the
+    /// band of `rows` rows from `y0`.
+    fn sphere_band(r: f32, gap: f32, detail: u32, y0: u32, rows: u32) -> SphereBand {
+        let mut mesh = Mesh::sphere(r, detail, detail / 2);
         for p in &mut mesh.positions {
             *p += Vec3::new(0.0, r + gap, 0.0);
         }
@@ -1394,16 +1447,62 @@ mod tests {
             up: Vec3::Z,
             fov_y_deg: 30.0,
         };
-        let (w, y0) = (64, 32);
+        let w = 64;
         let view = View::new(&cam, w, 64);
         let projected: Vec<_> = mesh.positions.iter().map(|p| view.project(*p)).collect();
-        let mut hits = vec![None; w as usize];
+        let mut hits = vec![None; (w * rows) as usize];
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let v = tri.map(|i| projected[i as usize]);
             if v.iter().all(|p| p.2 > NEAR) {
-                raster(&v, t as u32, y0, 1, w, &mut hits);
+                raster(&v, t as u32, y0, rows, w, &mut hits);
             }
         }
+        (mesh, view, projected, hits)
+    }
+
+    /// A band's lookups on the object are listed, every one of them, for
+    /// each way a band chooses its lookups (every pixel, the pixels hit,
+    /// the background); measured from that list with the background kept
+    /// at the base, their footprints are the ones measured pixel by pixel,
+    /// bit for bit, and every other footprint is 0.
+    #[test]
+    fn the_lookups_on_the_object_are_listed_and_measured() {
+        let (w, y0) = (64, 24);
+        let (mesh, view, projected, hits) = sphere_band(1.0, 7.0, 48, y0, 16);
+        let hit_at: Vec<usize> = (0..hits.len()).filter(|&k| hits[k].is_some()).collect();
+        assert!(hit_at.len() > 100 && hit_at.len() < hits.len() - 100);
+        for need in [
+            (0..hits.len()).collect::<Vec<_>>(),
+            hit_at.clone(),
+            missed(&hit_at, hits.len()),
+        ] {
+            let band = band_lookups(&mesh, &view, &hits, &need, w, y0, None);
+            let want: Vec<usize> = (0..need.len())
+                .filter(|&j| hits[need[j]].is_some())
+                .collect();
+            assert_eq!(band.on_object, want);
+            let (dirs, on) = (&band.dirs, &band.on_object);
+            let all = footprints(
+                &mesh, &projected, &view, &hits, &need, dirs, w, y0, false, on,
+            );
+            let kept = footprints(
+                &mesh, &projected, &view, &hits, &need, dirs, w, y0, true, on,
+            );
+            for (j, (a, k)) in all.iter().zip(&kept).enumerate() {
+                if on.contains(&j) {
+                    assert!(*a > 0.0 && a.to_bits() == k.to_bits(), "{j}: {a} {k}");
+                } else {
+                    assert_eq!(*k, 0.0);
+                }
+            }
+        }
+    }
+
+    /// The footprint and the mip level of the reflection at the centre pixel
+    /// of a 64 × 64 view of a sphere of radius `r` whose nearest point is
+    /// `gap` in front of the eye, in a cube map of 256² faces.
+    fn centre(r: f32, gap: f32) -> (f32, f32) {
+        let (mesh, view, projected, hits) = sphere_band(r, gap, 192, 32, 1);
         let hit = hits[32].expect("the centre pixel sees the sphere");
         let (n, vv) = surface(&mesh, &hit, &view);
         let d = reflect_view(n, vv);
