@@ -227,6 +227,23 @@ fn present(src: &impl ChartRows, mapping: AnyMapping) -> u32 {
         .fold(0, |m, c| m | 1 << c)
 }
 
+/// How far ahead (in floats: 96 texels, 1 152 bytes) [`halve_row`] asks
+/// for the rows it reads.
+const HALVING_AHEAD: usize = 6 * 96;
+
+/// Asks the processor to start loading float `at` of both rows (where
+/// they have it), without waiting: a hint only. Does nothing off x86-64.
+#[inline(always)]
+fn ask_for_both(r0: &[f32], r1: &[f32], at: usize) {
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+    if let (Some(p), Some(q)) = (r0.get(at), r1.get(at)) {
+        safe_arch::prefetch_t0(p);
+        safe_arch::prefetch_t0(q);
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
+    let _ = (r0, r1, at);
+}
+
 /// One row of the even case: `dst[k]` the weighted sum
 /// ((a₀·t₀ + a₁·t₁) + b₀·t₂) + b₁·t₃ of texels a = `2k`, `2k + 1` of row
 /// `r0` and b of `r1` (chart order) with `taps[k]`, in f32, four floats at
@@ -236,6 +253,12 @@ fn present(src: &impl ChartRows, mapping: AnyMapping) -> u32 {
 /// made), and `dst` is written in the rows' stored order. The weights sum
 /// to 1 to f32 rounding, so the sum is within a few f32 roundings of the
 /// f64 mean of the four texels.
+///
+/// Both rows are asked for [`HALVING_AHEAD`] floats ahead of the texels
+/// being made (the first that far at once): rows of a cube face are short
+/// streams (12 KiB for 1024 texels) that the processor's own prefetching
+/// is slow to pick up, and without this, halving a 6 × 1024² cube waits
+/// on memory for most of its time (a fifth of it saved, two threads).
 fn halve_row<const TURNED: bool>(
     r0: &[[f32; 3]],
     r1: &[[f32; 3]],
@@ -259,7 +282,11 @@ fn halve_row<const TURNED: bool>(
     // (the same sums in the same order).
     let (f0, f1) = (r0.as_flattened(), r1.as_flattened());
     let pairs = f0.windows(7).step_by(6).zip(f1.windows(7).step_by(6));
+    for at in (0..HALVING_AHEAD).step_by(16) {
+        ask_for_both(f0, f1, at);
+    }
     for (k, (out, (a, b))) in dst[..n - 1].iter_mut().zip(pairs).enumerate() {
+        ask_for_both(f0, f1, 6 * k + HALVING_AHEAD);
         let t = tap(k);
         if t == [0.0; 4] {
             *out = [0.0; 3];
