@@ -230,7 +230,10 @@ fn the_no_mip_flag_parses_and_changes_the_picture() {
 /// it, so every one of its pixels is a level's grey (about ½, the weighted
 /// mean of 2 × 2 texels), never the base's black or white, while the plain
 /// lookups show the checks. A lookup on the object whose footprint were
-/// not measured (taken as 0, level 0) would show them too.
+/// not measured (taken as 0, level 0) would show them too. A view this
+/// small measures every footprint (its background is not kept at the
+/// base); the render's list of the lookups on the object, used where it
+/// is, has its own test (`the_lookups_on_the_object_are_listed_and_measured`).
 #[test]
 fn every_lookup_on_a_shrinking_mirror_reads_the_levels() {
     let repr = Representation::default_for(AnyMapping::Cube);
