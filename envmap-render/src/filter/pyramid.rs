@@ -38,7 +38,7 @@ use envmap_simd::Uv8;
 use wide::{f32x4, f32x8, i32x8, u32x8};
 
 use crate::error::Result;
-use crate::filter::sample::{Filter, Sampler};
+use crate::filter::sample::{Filter, Sampler, Source};
 use crate::filter::weights::TexelWeights;
 use crate::image::layout::check_compatible;
 use crate::image::{EnvImage, Representation, RgbImage};
@@ -449,7 +449,7 @@ impl Pyramid {
 /// corner, the wrapped column of a latlong, ...; [`Sampler`]), so that a
 /// bilinear footprint never leaves its chart's block. Disk charts keep the
 /// plain sampler: their rule renormalises over the taps inside the disk.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub(crate) struct Bordered {
     /// RGB floats, chart after chart, each `(w + 2) × (h + 2)` texels row
     /// by row, then eight spare floats.
@@ -457,7 +457,35 @@ pub(crate) struct Bordered {
     w: u32,
     h: u32,
     charts: u32,
+    /// Where the frames were last filled from, kept for filling them
+    /// again ([`Bordered::frame`]).
+    plan: Option<FramePlan>,
 }
+
+/// Two levels are equal where their texels are: the frame plan is only
+/// a record of where the frames came from.
+impl PartialEq for Bordered {
+    fn eq(&self, other: &Self) -> bool {
+        (&self.floats, self.w, self.h, self.charts)
+            == (&other.floats, other.w, other.h, other.charts)
+    }
+}
+
+/// Where each texel of a bordered level's frames is read from
+/// ([`Sampler::edge_source`]), for the mapping and the charts present it
+/// was found for: the same for every level of that size, so filling the
+/// frames of a level made again is a copy per texel.
+#[derive(Clone, Debug)]
+struct FramePlan {
+    mapping: AnyMapping,
+    present: u32,
+    /// A frame texel (its index in the texels) and where it comes from.
+    texels: Vec<(usize, Option<Source>)>,
+}
+
+/// Levels with fewer texels than this are made on one thread: below it,
+/// handing the rows to the other threads costs more than making them.
+const SMALL_LEVEL: usize = 1 << 15;
 
 impl Bordered {
     /// `img`'s charts with their borders: each stored row of a chart
@@ -467,7 +495,7 @@ impl Bordered {
         let (w, h) = img.cell_size();
         let mapping = img.mapping();
         let mut b = Self::blank(w, h, mapping.chart_count());
-        b.rows_mut().for_each(|(chart, j, dst)| {
+        b.rows().into_par_iter().for_each(|(chart, j, dst)| {
             if let Some((src, turned)) = img.chart_row(chart, j) {
                 dst.copy_from_slice(src);
                 if turned {
@@ -500,11 +528,23 @@ impl Bordered {
     /// [`Bordered::halved`] makes, where `src` has every chart (a chart it
     /// lacks keeps what this level held).
     fn halve_from(&mut self, src: &impl ChartRows, weights: &TexelWeights, mapping: AnyMapping) {
-        self.rows_mut()
-            .for_each_init(RowTaps::default, |taps, (chart, j, dst)| {
-                halve_chart_row(src, weights, chart, j, false, dst, taps);
-            });
+        let small = self.texels() < SMALL_LEVEL;
+        let rows = self.rows();
+        let halve = |taps: &mut RowTaps, (chart, j, dst): (u32, u32, &mut [[f32; 3]])| {
+            halve_chart_row(src, weights, chart, j, false, dst, taps);
+        };
+        if small {
+            let mut taps = RowTaps::default();
+            rows.into_iter().for_each(|r| halve(&mut taps, r));
+        } else {
+            rows.into_par_iter().for_each_init(RowTaps::default, halve);
+        }
         self.frame(mapping, present(src, mapping));
+    }
+
+    /// The number of texels inside the frames.
+    fn texels(&self) -> usize {
+        self.charts as usize * self.w as usize * self.h as usize
     }
 
     /// `img`'s bordered copy for reading many times ([`Level::of`]), or
@@ -522,14 +562,15 @@ impl Bordered {
             w,
             h,
             charts,
+            plan: None,
         }
     }
 
-    /// Every chart row inside the frames, in parallel: (chart, row, its
-    /// texels), row by row across the charts (each worker takes a run of
-    /// them: the same row of every chart, made with the same weights where
-    /// the charts share them, [`RowTaps`]).
-    fn rows_mut(&mut self) -> impl ParallelIterator<Item = (u32, u32, &mut [[f32; 3]])> {
+    /// Every chart row inside the frames: (chart, row, its texels), row by
+    /// row across the charts (a worker given a run of them makes the same
+    /// row of every chart, with the same weights where the charts share
+    /// them, [`RowTaps`]).
+    fn rows(&mut self) -> Vec<(u32, u32, &mut [[f32; 3]])> {
         let (w, bh) = (self.w as usize, self.h as usize + 2);
         let row = (w + 2) * 3;
         let blocks = self.charts as usize * bh * row;
@@ -545,37 +586,52 @@ impl Bordered {
             })
             .collect();
         rows.sort_by_key(|&(chart, j, _)| (j, chart));
-        rows.into_par_iter()
+        rows
     }
 
     /// Fills the one-texel frame around each chart in `present` (a bit per
-    /// chart) with what the edge rule reads there ([`Sampler::edge_texel`],
-    /// from the charts themselves).
+    /// chart) with what the edge rule reads there ([`Sampler::edge_source`],
+    /// from the charts themselves). Where each frame texel is read from is
+    /// found once and kept ([`FramePlan`]); a level made again in place
+    /// fills its frames by copying from there.
     fn frame(&mut self, mapping: AnyMapping, present: u32) {
         let (w, h) = (self.w, self.h);
         let (bw, bh) = (w as usize + 2, h as usize + 2);
-        let ring: Vec<(u32, usize, usize)> = (0..self.charts)
-            .filter(|c| present >> c & 1 != 0)
-            .flat_map(|c| {
-                let rows = [0, bh - 1]
-                    .into_iter()
-                    .flat_map(move |y| (0..bw).map(move |x| (x, y)));
-                let sides = (1..bh - 1).flat_map(move |y| [(0, y), (bw - 1, y)]);
-                rows.chain(sides).map(move |(x, y)| (c, x, y))
-            })
-            .collect();
         let blocks = self.charts as usize * bw * bh * 3;
-        let values: Vec<[f32; 3]> = {
-            let texels = self.floats[..blocks].as_chunks::<3>().0;
-            let sampler = Sampler::over_blocks(texels, w, h, mapping);
-            ring.par_iter()
-                .map(|&(c, x, y)| sampler.edge_texel(c, x as i64 - 1, y as i64 - 1))
-                .collect()
+        let plan = match self.plan.take() {
+            Some(p) if (p.mapping, p.present) == (mapping, present) => p,
+            _ => {
+                let texels = self.floats[..blocks].as_chunks::<3>().0;
+                let sampler = Sampler::over_blocks(texels, w, h, mapping);
+                let ring = (0..self.charts)
+                    .filter(|c| present >> c & 1 != 0)
+                    .flat_map(|c| {
+                        let rows = [0, bh - 1]
+                            .into_iter()
+                            .flat_map(move |y| (0..bw).map(move |x| (x, y)));
+                        let sides = (1..bh - 1).flat_map(move |y| [(0, y), (bw - 1, y)]);
+                        rows.chain(sides).map(move |(x, y)| (c, x, y))
+                    });
+                let texels = ring
+                    .map(|(c, x, y)| {
+                        let at = (c as usize * bh + y) * bw + x;
+                        (at, sampler.edge_source(c, x as i64 - 1, y as i64 - 1))
+                    })
+                    .collect();
+                FramePlan {
+                    mapping,
+                    present,
+                    texels,
+                }
+            }
         };
-        for (&(c, x, y), v) in ring.iter().zip(values) {
-            let at = ((c as usize * bh + y) * bw + x) * 3;
-            self.floats[at..at + 3].copy_from_slice(&v);
+        // Every source is inside a chart, never in a frame: the frames can
+        // be written while the charts are read.
+        let texels = self.floats[..blocks].as_chunks_mut::<3>().0;
+        for &(at, src) in &plan.texels {
+            texels[at] = src.map_or([0.0; 3], |s| s.value(texels));
         }
+        self.plan = Some(plan);
     }
 
     /// The charts without their frames, as an image in `repr`.
@@ -1405,8 +1461,10 @@ mod tests {
     /// width, the levels' atlas if not the map's, whether every level
     /// halves evenly): turned charts, a change of atlas, sizes that turn
     /// odd on the way down (40: 20, 10, 5, 2, 1; 24: 12, 6, 3, 1; 36: 18,
-    /// 9, ...), the non-cube edge rules and a disk map.
-    fn level_cases() -> [(Representation, u32, Option<Atlas>, bool); 8] {
+    /// 9, ...), the non-cube edge rules and a disk map; and a cube whose
+    /// first level is made by every thread (more than `SMALL_LEVEL` texels)
+    /// and the rest on one.
+    fn level_cases() -> [(Representation, u32, Option<Atlas>, bool); 9] {
         let strip = Atlas::CUBE_HORIZONTAL_STRIP;
         let cube = |atlas| Representation {
             atlas,
@@ -1417,6 +1475,7 @@ mod tests {
             (cube(Atlas::CUBE_VERTICAL_CROSS), 32, Some(strip), true),
             (cube(Atlas::CUBE_HORIZONTAL_CROSS), 40, Some(strip), false),
             (cube(Atlas::CUBE_VERTICAL_CROSS), 24, None, false),
+            (cube(Atlas::CUBE_HORIZONTAL_CROSS), 256, None, true),
             (other(AnyMapping::LatLong), 64, None, true),
             (other(AnyMapping::Octahedral), 24, None, false),
             (other(AnyMapping::Octahedral), 16, None, true),
@@ -1452,6 +1511,7 @@ mod tests {
     /// disk, nothing is made in place and the levels are left as they were.
     #[test]
     fn levels_remade_in_place_are_the_levels_made_anew() {
+        const { assert!(6 * 128 * 128 > SMALL_LEVEL && 6 * 64 * 64 < SMALL_LEVEL) };
         for (repr, cell, atlas, even) in level_cases() {
             let m = repr.mapping;
             let atlas = atlas.unwrap_or(repr.atlas);

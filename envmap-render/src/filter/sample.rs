@@ -178,7 +178,7 @@ impl<'a> Sampler<'a> {
     /// `(w + 2) × (h + 2)` texels, each chart upright inside a one-texel
     /// frame (the layout of the pyramid's bordered levels), `pixels` the
     /// blocks row by row: for reading the charts' edge rule
-    /// ([`Sampler::edge_texel`]) before their frames are filled.
+    /// ([`Sampler::edge_source`]) before their frames are filled.
     pub(crate) fn over_blocks(pixels: &'a [[f32; 3]], w: u32, h: u32, mapping: AnyMapping) -> Self {
         let rects = core::array::from_fn(|c| Rect {
             x0: 1,
@@ -235,12 +235,18 @@ impl<'a> Sampler<'a> {
     /// The texel `(i, j)` of `chart`, with `i < w`, `j < h`.
     #[inline]
     fn texel(&self, chart: u32, i: u32, j: u32) -> [f32; 3] {
+        self.pixels[self.texel_at(chart, i, j)]
+    }
+
+    /// Where texel `(i, j)` of `chart` is stored: its index in the texels.
+    #[inline]
+    fn texel_at(&self, chart: u32, i: u32, j: u32) -> usize {
         let r = self.rects[chart.min(self.charts - 1) as usize];
         let (x, y) = match r.turn {
             Turn::None => (r.x0 + i, r.y0 + j),
             Turn::Half => (r.x0 + self.cw - 1 - i, r.y0 + self.ch - 1 - j),
         };
-        self.pixels[y as usize * self.width + x as usize]
+        y as usize * self.width + x as usize
     }
 
     /// Samples at a chart point; `None` charts or NaN give black.
@@ -576,22 +582,31 @@ impl<'a> Sampler<'a> {
         acc
     }
 
-    /// Texel `(i, j)` of `chart`, `i` and `j` up to one texel beyond the
-    /// chart, with the representation's edge rule (what a bilinear tap
-    /// there reads): for building bordered copies of a chart. Black on a
-    /// disk chart's texels outside the disk.
-    pub(crate) fn edge_texel(&self, chart: u32, i: i64, j: i64) -> [f32; 3] {
-        self.fetch(chart, i, j, self.disk).unwrap_or([0.0; 3])
+    /// Where texel `(i, j)` of `chart` is read from, `i` and `j` up to one
+    /// texel beyond the chart, with the representation's edge rule (what a
+    /// bilinear tap there reads), as indices into the sampler's texels
+    /// ([`Source::value`]): for filling the frames of bordered copies of a
+    /// chart, the same for every image of this layout and size. `None`
+    /// (black) on a disk chart's texels outside the disk.
+    pub(crate) fn edge_source(&self, chart: u32, i: i64, j: i64) -> Option<Source> {
+        self.source(chart, i, j, self.disk)
     }
 
     /// Texel `(i, j)` of `chart` with the edge rule applied to indices
     /// outside the chart; `None` for a disk texel whose centre is outside.
     fn fetch(&self, chart: u32, i: i64, j: i64, disk: bool) -> Option<[f32; 3]> {
+        self.source(chart, i, j, disk).map(|s| s.value(self.pixels))
+    }
+
+    /// Where [`Sampler::fetch`] reads: the edge rule as texel indices.
+    fn source(&self, chart: u32, i: i64, j: i64, disk: bool) -> Option<Source> {
         let (w, h) = (i64::from(self.cw), i64::from(self.ch));
         let inside = (0..w).contains(&i) && (0..h).contains(&j);
         if inside && !disk {
-            return Some(self.texel(chart, i as u32, j as u32));
+            return Some(Source::Texel(self.texel_at(chart, i as u32, j as u32)));
         }
+        let texel =
+            |c: u32, i: i64, j: i64| Some(Source::Texel(self.texel_at(c, i as u32, j as u32)));
         match self.mapping {
             AnyMapping::LatLong => {
                 let (mut i, mut j) = (i, j);
@@ -599,12 +614,10 @@ impl<'a> Sampler<'a> {
                     j = if j < 0 { -1 - j } else { 2 * h - 1 - j };
                     i += w / 2;
                 }
-                Some(self.texel(0, i.rem_euclid(w) as u32, j.clamp(0, h - 1) as u32))
+                texel(0, i.rem_euclid(w), j.clamp(0, h - 1))
             }
-            AnyMapping::Cube => Some(self.cube_fetch(chart, i, j)),
-            AnyMapping::Tennisball => {
-                Some(self.texel(chart, i.clamp(0, w - 1) as u32, j.clamp(0, h - 1) as u32))
-            }
+            AnyMapping::Cube => self.cube_source(chart, i, j),
+            AnyMapping::Tennisball => texel(chart, i.clamp(0, w - 1), j.clamp(0, h - 1)),
             AnyMapping::Octahedral | AnyMapping::EqualAreaOctahedral => {
                 let (mut i, mut j) = (i, j);
                 if j < 0 || j >= h {
@@ -615,7 +628,7 @@ impl<'a> Sampler<'a> {
                     i = if i < 0 { -1 - i } else { 2 * w - 1 - i };
                     j = h - 1 - j;
                 }
-                Some(self.texel(0, i.clamp(0, w - 1) as u32, j.clamp(0, h - 1) as u32))
+                texel(0, i.clamp(0, w - 1), j.clamp(0, h - 1))
             }
             AnyMapping::SphereMap
             | AnyMapping::SphereMapGl
@@ -627,44 +640,77 @@ impl<'a> Sampler<'a> {
                 }
                 let u = (i as f32 + 0.5) / self.cw as f32;
                 let v = (j as f32 + 0.5) / self.ch as f32;
-                self.mapping
-                    .in_chart(chart, u, v)
-                    .then(|| self.texel(chart, i as u32, j as u32))
+                if self.mapping.in_chart(chart, u, v) {
+                    texel(chart, i, j)
+                } else {
+                    None
+                }
             }
         }
     }
 
     /// A cube texel index possibly beyond the face: follows the face plane
-    /// onto the neighbouring face; at corners averages the three texels.
-    fn cube_fetch(&self, face: u32, i: i64, j: i64) -> [f32; 3] {
+    /// onto the neighbouring face; at corners the three texels to average.
+    /// `None` (black) only where the plane misses every face.
+    fn cube_source(&self, face: u32, i: i64, j: i64) -> Option<Source> {
         let (w, h) = (i64::from(self.cw), i64::from(self.ch));
         let iout = !(0..w).contains(&i);
         let jout = !(0..h).contains(&j);
+        let one = |s: Option<Source>| match s {
+            Some(Source::Texel(k)) => Some(k),
+            _ => None,
+        };
         if iout && jout {
             let ic = i.clamp(0, w - 1);
             let jc = j.clamp(0, h - 1);
-            let a = self.cube_fetch(face, i, jc);
-            let b = self.cube_fetch(face, ic, j);
-            let c = self.texel(face, ic as u32, jc as u32);
-            return [
-                (a[0] + b[0] + c[0]) / 3.0,
-                (a[1] + b[1] + c[1]) / 3.0,
-                (a[2] + b[2] + c[2]) / 3.0,
-            ];
+            let a = one(self.cube_source(face, i, jc));
+            let b = one(self.cube_source(face, ic, j));
+            let c = self.texel_at(face, ic as u32, jc as u32);
+            return Some(Source::Corner(a, b, c));
         }
         if !iout && !jout {
-            return self.texel(face, i as u32, j as u32);
+            return Some(Source::Texel(self.texel_at(face, i as u32, j as u32)));
         }
         let sc = 2.0 * ((i as f32 + 0.5) / self.cw as f32) - 1.0;
         let tc = 2.0 * ((j as f32 + 0.5) / self.ch as f32) - 1.0;
         let f = CubeFace::from_index(face).unwrap_or(CubeFace::PosX);
-        match Cube::forward(face_direction(f, sc, tc)) {
-            Some(p) => self.texel(
+        Cube::forward(face_direction(f, sc, tc)).map(|p| {
+            Source::Texel(self.texel_at(
                 p.chart,
                 texel_index(p.u, self.cw),
                 texel_index(p.v, self.ch),
-            ),
-            None => [0.0; 3],
+            ))
+        })
+    }
+}
+
+/// Where an edge texel is read from ([`Sampler::edge_source`]): indices
+/// into a sampler's texels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Source {
+    /// One texel.
+    Texel(usize),
+    /// A cube corner: the mean of the texels across both edges (black
+    /// where the face plane misses, `None`) and the corner texel itself.
+    Corner(Option<usize>, Option<usize>, usize),
+}
+
+impl Source {
+    /// The value read from `texels`: one texel, or the mean of a cube
+    /// corner's three, `(a + b + c) / 3` per channel.
+    #[inline]
+    pub(crate) fn value(self, texels: &[[f32; 3]]) -> [f32; 3] {
+        let at = |k: Option<usize>| k.and_then(|k| texels.get(k)).copied().unwrap_or([0.0; 3]);
+        match self {
+            Source::Texel(k) => at(Some(k)),
+            Source::Corner(a, b, c) => {
+                let (a, b, c) = (at(a), at(b), at(Some(c)));
+                [
+                    (a[0] + b[0] + c[0]) / 3.0,
+                    (a[1] + b[1] + c[1]) / 3.0,
+                    (a[2] + b[2] + c[2]) / 3.0,
+                ]
+            }
         }
     }
 }
