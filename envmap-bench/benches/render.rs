@@ -3,8 +3,10 @@
 //! pixel, per pixel on one and two threads and per vertex on two, beside a
 //! plain copy of the output image's bytes; per pixel with mip-aware lookups
 //! on two threads (`per-pixel-mip`: the map's pyramid built inside each
-//! render, as `envmap render` does, and read trilinearly at each
-//! reflection's footprint); and lit: glossy plastic at
+//! render, as `envmap render` does, into the memory of the levels the
+//! previous render kept, and read trilinearly at each reflection's
+//! footprint; `mip-levels`: the levels alone, into new memory, and
+//! `mip-levels-rebuilt` into the memory of the last); and lit: glossy plastic at
 //! roughness 0.5 by the split sum on two threads, from that sky's maps
 //! (baked once, outside the timing): `plastic-r0.5-split-sum` reads the
 //! mip chain `envmap bake` makes by default (512² down to 2², linear rule,
@@ -57,6 +59,9 @@ fn bench(c: &mut Criterion) {
     // Levels made again for each render into the memory of the last
     // (`MipLevels::rebuild`), as for a map that changes between frames.
     let mut again = levels.clone();
+    g.bench_function("mip-levels-rebuilt/2-threads", |b| {
+        b.iter(|| pool.install(|| again.rebuild(black_box(&env)).expect("levels")))
+    });
     let opts = RenderOptions {
         width,
         height,

@@ -69,7 +69,8 @@
 //!
 //! The pyramid is built for each render unless made beforehand
 //! ([`MipLevels`], [`RenderOptions::mip_levels`]; made again in place for a
-//! map that changes, [`MipLevels::rebuild`]): the map itself is read in place
+//! map that changes, [`MipLevels::rebuild`]; a render building its own builds
+//! them into the memory of the last render's, [`release_kept_levels`]): the map itself is read in place
 //! as level 0 ([`Trilinear::over_prepared`]); the levels below it (every level down
 //! to 1², about a third of the map's texels) are made from it, each in one
 //! parallel pass over the level above, written straight into its copy with
@@ -188,12 +189,13 @@ pub struct RenderOptions<'a> {
     /// For [`RenderOptions::mip`]: the map's levels made beforehand
     /// ([`MipLevels::new`]), so that many renders of one map build them
     /// once; ignored unless made from a map of the environment's mapping
-    /// and size (then they are built for the render, as when `None`). For
-    /// a map that changes between renders, keep one [`MipLevels`] and
-    /// [`MipLevels::rebuild`] it before each: a render that builds its own
-    /// allocates them anew (a third of the map's size), and the system's
-    /// work of handing out and taking back that memory can cost more than
-    /// building them.
+    /// and size (then they are built for the render, as when `None`).
+    /// A render that builds its own levels builds them into the memory of
+    /// the last levels a render built, where it has the same geometry
+    /// ([`MipLevels::rebuild`]), and keeps theirs for the next: a third of
+    /// the map's size stays allocated between renders, one set per process,
+    /// until [`release_kept_levels`]. (Memory new to the process costs
+    /// the system more to hand out than the levels cost to build.)
     pub mip_levels: Option<&'a MipLevels>,
     /// Called from the workers as bands of rows finish, with the bands done
     /// and their number (for a progress bar on long renders: the reference).
@@ -301,6 +303,58 @@ impl MipLevels {
     #[must_use]
     pub fn fits(&self, map: &EnvImage) -> bool {
         map.mapping() == self.mapping && map.cell_size() == self.cell
+    }
+}
+
+/// The levels the last render that built its own left behind, for the
+/// next to build into ([`RenderOptions::mip_levels`]).
+static KEPT_LEVELS: std::sync::Mutex<Option<MipLevels>> = std::sync::Mutex::new(None);
+
+/// Frees the memory of the mip levels that renders building their own
+/// keep for the next such render ([`RenderOptions::mip_levels`]): about a
+/// third of the size of the last map rendered mip-aware without levels
+/// given. The next such render allocates them anew.
+pub fn release_kept_levels() {
+    drop(kept_levels().take());
+}
+
+/// The kept levels' slot; a render that panicked while holding it left
+/// nothing half-made in it (it only ever holds whole levels).
+fn kept_levels() -> std::sync::MutexGuard<'static, Option<MipLevels>> {
+    KEPT_LEVELS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Levels a render builds for itself ([`RenderOptions::mip_levels`] not
+/// given): into the kept ones' memory where they have `map`'s geometry,
+/// kept again for the next render when this one is done with them.
+struct OwnLevels(Option<MipLevels>);
+
+impl OwnLevels {
+    /// The levels of `map`, built into the kept levels where they fit.
+    fn of(map: &EnvImage) -> Result<Self> {
+        let kept = kept_levels().take();
+        let levels = match kept {
+            Some(mut l) if l.fits(map) => {
+                l.rebuild(map)?;
+                l
+            }
+            other => {
+                // Levels of another map go before these are made.
+                drop(other);
+                MipLevels::new(map)?
+            }
+        };
+        Ok(Self(Some(levels)))
+    }
+}
+
+impl Drop for OwnLevels {
+    fn drop(&mut self) {
+        if let Some(l) = self.0.take() {
+            *kept_levels() = Some(l);
+        }
     }
 }
 
@@ -528,8 +582,8 @@ fn render_map(
             match opts.mip_levels.filter(|l| l.fits(e)) {
                 Some(l) => Some((e, l)),
                 None => {
-                    built = MipLevels::new(e)?;
-                    Some((e, &built))
+                    built = OwnLevels::of(e)?;
+                    built.0.as_ref().map(|l| (e, l))
                 }
             }
         }
