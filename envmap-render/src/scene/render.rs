@@ -672,18 +672,29 @@ fn render_map(
     hi.par_chunks_mut((w * BAND) as usize)
         .zip(bins.par_iter())
         .enumerate()
-        .for_each(|(band, (px, tris))| {
+        .for_each_init(BandScratch::default, |scratch, (band, (px, tris))| {
             if cancel::is_set(opts.cancel) {
                 return;
             }
+            let BandScratch {
+                hits,
+                hit_at,
+                need,
+                lookups: band_dirs,
+                spread,
+                slot,
+                buffer,
+            } = scratch;
             let y0 = band as u32 * BAND;
             let rows = (px.len() / w as usize) as u32;
-            let mut hits: Vec<Option<Hit>> = vec![None; px.len()];
+            hits.clear();
+            hits.resize(px.len(), None);
             for &t in tris {
                 let tri = mesh.triangles[t as usize];
                 let v = tri.map(|i| projected[i as usize]);
-                raster(&v, t, y0, rows, w, &mut hits);
+                raster(&v, t, y0, rows, w, hits);
             }
+            let hits: &[Option<Hit>] = hits;
             // Lit materials: shaded here, straight into the band (which
             // starts black), per pixel (per vertex: from lookup points
             // interpolated across the triangle); the lookups below then
@@ -692,11 +703,11 @@ fn render_map(
             // The pixels hit, in order, found in one pass over `hits` for
             // the shading and the lookups below (a mirror with its
             // background looks up every pixel and needs no list).
-            let hit_at: Vec<usize> = if mirror && opts.background {
-                Vec::new()
-            } else {
-                (0..px.len()).filter(|&k| hits[k].is_some()).collect()
-            };
+            hit_at.clear();
+            if !(mirror && opts.background) {
+                hit_at.extend((0..px.len()).filter(|&k| hits[k].is_some()));
+            }
+            let hit_at: &[usize] = hit_at;
             // Whether every hit of the band is shaded already.
             let mut shaded = false;
             if let (
@@ -805,34 +816,37 @@ fn render_map(
             // angle it turns through from one pixel to the next.
             // Only the pixels that need them: the background (when shown)
             // and mirror hits; `need[j]` is the pixel of lookup `j`.
-            let need: Vec<usize> = match (mirror, opts.background) {
-                (true, true) => (0..px.len()).collect(),
-                (true, false) => hit_at,
-                (false, true) => missed(&hit_at, px.len()),
-                (false, false) => Vec::new(),
-            };
+            need.clear();
+            match (mirror, opts.background) {
+                (true, true) => need.extend(0..px.len()),
+                (true, false) => need.extend_from_slice(hit_at),
+                (false, true) => missed(hit_at, px.len(), need),
+                (false, false) => {}
+            }
+            let need: &[usize] = need;
+            band_lookups(mesh, &view, hits, need, w, y0, opts.fresnel_f0, band_dirs);
             let BandLookups {
-                mut dirs,
+                dirs,
                 fresnel: fres,
                 on_object,
-            } = band_lookups(mesh, &view, &hits, &need, w, y0, opts.fresnel_f0);
-            let spread = if trilinear.is_some() {
+            } = band_dirs;
+            spread.clear();
+            if trilinear.is_some() {
                 let bg = background_at_base;
-                let on = &on_object;
-                footprints(mesh, &projected, &view, &hits, &need, &dirs, w, y0, bg, on)
-            } else {
-                Vec::new()
-            };
+                let (on, out) = (&on_object[..], (&mut *spread, &mut *slot));
+                footprints(
+                    mesh, &projected, &view, hits, need, dirs, w, y0, bg, on, out,
+                );
+            }
             // The looked-up values, `vals[j]` for pixel `need[j]`: straight
             // into the band when every pixel is looked up (a mirror with its
             // background), else into a buffer scattered afterwards.
             let every = need.len() == px.len();
-            let mut buffer = if every {
-                Vec::new()
-            } else {
-                vec![[0.0f32; 3]; need.len()]
-            };
-            let vals: &mut [[f32; 3]] = if every { &mut *px } else { &mut buffer };
+            buffer.clear();
+            if !every {
+                buffer.resize(need.len(), [0.0; 3]);
+            }
+            let vals: &mut [[f32; 3]] = if every { &mut *px } else { &mut *buffer };
             if let (Some(sampler), None) = (sampler.as_ref(), analytic) {
                 lookups(
                     sampler,
@@ -840,10 +854,10 @@ fn render_map(
                     per_vertex,
                     trilinear.as_ref().zip(texels),
                     mesh,
-                    &hits,
-                    &need,
-                    &mut dirs,
-                    &spread,
+                    hits,
+                    need,
+                    dirs,
+                    spread,
                     &vertex_uv,
                     to_map,
                     opts.filter,
@@ -851,20 +865,20 @@ fn render_map(
                 );
             } else {
                 let f = analytic.unwrap_or(&|_| [0.0; 3]);
-                for (v, d) in vals.iter_mut().zip(&dirs) {
+                for (v, d) in vals.iter_mut().zip(dirs.iter()) {
                     *v = f(*d);
                 }
             }
             let tinted = |v: [f32; 3], f: f32| [0, 1, 2].map(|c| v[c] * f * opts.tint[c]);
             if every {
-                for ((out, hit), f) in px.iter_mut().zip(&hits).zip(&fres) {
+                for ((out, hit), f) in px.iter_mut().zip(hits).zip(fres.iter()) {
                     if hit.is_some() {
                         *out = tinted(*out, *f);
                     }
                 }
             } else {
                 // The lit pixels are in place; the rest black but these.
-                for ((&k, v), f) in need.iter().zip(&buffer).zip(&fres) {
+                for ((&k, v), f) in need.iter().zip(buffer.iter()).zip(fres.iter()) {
                     px[k] = match hits[k] {
                         None => *v,
                         Some(_) => tinted(*v, *f),
@@ -880,7 +894,28 @@ fn render_map(
     Ok(downsample(hi, w, h, s))
 }
 
+/// The buffers a worker's bands are made in, kept from band to band:
+/// allocating them for each band (a megabyte and a half for a band of a
+/// 1080p frame) handed the system pages to fault in and zero, more or
+/// fewer from render to render as the allocator kept or returned them.
+#[derive(Default)]
+struct BandScratch {
+    /// What each pixel of the band sees.
+    hits: Vec<Option<Hit>>,
+    /// The pixels hit, in order.
+    hit_at: Vec<usize>,
+    /// The pixels looked up, in order.
+    need: Vec<usize>,
+    lookups: BandLookups,
+    /// The lookups' footprints, and [`footprints`]' pixel-to-lookup table.
+    spread: Vec<f32>,
+    slot: Vec<u32>,
+    /// The looked-up values where not every pixel is looked up.
+    buffer: Vec<[f32; 3]>,
+}
+
 /// What a band's lookups start from ([`band_lookups`]).
+#[derive(Default)]
 struct BandLookups {
     /// Lookup `j`'s direction (world axes): the reflection at a pixel hit,
     /// else the view ray.
@@ -896,7 +931,9 @@ struct BandLookups {
 /// The directions to look up for the pixels `need` of a band of rows from
 /// `y0`, `w` wide: the reflection (per pixel) where the pixel is hit, the
 /// view ray through its centre elsewhere; with each, Schlick's factor for
-/// `fresnel_f0`, and which lookups are on the object.
+/// `fresnel_f0`, and which lookups are on the object; into `out` (what it
+/// held is dropped).
+#[allow(clippy::too_many_arguments)]
 fn band_lookups(
     mesh: &Mesh,
     view: &View,
@@ -905,10 +942,17 @@ fn band_lookups(
     w: u32,
     y0: u32,
     fresnel_f0: Option<f32>,
-) -> BandLookups {
-    let mut dirs = Vec::with_capacity(need.len());
-    let mut fresnel = vec![1.0f32; need.len()];
-    let mut on_object = Vec::new();
+    out: &mut BandLookups,
+) {
+    let BandLookups {
+        dirs,
+        fresnel,
+        on_object,
+    } = out;
+    dirs.clear();
+    fresnel.clear();
+    fresnel.resize(need.len(), 1.0);
+    on_object.clear();
     for (j, &k) in need.iter().enumerate() {
         let (x, y) = (
             (k as u32 % w) as f32 + 0.5,
@@ -928,23 +972,17 @@ fn band_lookups(
         };
         dirs.push(d);
     }
-    BandLookups {
-        dirs,
-        fresnel,
-        on_object,
-    }
 }
 
-/// The indices below `n` that are not in `at` (ascending), in order: the
-/// background of a band from its pixels hit.
-fn missed(at: &[usize], n: usize) -> Vec<usize> {
-    let mut out = Vec::with_capacity(n.saturating_sub(at.len()));
+/// The indices below `n` that are not in `at` (ascending), in order,
+/// added to `out`: the background of a band from its pixels hit.
+fn missed(at: &[usize], n: usize, out: &mut Vec<usize>) {
+    out.reserve(n.saturating_sub(at.len()));
     let mut next = 0;
     for &k in at.iter().chain(core::iter::once(&n)) {
         out.extend(next..k);
         next = k + 1;
     }
-    out
 }
 
 /// The map lookups of one band: directions `dirs` (world axes, turned into
@@ -1112,7 +1150,8 @@ fn footprint(
 /// With `background_at_base` ([`background_stays_at_base`]) a background
 /// pixel's footprint is not measured but given as 0 (its level is 0
 /// either way), and only the lookups `on_object` (those of pixels hit,
-/// ascending) are visited.
+/// ascending) are visited. Into `out.0` (what it held is dropped); `out.1`
+/// is room for a table from pixels to lookups.
 #[allow(clippy::too_many_arguments)]
 fn footprints(
     mesh: &Mesh,
@@ -1125,13 +1164,14 @@ fn footprints(
     y0: u32,
     background_at_base: bool,
     on_object: &[usize],
-) -> Vec<f32> {
+    (out, slot): (&mut Vec<f32>, &mut Vec<u32>),
+) {
     let (w32, w) = (w, w as usize);
     // Pixel → its lookup, where it has one.
     let every = need.len() == hits.len();
-    let mut slot = Vec::new();
+    slot.clear();
     if !every {
-        slot = vec![u32::MAX; hits.len()];
+        slot.resize(hits.len(), u32::MAX);
         for (j, &k) in need.iter().enumerate() {
             slot[k] = j as u32;
         }
@@ -1173,18 +1213,15 @@ fn footprints(
             footprint(mesh, projected, hit, view, px, py, d)
         })
     };
+    out.clear();
     if background_at_base {
         // Only the object's lookups are measured; the rest stay 0.
-        let mut out = vec![0.0f32; need.len()];
+        out.resize(need.len(), 0.0);
         for &j in on_object {
             out[j] = measure(need[j], dirs[j]);
         }
-        out
     } else {
-        need.iter()
-            .zip(dirs)
-            .map(|(&k, &d)| measure(k, d))
-            .collect()
+        out.extend(need.iter().zip(dirs).map(|(&k, &d)| measure(k, d)));
     }
 }
 
@@ -1383,9 +1420,13 @@ mod tests {
             (0..12).collect(),
         ] {
             let want: Vec<usize> = (0..n).filter(|k| !at.contains(k)).collect();
-            assert_eq!(missed(&at, n), want, "{at:?}");
+            let mut got = Vec::new();
+            missed(&at, n, &mut got);
+            assert_eq!(got, want, "{at:?}");
         }
-        assert!(missed(&[], 0).is_empty());
+        let mut none = Vec::new();
+        missed(&[], 0, &mut none);
+        assert!(none.is_empty());
     }
 
     /// `lod8`'s level (log2 eight at a time through `wide`'s `ln`) against
@@ -1518,30 +1559,47 @@ mod tests {
     /// each way a band chooses its lookups (every pixel, the pixels hit,
     /// the background); measured from that list with the background kept
     /// at the base, their footprints are the ones measured pixel by pixel,
-    /// bit for bit, and every other footprint is 0.
+    /// bit for bit, and every other footprint is 0. The buffers are reused
+    /// from one way to the next, as a worker reuses them from band to band.
     #[test]
     fn the_lookups_on_the_object_are_listed_and_measured() {
         let (w, y0) = (64, 24);
         let (mesh, view, projected, hits) = sphere_band(1.0, 7.0, 48, y0, 16);
         let hit_at: Vec<usize> = (0..hits.len()).filter(|&k| hits[k].is_some()).collect();
         assert!(hit_at.len() > 100 && hit_at.len() < hits.len() - 100);
+        let mut background = Vec::new();
+        missed(&hit_at, hits.len(), &mut background);
+        let (mut band, mut all, mut kept, mut slot) = Default::default();
         for need in [
             (0..hits.len()).collect::<Vec<_>>(),
             hit_at.clone(),
-            missed(&hit_at, hits.len()),
+            background,
         ] {
-            let band = band_lookups(&mesh, &view, &hits, &need, w, y0, None);
+            band_lookups(&mesh, &view, &hits, &need, w, y0, None, &mut band);
             let want: Vec<usize> = (0..need.len())
                 .filter(|&j| hits[need[j]].is_some())
                 .collect();
             assert_eq!(band.on_object, want);
+            assert_eq!(
+                (band.dirs.len(), band.fresnel.len()),
+                (need.len(), need.len())
+            );
             let (dirs, on) = (&band.dirs, &band.on_object);
-            let all = footprints(
-                &mesh, &projected, &view, &hits, &need, dirs, w, y0, false, on,
+            let args = (
+                &mesh,
+                &projected[..],
+                &view,
+                &hits[..],
+                &need[..],
+                &dirs[..],
             );
-            let kept = footprints(
-                &mesh, &projected, &view, &hits, &need, dirs, w, y0, true, on,
-            );
+            let measured = |kept_at_base: bool, out: &mut Vec<f32>, slot: &mut Vec<u32>| {
+                let (m, p, v, h, n, d) = args;
+                footprints(m, p, v, h, n, d, w, y0, kept_at_base, on, (out, slot));
+            };
+            measured(false, &mut all, &mut slot);
+            measured(true, &mut kept, &mut slot);
+            assert_eq!((all.len(), kept.len()), (need.len(), need.len()));
             for (j, (a, k)) in all.iter().zip(&kept).enumerate() {
                 if on.contains(&j) {
                     assert!(*a > 0.0 && a.to_bits() == k.to_bits(), "{j}: {a} {k}");
