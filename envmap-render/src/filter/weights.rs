@@ -16,7 +16,8 @@ use crate::par::*;
 use envmap_core::texel::{texel_bounds, texel_center};
 use envmap_core::{AnyMapping, Mapping};
 use envmap_simd::solid_angle::cube_face4;
-use wide::f64x4;
+use envmap_simd::Uv8;
+use wide::{f32x8, f64x4, i32x8};
 
 /// Texel solid angles of a representation's charts, `w × h` texels each;
 /// see the [module docs](self).
@@ -208,6 +209,43 @@ impl TexelWeights {
         self.folded.get(a * (a + 1) / 2 + b).copied().unwrap_or(0.0)
     }
 
+    /// The f32 solid angles of the texels eight chart points land in:
+    /// lane `k` is [`TexelWeights::get_f32`] of texel
+    /// (min(⌊clamp(u, 0, 1)·w⌋, w − 1), the same in v) of its chart, a NaN
+    /// coordinate counting as 0, bit for bit. With the folded table (a
+    /// square cube face's, [`TexelWeights::for_lookups`]) the texels are
+    /// found and folded eight at a time, leaving only the eight loads.
+    #[inline]
+    #[must_use]
+    pub fn get8_f32(&self, q: &Uv8) -> f32x8 {
+        let (w, h) = (self.w, self.h);
+        // clamp(u, 0, 1), NaN to 0 (`max` takes the other lane where one is
+        // NaN), times the size; ≥ 0, so truncation is the floor.
+        let texel = |u: f32x8, n: u32| {
+            let x = u.max(f32x8::ZERO).min(f32x8::ONE) * f32x8::splat(n as f32);
+            x.fast_trunc_int().min(i32x8::splat(n as i32 - 1))
+        };
+        let (i, j) = (texel(q.u, w), texel(q.v, h));
+        let chart = q.chart.to_array();
+        if self.folded.is_empty() || w != h {
+            let (i, j) = (i.to_array(), j.to_array());
+            return f32x8::new(core::array::from_fn(|k| {
+                self.get_f32(chart[k], i[k] as u32, j[k] as u32)
+            }));
+        }
+        // Folded into the quadrant, then below its diagonal: row a ≥ b.
+        let last = i32x8::splat(w as i32 - 1);
+        let (i, j) = (i.min(last - i), j.min(last - j));
+        let (a, b) = (i.max(j).to_array(), i.min(j).to_array());
+        f32x8::new(core::array::from_fn(|k| {
+            let (a, b) = (a[k] as usize, b[k] as usize);
+            if chart[k] >= self.charts {
+                return 0.0;
+            }
+            self.folded.get(a * (a + 1) / 2 + b).copied().unwrap_or(0.0)
+        }))
+    }
+
     /// Row `j` of `chart`, `w` values.
     #[must_use]
     pub fn row(&self, chart: u32, j: u32) -> Vec<f64> {
@@ -354,6 +392,7 @@ pub fn channel_energy(img: &crate::image::EnvImage) -> ChannelEnergy {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use envmap_core::ChartUv;
 
     /// A row at once is each texel's weight: every kind of table, odd and
     /// even sizes, rows out of range.
@@ -413,21 +452,24 @@ mod tests {
         }
     }
 
+    /// Tables read by lookups: square cube faces folded (odd and even
+    /// sizes), a cube's oblong faces, a latlong's rows, a table per chart.
+    const LOOKUP_CASES: [(AnyMapping, u32, u32); 7] = [
+        (AnyMapping::Cube, 1, 1),
+        (AnyMapping::Cube, 2, 2),
+        (AnyMapping::Cube, 7, 7),
+        (AnyMapping::Cube, 16, 16),
+        (AnyMapping::Cube, 6, 4),
+        (AnyMapping::LatLong, 12, 6),
+        (AnyMapping::Octahedral, 9, 9),
+    ];
+
     /// The f32 lookup is the f64 one rounded, bit for bit, through the
     /// folded table of a square cube face (odd and even sizes, every face,
     /// texels out of range) and the plain rounding elsewhere.
     #[test]
     fn an_f32_lookup_is_the_f64_weight_rounded() {
-        let cases = [
-            (AnyMapping::Cube, 1, 1),
-            (AnyMapping::Cube, 2, 2),
-            (AnyMapping::Cube, 7, 7),
-            (AnyMapping::Cube, 16, 16),
-            (AnyMapping::Cube, 6, 4),
-            (AnyMapping::LatLong, 12, 6),
-            (AnyMapping::Octahedral, 9, 9),
-        ];
-        for (m, w, h) in cases {
+        for (m, w, h) in LOOKUP_CASES {
             let t = TexelWeights::new(m, w, h).for_lookups();
             if m == AnyMapping::Cube && w == h {
                 assert_eq!(
@@ -445,6 +487,44 @@ mod tests {
                             "{m} {w}×{h} {chart} ({i}, {j})"
                         );
                     }
+                }
+            }
+        }
+    }
+
+    /// Eight chart points at a time, folded or not, are the texels the
+    /// scalar rule finds, looked up one at a time: over each mapping's
+    /// texel edges and centres, past both ends, NaN and charts out of
+    /// range.
+    #[test]
+    fn eight_lookups_are_eight_single_ones() {
+        for (m, w, h) in LOOKUP_CASES {
+            let t = TexelWeights::new(m, w, h).for_lookups();
+            // Texel edges and centres, and beyond: −0.5 … 1.5 in eighths
+            // of a texel, then the odd ones.
+            let mut coords: Vec<f32> = (-4 * w as i32..=12 * w as i32)
+                .map(|k| k as f32 / (8 * w) as f32)
+                .collect();
+            coords.extend([f32::NAN, -0.0, 1.0, f32::INFINITY, f32::NEG_INFINITY]);
+            coords.extend([1.0 - f32::EPSILON / 2.0, f32::MIN_POSITIVE]);
+            let points: Vec<ChartUv> = (0..=m.chart_count())
+                .flat_map(|c| {
+                    let coords = &coords;
+                    coords.iter().enumerate().map(move |(k, &u)| {
+                        // v runs through the same values in another order.
+                        let v = coords[(k * 7 + 3) % coords.len()];
+                        ChartUv::new(c, u, v)
+                    })
+                })
+                .collect();
+            for p in points.chunks(8) {
+                let mut lanes = [ChartUv::default(); 8];
+                lanes[..p.len()].copy_from_slice(p);
+                let got = t.get8_f32(&Uv8::from_chart_uvs(&lanes)).to_array();
+                for (c, g) in lanes.iter().zip(got) {
+                    let texel = |x: f32, n: u32| ((x.clamp(0.0, 1.0) * n as f32) as u32).min(n - 1);
+                    let want = t.get_f32(c.chart, texel(c.u, w), texel(c.v, h));
+                    assert_eq!(g.to_bits(), want.to_bits(), "{m} {w}×{h} {c:?}");
                 }
             }
         }

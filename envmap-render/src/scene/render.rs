@@ -1269,18 +1269,16 @@ fn weights_at(v: &[(f32, f32, f32); 3], px: f32, py: f32) -> Option<[f32; 3]> {
 /// The mip level of eight lookups: log2 of each footprint (radians) over
 /// the angular size of the base texel it lands in (the square root of
 /// that texel's solid angle), plus [`LOD_BIAS`], at least 0; 0 where the
-/// texel holds no direction (a disk's corners).
+/// texel holds no direction (a disk's corners). The texels are found
+/// eight at a time ([`TexelWeights::get8_f32`]); lanes past `spread`'s
+/// length have footprint 0, level 0.
 fn lod8(texels: &TexelWeights, q: &Uv8, spread: &[f32]) -> f32x8 {
-    let (cw, ch) = texels.size();
-    let (chart, u, v) = (q.chart.to_array(), q.u.to_array(), q.v.to_array());
-    let (mut omega, mut s) = ([0.0f32; LANES], [0.0f32; LANES]);
-    for (k, sp) in spread.iter().enumerate().take(LANES) {
-        let i = ((u[k].clamp(0.0, 1.0) * cw as f32) as u32).min(cw - 1);
-        let j = ((v[k].clamp(0.0, 1.0) * ch as f32) as u32).min(ch - 1);
-        omega[k] = texels.get_f32(chart[k], i, j);
-        s[k] = *sp;
+    let omega = texels.get8_f32(q);
+    let mut s = [0.0f32; LANES];
+    for (s, sp) in s.iter_mut().zip(spread) {
+        *s = *sp;
     }
-    let (omega, s) = (f32x8::new(omega), f32x8::new(s));
+    let s = f32x8::new(s);
     // log2(s / √Ω) = ½ log2(s² / Ω), eight at a time. Where s² / Ω ≤ 4
     // the level is at most 0 (the bias is −1), and it is 0 where Ω is 0
     // or the ratio is not finite.
