@@ -156,39 +156,23 @@ fn halve_chart_row(
 }
 
 /// The weights of the four texels each texel of one halved row is made
-/// from, kept for the next row made: the six faces of a cube (a latlong's
-/// rows) share their weights, so a row of every face is made with the
-/// weights found once.
+/// from ([`TexelWeights::halving_taps`]), kept for the next row made: the
+/// six faces of a cube (a latlong's rows) share their weights, so a row of
+/// every face is made with the weights found once.
 #[derive(Default)]
 struct RowTaps {
     /// The chart (0 where [`TexelWeights::shared`]) and row made last.
     made: Option<(u32, u32)>,
     taps: Vec<[f32; 4]>,
-    w0: Vec<f64>,
-    w1: Vec<f64>,
+    rows: [Vec<f64>; 2],
 }
 
 impl RowTaps {
-    /// The weights of row `cj` of `chart` one level down: for texel `k`,
-    /// those of texels `2k` and `2k + 1` of rows `2cj` and `2cj + 1` (in
-    /// chart order), divided by their sum in f64 and rounded to f32; all 0
-    /// where their sum is 0.
+    /// The weights of row `cj` of `chart` one level down.
     fn of(&mut self, weights: &TexelWeights, chart: u32, cj: u32) -> &[[f32; 4]] {
         let key = (if weights.shared() { 0 } else { chart }, cj);
         if self.made != Some(key) {
-            weights.row_into(chart, 2 * cj, &mut self.w0);
-            weights.row_into(chart, 2 * cj + 1, &mut self.w1);
-            let pairs = self.w0.chunks_exact(2).zip(self.w1.chunks_exact(2));
-            self.taps.clear();
-            self.taps.extend(pairs.map(|(a, b)| {
-                let sum = a[0] + a[1] + b[0] + b[1];
-                if sum > 0.0 {
-                    let inv = 1.0 / sum;
-                    [a[0], a[1], b[0], b[1]].map(|w| (w * inv) as f32)
-                } else {
-                    [0.0; 4]
-                }
-            }));
+            weights.halving_taps(chart, cj, &mut self.rows, &mut self.taps);
             self.made = Some(key);
         }
         &self.taps

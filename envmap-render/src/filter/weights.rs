@@ -111,6 +111,20 @@ fn fold_diagonal(t: &[f64], q: u32) -> Vec<f32> {
         .collect()
 }
 
+/// Four texels' solid angles, two from each of two rows, as the weights
+/// of their mean ([`TexelWeights::halving_taps`]): each over the sum
+/// (a₀ + a₁) + (b₀ + b₁), rounded to f32; all 0 where the sum is 0.
+#[inline]
+fn halving_tap(a: [f64; 2], b: [f64; 2]) -> [f32; 4] {
+    let sum = (a[0] + a[1]) + (b[0] + b[1]);
+    if sum > 0.0 {
+        let inv = 1.0 / sum;
+        [a[0], a[1], b[0], b[1]].map(|w| (w * inv) as f32)
+    } else {
+        [0.0; 4]
+    }
+}
+
 /// The weight of one texel: its solid angle, or 0 where its centre is
 /// outside the chart.
 #[inline]
@@ -275,6 +289,56 @@ impl TexelWeights {
                 out.extend(half[..w - qw].iter().rev());
             }
             Kind::PerChart(t) => out.extend_from_slice(&t[chart as usize][j as usize * w..][..w]),
+        }
+    }
+
+    /// The weights halving makes texel `k` of row `cj` one level down
+    /// with (an even size, `w / 2` texels): texels `2k` and `2k + 1` of rows
+    /// `2cj` (a) and `2cj + 1` (b) of `chart`, each solid angle over their
+    /// sum (a₀ + a₁) + (b₀ + b₁) in f64, rounded to f32; all 0 where the sum
+    /// is 0; into `out`. The sum reads the same in any mirror image of the
+    /// four, so a cube face, whose weights mirror left to right, has the
+    /// right half of every row's weights made as the left half's mirror
+    /// image, read from its quadrant in place; other tables' rows are
+    /// copied into `rows` first.
+    pub(crate) fn halving_taps(
+        &self,
+        chart: u32,
+        cj: u32,
+        rows: &mut [Vec<f64>; 2],
+        out: &mut Vec<[f32; 4]>,
+    ) {
+        let n = (self.w / 2) as usize;
+        let (j0, j1) = (2 * cj, 2 * cj + 1);
+        out.clear();
+        match &self.kind {
+            Kind::Quadrant(t) if chart < self.charts && j1 < self.h => {
+                let (w, qw) = (self.w as usize, self.w.div_ceil(2) as usize);
+                let row = |j: u32| &t[j.min(self.h - 1 - j) as usize * qw..][..qw];
+                let (a, b) = (row(j0), row(j1));
+                // The pairs in the left half as stored; the middle pair of
+                // an odd count straddles the middle (texel i of a row is
+                // its quadrant's min(i, w − 1 − i)); the rest mirrored.
+                let left = n / 2;
+                let (a2, b2) = (&a[..2 * left], &b[..2 * left]);
+                let pairs = a2.chunks_exact(2).zip(b2.chunks_exact(2));
+                out.extend(pairs.map(|(a, b)| halving_tap([a[0], a[1]], [b[0], b[1]])));
+                if n % 2 == 1 {
+                    let (i0, i1) = (2 * left, (2 * left + 1).min(w - 2 * left - 2));
+                    out.push(halving_tap([a[i0], a[i1]], [b[i0], b[i1]]));
+                }
+                for k in n - left..n {
+                    let [a0, a1, b0, b1] = out[n - 1 - k];
+                    out.push([a1, a0, b1, b0]);
+                }
+            }
+            _ => {
+                let [r0, r1] = rows;
+                self.row_into(chart, j0, r0);
+                self.row_into(chart, j1, r1);
+                let pairs = r0.chunks_exact(2).zip(r1.chunks_exact(2)).take(n);
+                out.extend(pairs.map(|(a, b)| halving_tap([a[0], a[1]], [b[0], b[1]])));
+            }
         }
     }
 
@@ -525,6 +589,42 @@ mod tests {
                     let texel = |x: f32, n: u32| ((x.clamp(0.0, 1.0) * n as f32) as u32).min(n - 1);
                     let want = t.get_f32(c.chart, texel(c.u, w), texel(c.v, h));
                     assert_eq!(g.to_bits(), want.to_bits(), "{m} {w}×{h} {c:?}");
+                }
+            }
+        }
+    }
+
+    /// Halving's weights, read from a cube face's quadrant with the right
+    /// half mirrored, are those made from each row's weights in full, bit
+    /// for bit; every table kind's sum to 1 (to f32 rounding).
+    #[test]
+    fn halving_weights_are_those_of_the_full_rows() {
+        let cases = [
+            (AnyMapping::Cube, 2, 2),
+            (AnyMapping::Cube, 6, 6),
+            (AnyMapping::Cube, 16, 16),
+            (AnyMapping::Cube, 10, 6),
+            (AnyMapping::LatLong, 12, 6),
+            (AnyMapping::Octahedral, 8, 8),
+            (AnyMapping::SphereMap, 8, 8),
+        ];
+        let (mut rows, mut got) = (Default::default(), Vec::new());
+        for (m, w, h) in cases {
+            let t = TexelWeights::new(m, w, h);
+            for chart in 0..=m.chart_count() {
+                for cj in 0..h / 2 {
+                    t.halving_taps(chart, cj, &mut rows, &mut got);
+                    let (r0, r1) = (t.row(chart, 2 * cj), t.row(chart, 2 * cj + 1));
+                    let want: Vec<[f32; 4]> = (0..w as usize / 2)
+                        .map(|k| {
+                            halving_tap([r0[2 * k], r0[2 * k + 1]], [r1[2 * k], r1[2 * k + 1]])
+                        })
+                        .collect();
+                    assert_eq!(got, want, "{m} {w}×{h} chart {chart} row {cj}");
+                    for tap in &got {
+                        let sum: f32 = tap.iter().sum();
+                        assert!(sum == 0.0 || (sum - 1.0).abs() < 4e-7, "{m} {tap:?}");
+                    }
                 }
             }
         }
