@@ -225,8 +225,10 @@ impl TexelWeights {
 
     /// The f32 solid angles of the texels eight chart points land in:
     /// lane `k` is [`TexelWeights::get_f32`] of texel
-    /// (min(⌊clamp(u, 0, 1)·w⌋, w − 1), the same in v) of its chart, a NaN
-    /// coordinate counting as 0, bit for bit. With the folded table (a
+    /// (`texel_index(u, w)`, `texel_index(v, h)`: the core's
+    /// [`texel_index`](envmap_core::texel::texel_index)) of its chart, bit
+    /// for bit (the same rule in eight lanes: clamped to [0, 1], a NaN
+    /// coordinate counting as 0). With the folded table (a
     /// square cube face's, [`TexelWeights::for_lookups`]) the texels are
     /// found and folded eight at a time, leaving only the eight loads.
     #[inline]
@@ -456,6 +458,7 @@ pub fn channel_energy(img: &crate::image::EnvImage) -> ChannelEnergy {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use envmap_core::texel::texel_index;
     use envmap_core::ChartUv;
 
     /// A row at once is each texel's weight: every kind of table, odd and
@@ -557,9 +560,9 @@ mod tests {
     }
 
     /// Eight chart points at a time, folded or not, are the texels the
-    /// scalar rule finds, looked up one at a time: over each mapping's
-    /// texel edges and centres, past both ends, NaN and charts out of
-    /// range.
+    /// core's scalar rule ([`texel_index`]) finds, looked up one at a
+    /// time: over each mapping's texel edges and centres, past both ends,
+    /// NaN and charts out of range.
     #[test]
     fn eight_lookups_are_eight_single_ones() {
         for (m, w, h) in LOOKUP_CASES {
@@ -586,8 +589,7 @@ mod tests {
                 lanes[..p.len()].copy_from_slice(p);
                 let got = t.get8_f32(&Uv8::from_chart_uvs(&lanes)).to_array();
                 for (c, g) in lanes.iter().zip(got) {
-                    let texel = |x: f32, n: u32| ((x.clamp(0.0, 1.0) * n as f32) as u32).min(n - 1);
-                    let want = t.get_f32(c.chart, texel(c.u, w), texel(c.v, h));
+                    let want = t.get_f32(c.chart, texel_index(c.u, w), texel_index(c.v, h));
                     assert_eq!(g.to_bits(), want.to_bits(), "{m} {w}×{h} {c:?}");
                 }
             }
