@@ -120,7 +120,7 @@ fn halve(img: &EnvImage, weights: &TexelWeights, out: &mut EnvImage) {
                 // The chart row this stored row holds, and the two above it.
                 let cj = if turned { h2 - 1 - ly } else { ly };
                 let dst = &mut line[(col * w2) as usize..][..w2 as usize];
-                halve_chart_row(img, weights, cell.chart, cj, turned, dst, &mut taps);
+                halve_chart_row(img, weights, (cell.chart, cj), None, turned, dst, &mut taps);
             }
         });
 }
@@ -128,27 +128,34 @@ fn halve(img: &EnvImage, weights: &TexelWeights, out: &mut EnvImage) {
 /// Row `cj` of `chart` one level down from `src` into `dst`, turned (its
 /// texels in reverse) where `turned`; `taps` holds the weights of the row
 /// last made, reused where this row's are the same. Left as it is where
-/// `src` lacks the chart.
+/// `src` lacks the chart. `next` is the row (chart, row) to be made after
+/// this one, whose texels this one asks for as it ends ([`halve_row`]).
 fn halve_chart_row(
     src: &impl ChartRows,
     weights: &TexelWeights,
-    chart: u32,
-    cj: u32,
+    (chart, cj): (u32, u32),
+    next: Option<(u32, u32)>,
     turned: bool,
     dst: &mut [[f32; 3]],
     taps: &mut RowTaps,
 ) {
-    let (j0, j1) = (2 * cj, 2 * cj + 1);
-    let (Some((r0, stored_turned)), Some((r1, _))) =
-        (src.chart_row(chart, j0), src.chart_row(chart, j1))
-    else {
+    let rows = |(chart, cj): (u32, u32)| {
+        Some((
+            src.chart_row(chart, 2 * cj)?,
+            src.chart_row(chart, 2 * cj + 1)?.0,
+        ))
+    };
+    let Some(((r0, stored_turned), r1)) = rows((chart, cj)) else {
         return;
     };
+    let ahead = next.and_then(rows).map_or([&[][..]; 2], |((n0, _), n1)| {
+        [n0.as_flattened(), n1.as_flattened()]
+    });
     let t = taps.of(weights, chart, cj);
     if stored_turned {
-        halve_row::<true>(r0, r1, t, dst);
+        halve_row::<true>(r0, r1, t, ahead, dst);
     } else {
-        halve_row::<false>(r0, r1, t, dst);
+        halve_row::<false>(r0, r1, t, ahead, dst);
     }
     if stored_turned != turned {
         dst.reverse();
@@ -173,6 +180,9 @@ impl RowTaps {
         let key = (if weights.shared() { 0 } else { chart }, cj);
         if self.made != Some(key) {
             weights.halving_taps(chart, cj, &mut self.rows, &mut self.taps);
+            // The rows come in row order across the charts: the weights of
+            // the next row are the next made.
+            weights.ask_for_halving(chart, cj + 1);
             self.made = Some(key);
         }
         &self.taps
@@ -215,6 +225,11 @@ fn present(src: &impl ChartRows, mapping: AnyMapping) -> u32 {
 /// for the rows it reads.
 const HALVING_AHEAD: usize = 6 * 96;
 
+/// How many rows of a level a worker makes in one run, each asking for the
+/// next one's texels as it ends ([`halve_row`]); the runs are shared out
+/// among the threads.
+const HALVING_RUN: usize = 32;
+
 /// Asks the processor to start loading float `at` of both rows (where
 /// they have it), without waiting: a hint only. Does nothing off x86-64.
 #[inline(always)]
@@ -243,10 +258,14 @@ fn ask_for_both(r0: &[f32], r1: &[f32], at: usize) {
 /// streams (12 KiB for 1024 texels) that the processor's own prefetching
 /// is slow to pick up, and without this, halving a 6 × 1024² cube waits
 /// on memory for most of its time (a fifth of it saved, two threads).
+/// Near the end of the rows, the asking goes on into `next`, the two rows
+/// (flattened) that the row made after this one reads, so that its start
+/// does not wait either (empty where there is none).
 fn halve_row<const TURNED: bool>(
     r0: &[[f32; 3]],
     r1: &[[f32; 3]],
     taps: &[[f32; 4]],
+    [n0, n1]: [&[f32]; 2],
     dst: &mut [[f32; 3]],
 ) {
     let n = dst
@@ -270,7 +289,12 @@ fn halve_row<const TURNED: bool>(
         ask_for_both(f0, f1, at);
     }
     for (k, (out, (a, b))) in dst[..n - 1].iter_mut().zip(pairs).enumerate() {
-        ask_for_both(f0, f1, 6 * k + HALVING_AHEAD);
+        let ahead = 6 * k + HALVING_AHEAD;
+        if ahead < f0.len() {
+            ask_for_both(f0, f1, ahead);
+        } else {
+            ask_for_both(n0, n1, ahead - f0.len());
+        }
         let t = tap(k);
         if t == [0.0; 4] {
             *out = [0.0; 3];
@@ -513,15 +537,19 @@ impl Bordered {
     /// lacks keeps what this level held).
     fn halve_from(&mut self, src: &impl ChartRows, weights: &TexelWeights, mapping: AnyMapping) {
         let small = self.texels() < SMALL_LEVEL;
-        let rows = self.rows();
-        let halve = |taps: &mut RowTaps, (chart, j, dst): (u32, u32, &mut [[f32; 3]])| {
-            halve_chart_row(src, weights, chart, j, false, dst, taps);
+        let mut rows = self.rows();
+        let halve = |taps: &mut RowTaps, run: &mut [(u32, u32, &mut [[f32; 3]])]| {
+            for k in 0..run.len() {
+                let next = run.get(k + 1).map(|r| (r.0, r.1));
+                let (chart, j, dst) = &mut run[k];
+                halve_chart_row(src, weights, (*chart, *j), next, false, dst, taps);
+            }
         };
         if small {
-            let mut taps = RowTaps::default();
-            rows.into_iter().for_each(|r| halve(&mut taps, r));
+            halve(&mut RowTaps::default(), &mut rows);
         } else {
-            rows.into_par_iter().for_each_init(RowTaps::default, halve);
+            rows.par_chunks_mut(HALVING_RUN)
+                .for_each_init(RowTaps::default, halve);
         }
         self.frame(mapping, present(src, mapping));
     }

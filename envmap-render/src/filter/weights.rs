@@ -344,6 +344,29 @@ impl TexelWeights {
         }
     }
 
+    /// Asks the processor to start loading what
+    /// [`TexelWeights::halving_taps`] reads for row `cj` of `chart` from a
+    /// cube face's quadrant, without waiting: a hint only (nothing for
+    /// other tables, or off x86-64).
+    pub(crate) fn ask_for_halving(&self, chart: u32, cj: u32) {
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+        if let Kind::Quadrant(t) = &self.kind {
+            let (j0, j1) = (2 * cj, 2 * cj + 1);
+            if chart < self.charts && j1 < self.h {
+                let qw = self.w.div_ceil(2) as usize;
+                for j in [j0, j1] {
+                    let at = j.min(self.h - 1 - j) as usize * qw;
+                    // Every 64-byte line of the row (eight weights).
+                    for x in t.get(at..at + qw).unwrap_or(&[]).iter().step_by(8) {
+                        safe_arch::prefetch_t0(x);
+                    }
+                }
+            }
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
+        let _ = (chart, cj);
+    }
+
     /// The smallest solid angle of a texel that holds a direction (the
     /// smallest non-zero weight; 0 if there is none).
     #[must_use]
