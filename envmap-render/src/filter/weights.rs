@@ -279,18 +279,18 @@ impl TexelWeights {
             out.resize(w, 0.0);
             return;
         }
-        match &self.kind {
-            Kind::Rows(r) => out.resize(w, r[j as usize]),
-            Kind::Quadrant(t) => {
-                let qw = w.div_ceil(2);
-                let jj = j.min(self.h - 1 - j) as usize;
+        match (&self.kind, self.quadrant_row(j)) {
+            (Kind::Rows(r), _) => out.resize(w, r[j as usize]),
+            (Kind::Quadrant(_), Some(half)) => {
                 // The left half as stored, the right half its mirror
                 // image (the middle texel of an odd row once).
-                let half = &t[jj * qw..(jj + 1) * qw];
                 out.extend_from_slice(half);
-                out.extend(half[..w - qw].iter().rev());
+                out.extend(half[..w - half.len()].iter().rev());
             }
-            Kind::PerChart(t) => out.extend_from_slice(&t[chart as usize][j as usize * w..][..w]),
+            (Kind::Quadrant(_), None) => out.resize(w, 0.0),
+            (Kind::PerChart(t), _) => {
+                out.extend_from_slice(&t[chart as usize][j as usize * w..][..w]);
+            }
         }
     }
 
@@ -313,11 +313,9 @@ impl TexelWeights {
         let n = (self.w / 2) as usize;
         let (j0, j1) = (2 * cj, 2 * cj + 1);
         out.clear();
-        match &self.kind {
-            Kind::Quadrant(t) if chart < self.charts && j1 < self.h => {
-                let (w, qw) = (self.w as usize, self.w.div_ceil(2) as usize);
-                let row = |j: u32| &t[j.min(self.h - 1 - j) as usize * qw..][..qw];
-                let (a, b) = (row(j0), row(j1));
+        match self.quadrant_rows(chart, cj) {
+            Some((a, b)) => {
+                let w = self.w as usize;
                 // The pairs in the left half as stored; the middle pair of
                 // an odd count straddles the middle (texel i of a row is
                 // its quadrant's min(i, w − 1 − i)); the rest mirrored.
@@ -334,7 +332,7 @@ impl TexelWeights {
                     out.push([a1, a0, b1, b0]);
                 }
             }
-            _ => {
+            None => {
                 let [r0, r1] = rows;
                 self.row_into(chart, j0, r0);
                 self.row_into(chart, j1, r1);
@@ -350,21 +348,42 @@ impl TexelWeights {
     /// other tables, or off x86-64).
     pub(crate) fn ask_for_halving(&self, chart: u32, cj: u32) {
         #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
-        if let Kind::Quadrant(t) = &self.kind {
-            let (j0, j1) = (2 * cj, 2 * cj + 1);
-            if chart < self.charts && j1 < self.h {
-                let qw = self.w.div_ceil(2) as usize;
-                for j in [j0, j1] {
-                    let at = j.min(self.h - 1 - j) as usize * qw;
-                    // Every 64-byte line of the row (eight weights).
-                    for x in t.get(at..at + qw).unwrap_or(&[]).iter().step_by(8) {
-                        safe_arch::prefetch_t0(x);
-                    }
+        if let Some((a, b)) = self.quadrant_rows(chart, cj) {
+            for row in [a, b] {
+                // Every 64-byte line of the row (eight weights).
+                for x in row.iter().step_by(8) {
+                    safe_arch::prefetch_t0(x);
                 }
             }
         }
         #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
         let _ = (chart, cj);
+    }
+
+    /// The left half of row `j` of a cube face as its quadrant table
+    /// stores it (row `j` is the quadrant's row min(j, h − 1 − j), and
+    /// texel `i` of a row its half's min(i, w − 1 − i)); `None` for other
+    /// tables or a row past the last.
+    fn quadrant_row(&self, j: u32) -> Option<&[f64]> {
+        let Kind::Quadrant(t) = &self.kind else {
+            return None;
+        };
+        if j >= self.h {
+            return None;
+        }
+        let qw = self.w.div_ceil(2) as usize;
+        t.get(j.min(self.h - 1 - j) as usize * qw..)?.get(..qw)
+    }
+
+    /// The quadrant rows ([`TexelWeights::quadrant_row`]) of rows `2·cj`
+    /// and `2·cj + 1` of `chart`: what [`TexelWeights::halving_taps`]
+    /// makes a row of weights from. `None` for other tables, a chart out
+    /// of range or rows past the last.
+    fn quadrant_rows(&self, chart: u32, cj: u32) -> Option<(&[f64], &[f64])> {
+        if chart >= self.charts {
+            return None;
+        }
+        Some((self.quadrant_row(2 * cj)?, self.quadrant_row(2 * cj + 1)?))
     }
 
     /// The smallest solid angle of a texel that holds a direction (the
