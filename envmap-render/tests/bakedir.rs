@@ -193,3 +193,65 @@ fn engine_upload_data_is_the_ktx2_files_levels() {
     let level = reader.levels().next().expect("level 0");
     assert!(level.data == irr.levels[0].concatenated().as_slice());
 }
+
+/// The chain's OpenEXR files, written from the levels' faces as the writer
+/// asks for rows, read back: every face of every level exactly, the cells
+/// without a face black, in each cube layout a bake writes as one image.
+#[test]
+fn exr_levels_read_back_face_for_face_in_every_layout() {
+    use envmap_render::io::{load, LoadOptions};
+    use envmap_render::Layout;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let src = source();
+    for layout in [Layout::Cross, Layout::VCross, Layout::Strip, Layout::VStrip] {
+        let mut preset = Preset::default();
+        preset.size = 16;
+        preset.irradiance_size = 4;
+        preset.dfg_size = 0;
+        preset.layout = layout;
+        let opts = preset.bake_options(BakeOptions::default());
+        let baked = bake(&src, &opts, &|_, _| {}).expect("bake");
+        let out = dir.path().join(layout.name());
+        bakedir::write(
+            &out,
+            &baked,
+            &opts,
+            &preset,
+            &Provenance::new("sky"),
+            &Default::default(),
+        )
+        .expect("write");
+        let atlas = layout.atlas();
+        let chain = baked.chain.as_ref().expect("chain");
+        let images = chain
+            .levels
+            .iter()
+            .enumerate()
+            .map(|(k, l)| (format!("specular_{k}.exr"), l))
+            .chain(
+                baked
+                    .irradiance
+                    .as_ref()
+                    .map(|i| ("irradiance.exr".to_owned(), &i.image)),
+            );
+        for (name, level) in images {
+            let file = load(out.join(&name), &LoadOptions::default()).expect("load");
+            let what = format!("{} {name}", layout.name());
+            assert_eq!(file.atlas(), &atlas, "{what}");
+            for f in 0..6 {
+                assert_eq!(file.chart_image(f), level.chart_image(f), "{what} face {f}");
+            }
+            let (cw, ch) = file.cell_size();
+            for r in 0..atlas.rows {
+                for c in 0..atlas.cols {
+                    if atlas.cells.iter().any(|k| k.row == r && k.col == c) {
+                        continue;
+                    }
+                    let black = (r * ch..(r + 1) * ch)
+                        .all(|y| (c * cw..(c + 1) * cw).all(|x| file.get(x, y) == [0.0; 3]));
+                    assert!(black, "{what}: cell {c},{r}");
+                }
+            }
+        }
+    }
+}

@@ -207,17 +207,20 @@ fn stage(
         ..save.clone()
     };
     if preset.container == Container::Exr {
+        // A level in the preset's atlas is written from its faces as the
+        // writer asks for rows: no copy of it is made.
         let mut stage_exr = |img: &EnvImage, stem: &str, content: String| -> Result<()> {
-            let img = if preset.layout.is_six_files() {
-                img.clone()
-            } else {
-                img.relayout(preset.layout.atlas())?
-            };
             let o = SaveOptions {
                 content: Some(content),
                 ..sopts.clone()
             };
-            run.stage_image(&img, dir.join(file_name(preset, stem)), &o)
+            let path = dir.join(file_name(preset, stem));
+            let atlas = preset.layout.atlas();
+            if preset.layout.is_six_files() || img.representation().atlas == atlas {
+                run.stage_image(img, path, &o)
+            } else {
+                run.stage_streamed(&img.in_atlas(atlas)?, path, &o)
+            }
         };
         if let Some(chain) = &bake.chain {
             let n = chain.levels.len();

@@ -31,7 +31,7 @@ use crate::cancel;
 use crate::error::Error;
 use crate::error::Result;
 use crate::filter::sample::{Ahead, Filter, Sampler};
-use crate::image::{EnvImage, Representation};
+use crate::image::{EnvImage, Representation, RowSource};
 
 /// What every batch of a conversion shares.
 struct RowContext<'a, D, S> {
@@ -334,6 +334,24 @@ impl<'a> Streamed<'a> {
         }
         let mut scratch = Vec::new();
         (self.band)(y0, &mut out[..rows * w], &mut scratch);
+    }
+}
+
+impl RowSource for Streamed<'_> {
+    fn representation(&self) -> &Representation {
+        Streamed::representation(self)
+    }
+
+    fn width(&self) -> u32 {
+        Streamed::width(self)
+    }
+
+    fn height(&self) -> u32 {
+        Streamed::height(self)
+    }
+
+    fn rows(&self, y0: u32, out: &mut [[f32; 3]]) {
+        Streamed::rows(self, y0, out);
     }
 }
 

@@ -415,8 +415,26 @@ impl EnvImage {
 
     /// The same charts, texel for texel, in another atlas of the same mapping
     /// (a cube cross as a strip, say); cells without a chart are black.
-    /// Checked against [`DEFAULT_MAX_TEXELS`].
+    /// Checked against [`DEFAULT_MAX_TEXELS`]. The rows are
+    /// [`EnvImage::in_atlas`]'s: a writer that streams takes those instead
+    /// of this copy.
     pub fn relayout(&self, atlas: Atlas) -> Result<EnvImage> {
+        let view = self.in_atlas(atlas)?;
+        let mut out = EnvImage::new(view.width, view.height, view.repr)?;
+        view.rows(0, out.pixels_mut());
+        Ok(out)
+    }
+
+    /// This image seen in another atlas of the same mapping, its rows made
+    /// on demand ([`RowSource`]) from the charts where they are: what
+    /// [`EnvImage::relayout`] would make, without the copy. Checked as
+    /// [`EnvImage::relayout`] is.
+    ///
+    /// # Errors
+    ///
+    /// An atlas the mapping cannot be laid out in; a size past
+    /// [`DEFAULT_MAX_TEXELS`].
+    pub fn in_atlas(&self, atlas: Atlas) -> Result<InAtlas<'_>> {
         check_compatible(self.repr.mapping, &atlas)?;
         let (cw, ch) = self.cell_size();
         let too_big = || Error::TooLarge {
@@ -425,16 +443,16 @@ impl EnvImage {
             texels: u64::from(atlas.cols) * u64::from(cw) * u64::from(atlas.rows) * u64::from(ch),
             limit: DEFAULT_MAX_TEXELS,
         };
-        let w = atlas.cols.checked_mul(cw).ok_or_else(too_big)?;
-        let h = atlas.rows.checked_mul(ch).ok_or_else(too_big)?;
-        let repr = Representation { atlas, ..self.repr };
-        let mut out = EnvImage::new(w, h, repr)?;
-        for chart in 0..self.repr.mapping.chart_count() {
-            if let Some(img) = self.chart_image(chart) {
-                out.set_chart_image(chart, &img)?;
-            }
-        }
-        Ok(out)
+        let width = atlas.cols.checked_mul(cw).ok_or_else(too_big)?;
+        let height = atlas.rows.checked_mul(ch).ok_or_else(too_big)?;
+        check_size(width, height, 1, DEFAULT_MAX_TEXELS)?;
+        Ok(InAtlas {
+            image: self,
+            repr: Representation { atlas, ..self.repr },
+            width,
+            height,
+            cell: (cw, ch),
+        })
     }
 
     /// Texel statistics over the texels that hold a direction (see [`Stats`]).
@@ -562,6 +580,96 @@ impl EnvImage {
     }
 }
 
+/// An image whose rows are made on demand, for a writer that streams its
+/// output (OpenEXR's scan-line blocks, [`crate::io::Outputs::stage_streamed`]):
+/// a conversion as it runs (`convert::Streamed`), an image in another atlas
+/// ([`InAtlas`]). The image never needs to exist whole.
+pub trait RowSource: Sync {
+    /// The image's representation.
+    fn representation(&self) -> &Representation;
+    /// Its width in texels.
+    fn width(&self) -> u32;
+    /// Its height in texels.
+    fn height(&self) -> u32;
+    /// Rows `y0..` into `out`: as many whole rows as `out` holds (its length
+    /// a multiple of the width), cut at the last row.
+    fn rows(&self, y0: u32, out: &mut [[f32; 3]]);
+}
+
+/// An [`EnvImage`] seen in another atlas of its mapping
+/// ([`EnvImage::in_atlas`]): each row copied from the charts' stored rows
+/// as it is asked for, cells without a chart black.
+///
+/// ```
+/// use envmap_core::{AnyMapping, Atlas};
+/// use envmap_render::image::{EnvImage, Representation, RowSource};
+/// let repr = Representation::default_for(AnyMapping::Cube); // a cross
+/// let mut cross = EnvImage::new(32, 24, repr).unwrap();
+/// cross.set_chart_texel(2, 0, 0, [1.0; 3]); // +y's first texel
+/// let strip = cross.in_atlas(Atlas::CUBE_HORIZONTAL_STRIP).unwrap();
+/// assert_eq!((strip.width(), strip.height()), (48, 8));
+/// let mut row = vec![[0.0f32; 3]; 48];
+/// strip.rows(0, &mut row);
+/// assert_eq!(row[2 * 8], [1.0; 3]); // +y: the strip's third face
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct InAtlas<'a> {
+    image: &'a EnvImage,
+    repr: Representation,
+    width: u32,
+    height: u32,
+    cell: (u32, u32),
+}
+
+impl RowSource for InAtlas<'_> {
+    fn representation(&self) -> &Representation {
+        &self.repr
+    }
+
+    fn width(&self) -> u32 {
+        self.width
+    }
+
+    fn height(&self) -> u32 {
+        self.height
+    }
+
+    fn rows(&self, y0: u32, out: &mut [[f32; 3]]) {
+        let (cw, ch) = (self.cell.0 as usize, self.cell.1);
+        let atlas = &self.repr.atlas;
+        let w = self.width as usize;
+        let n = (out.len() / w.max(1)).min(self.height.saturating_sub(y0) as usize);
+        for (k, row) in out.chunks_exact_mut(w).take(n).enumerate() {
+            let y = y0 + k as u32;
+            let (r, jj) = (y / ch, y % ch);
+            for (col, dst) in row.chunks_exact_mut(cw).enumerate() {
+                let cell = atlas
+                    .cells
+                    .iter()
+                    .find(|c| c.row == r && c.col as usize == col);
+                // A cell turned half a turn stores chart row h − 1 − jj here,
+                // reversed.
+                let stored = cell.and_then(|c| {
+                    let half = c.turn == Turn::Half;
+                    let j = if half { ch - 1 - jj } else { jj };
+                    self.image
+                        .chart_row(c.chart, j)
+                        .map(|(src, reversed)| (src, reversed != half))
+                });
+                match stored {
+                    Some((src, reverse)) => {
+                        dst.copy_from_slice(src);
+                        if reverse {
+                            dst.reverse();
+                        }
+                    }
+                    None => dst.fill([0.0; 3]),
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -643,6 +751,70 @@ mod tests {
         let v = cross.relayout(Atlas::CUBE_VERTICAL_CROSS).unwrap();
         assert_eq!(v.get(5, 11), cross.chart_texel(5, 0, 0).unwrap());
         assert!(cross.relayout(Atlas::LATLONG).is_err());
+    }
+
+    /// Rows asked for in any band (as a streaming writer asks) are the
+    /// relaid image's rows, whatever `out` held; rows past the end are
+    /// left alone; empty cells are black.
+    #[test]
+    fn rows_in_another_atlas_come_in_any_band() {
+        let strip = cube(Atlas::CUBE_HORIZONTAL_STRIP, 5);
+        for atlas in [
+            Atlas::CUBE_HORIZONTAL_CROSS,
+            Atlas::CUBE_VERTICAL_CROSS,
+            Atlas::CUBE_HORIZONTAL_STRIP,
+            Atlas::CUBE_VERTICAL_STRIP,
+        ] {
+            let whole = strip.relayout(atlas).unwrap();
+            // Checked apart from the view: every chart texel where it belongs.
+            for f in 0..6 {
+                assert_eq!(whole.chart_image(f), strip.chart_image(f));
+            }
+            let view = strip.in_atlas(atlas).unwrap();
+            assert_eq!(view.representation(), whole.representation());
+            let (w, h) = (view.width() as usize, view.height());
+            assert_eq!((w as u32, h), (whole.width(), whole.height()));
+            for (y0, n) in [(0, 1), (3, 4), (4, 7), (h - 2, 5), (h - 1, 1), (h, 2)] {
+                let mut out = vec![[7.0f32; 3]; n * w];
+                view.rows(y0, &mut out);
+                let made = (h - y0.min(h)) as usize;
+                let made = made.min(n);
+                let start = y0 as usize * w;
+                assert_eq!(
+                    &out[..made * w],
+                    &whole.pixels()[start..start + made * w],
+                    "{} rows {y0}+{n}",
+                    atlas.name
+                );
+                assert!(out[made * w..].iter().all(|t| *t == [7.0; 3]));
+            }
+            // Every cell without a chart: black.
+            let (cw, ch) = whole.cell_size();
+            for r in 0..atlas.rows {
+                for c in 0..atlas.cols {
+                    if atlas.cells.iter().any(|k| k.row == r && k.col == c) {
+                        continue;
+                    }
+                    for y in r * ch..(r + 1) * ch {
+                        for x in c * cw..(c + 1) * cw {
+                            assert_eq!(whole.get(x, y), [0.0; 3]);
+                        }
+                    }
+                }
+            }
+        }
+        let pb = EnvImage::new(
+            16,
+            8,
+            Representation::default_for(AnyMapping::DualParaboloid),
+        )
+        .unwrap();
+        assert_eq!(
+            pb.relayout(Atlas::PARABOLOID_SIDE_BY_SIDE).unwrap(),
+            pb,
+            "the same atlas: the same image"
+        );
+        assert!(strip.in_atlas(Atlas::LATLONG).is_err());
     }
 
     #[test]

@@ -74,12 +74,11 @@ use envmap_core::AnyMapping;
 
 use crate::cancel::{self, Cancellable};
 use crate::error::{Error, Result};
-use crate::filter::convert::Streamed;
 use crate::image::atomic::TempWriter;
 use crate::image::convention::FileAxes;
 #[cfg(feature = "image")]
 use crate::image::envimage::check_size;
-use crate::image::envimage::{EnvImage, RgbImage, DEFAULT_MAX_TEXELS};
+use crate::image::envimage::{EnvImage, RgbImage, RowSource, DEFAULT_MAX_TEXELS};
 #[cfg(feature = "exr")]
 use crate::image::exr;
 use crate::image::face_ops::FaceTransforms;
@@ -905,7 +904,7 @@ pub(super) struct View<'a> {
     /// format that writes rows as it goes (OpenEXR); see
     /// [`Outputs::stage_streamed`]. Only OpenEXR reads it.
     #[cfg_attr(not(feature = "exr"), allow(dead_code))]
-    pub(super) stream: Option<&'a Streamed<'a>>,
+    pub(super) stream: Option<&'a dyn RowSource>,
     /// What the file says about itself where its format has a place
     /// ([`crate::image::metadata`]): the `envmap.*` tags and a description.
     pub(super) tags: &'a [(String, String)],
@@ -1029,18 +1028,20 @@ impl<'a> Outputs<'a> {
 }
 
 impl<'a> Outputs<'a> {
-    /// Stages the image `stream` makes, as [`Outputs::stage_image`] would
-    /// stage it once made: an OpenEXR file (one file, its cube faces not
-    /// turned) is written as the rows are made, a batch of scan-line blocks
-    /// at a time, so the converted image is never whole in memory; every
-    /// other file is made whole first and staged as usual.
+    /// Stages the image `stream` makes (a conversion as it runs,
+    /// `convert::Streamed`; an image in another atlas,
+    /// [`EnvImage::in_atlas`]), as [`Outputs::stage_image`] would stage it
+    /// once made: an OpenEXR file (one file, its cube faces not turned) is
+    /// written as the rows are made, a batch of scan-line blocks at a time,
+    /// so the image is never whole in memory; every other file is made
+    /// whole first and staged as usual.
     ///
     /// # Errors
     ///
     /// As [`Outputs::stage_image`].
     pub fn stage_streamed(
         &mut self,
-        stream: &Streamed<'_>,
+        stream: &dyn RowSource,
         path: impl AsRef<Path>,
         opts: &SaveOptions,
     ) -> Result<()> {

@@ -53,7 +53,8 @@ pub mod texture;
 
 pub use convention::{Convention, FileAxes, World};
 pub use envimage::{
-    check_size, luminance, EnvImage, RgbImage, Stats, BYTES_PER_TEXEL, DEFAULT_MAX_TEXELS,
+    check_size, luminance, EnvImage, InAtlas, RgbImage, RowSource, Stats, BYTES_PER_TEXEL,
+    DEFAULT_MAX_TEXELS,
 };
 pub use layout::{Layout, Representation};
 pub use texel::{Clamped, TexelFormat};
