@@ -662,3 +662,68 @@ fn bake_writes_every_output_and_refuses_mistakes() {
     );
     assert!(!bad.exists(), "nothing written for a refused bake");
 }
+
+/// A report nobody reads any more (`envmap bake … 2>&1 | head -1` closes
+/// the pipe after one line): the outputs are written and the command
+/// succeeds, with no panic; `info`, whose output is its result, says on
+/// standard error that standard output could not be written.
+#[test]
+fn closed_report_pipes_do_not_stop_a_job() {
+    use std::process::{Command, Stdio};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    latlong_file(d, "sky.hdr", 64);
+    let run = |args: &[&str], close_stderr: bool| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_envmap"))
+            .args(args)
+            .current_dir(d)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("run envmap");
+        drop(child.stdout.take());
+        if close_stderr {
+            drop(child.stderr.take());
+        }
+        child.wait_with_output().expect("wait")
+    };
+    for (args, made) in [
+        (
+            &[
+                "bake",
+                "sky.hdr",
+                "--out",
+                "ibl",
+                "--size",
+                "8",
+                "--dfg-size",
+                "8",
+            ][..],
+            "ibl/manifest.json",
+        ),
+        (
+            &[
+                "convert", "sky.hdr", "cube.exr", "--to", "cube", "--size", "16",
+            ][..],
+            "cube.exr",
+        ),
+        (
+            &[
+                "render", "a.png", "--env", "sky.hdr", "--width", "32", "--height", "24",
+            ][..],
+            "a.png",
+        ),
+    ] {
+        let o = run(args, true);
+        assert_eq!(o.status.code(), Some(0), "{}", args[0]);
+        assert!(d.join(made).is_file(), "{}: {made}", args[0]);
+    }
+    let o = run(&["info", "sky.hdr"], false);
+    assert_eq!(o.status.code(), Some(1));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("<stdout>") && !err.contains("panicked"),
+        "{err}"
+    );
+}

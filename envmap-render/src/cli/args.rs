@@ -97,7 +97,7 @@ pub(crate) fn load_error(e: &crate::Error) -> String {
 /// Says on standard error how many NaN or infinite texels loading replaced.
 pub(crate) fn warn_replaced(path: &Path, n: u64) {
     if n > 0 {
-        eprintln!(
+        note!(
             "envmap: warning: {}: {n} texel{} with NaN or infinite values replaced by black",
             path.display(),
             if n == 1 { "" } else { "s" }
@@ -213,7 +213,7 @@ pub(crate) fn warn_clamped(
     c: crate::image::Clamped,
 ) {
     if !c.is_empty() {
-        eprintln!(
+        note!(
             "warning: {}: {} ({}): {}",
             path.display(),
             format.name(),

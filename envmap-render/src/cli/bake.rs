@@ -362,16 +362,16 @@ fn triple(v: [f64; 3]) -> String {
 /// `times`: the seconds spent loading, baking and writing.
 fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
     let [load, work, write] = times.map(|t| t * 1e3);
-    eprintln!(
+    note!(
         "{name} -> {} ({files} files): load {load:.0} ms, bake {work:.0} ms, write {write:.0} ms",
         a.out.display(),
     );
     if let Some(chain) = &b.chain {
-        eprintln!(
+        note!(
             "| level | size | roughness | method | samples | clamped | ms | error (expected{}) |",
             if a.check > 0 { "; measured, bias" } else { "" }
         );
-        eprintln!("| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: |");
+        note!("| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: |");
         for (k, r) in chain.reports.iter().enumerate() {
             let expected = bakedir::write::estimated_error(r)
                 .map(|e| format!("{:.2} %", 100.0 * e))
@@ -386,7 +386,7 @@ fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
                     )
                 })
                 .unwrap_or_default();
-            eprintln!(
+            note!(
                 "| {k} | {} | {:.3} | {}{} | {} | {} | {:.0} | {expected}{measured} |",
                 r.size,
                 r.roughness,
@@ -404,8 +404,8 @@ fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
             .iter()
             .map(|(n, t)| format!("{n} {:.0} ms", t * 1e3))
             .collect();
-        eprintln!("preparation: {}", prep.join(", "));
-        eprintln!(
+        note!("preparation: {}", prep.join(", "));
+        note!(
             "bright texels split from the input and summed by a tree over their parts: {} as {} points ({:.2} % of the energy; largest absolute channel above {:.3})",
             chain.bright.texels,
             chain.bright.points,
@@ -414,7 +414,7 @@ fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
         );
         let e = &chain.energy;
         let neg = e.negative_share();
-        eprintln!(
+        note!(
             "energy (Σ Ω·L, R G B): input {}, base cube {}, split {}: they add up within {:.1e}; negative texels {:.3} % / {:.3} % / {:.3} % of the positive energy (kept: the integral of the data as given)",
             triple(e.input),
             triple(e.base),
@@ -425,7 +425,7 @@ fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
             100.0 * neg[2]
         );
         if let Some(c) = chain.clamp {
-            eprintln!(
+            note!(
                 "clamp: {} texels above luminance {} compressed, {:.3} % of the energy removed",
                 c.texels,
                 c.threshold,
@@ -435,20 +435,20 @@ fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
     }
     if let Some(c) = &b.checked {
         if let Some(m) = c.irradiance {
-            eprintln!(
+            note!(
                 "irradiance against the input's exact integral: {:.2} % relative RMS, bias {:+.3} % ({} texels)",
                 100.0 * m.relative_rms,
                 100.0 * m.bias,
                 m.texels
             );
         }
-        eprintln!(
+        note!(
             "SH9 against the input's exact projection: {:.1e} relative",
             c.sh9
         );
     }
     if let Some(irr) = &b.irradiance {
-        eprintln!(
+        note!(
             "irradiance: {}² cube of {} from {}{}, {} texels clamped at zero",
             irr.image.cell_size().0,
             a.irradiance_scale.name(),
@@ -464,5 +464,5 @@ fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
         .iter()
         .map(|(n, t)| format!("{n} {:.0} ms", t * 1e3))
         .collect();
-    eprintln!("{}", rest.join(", "));
+    note!("{}", rest.join(", "));
 }

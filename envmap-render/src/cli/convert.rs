@@ -193,7 +193,7 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
     let mut texture_summary = None;
     let stage = |what: String| {
         if a.verbose {
-            eprintln!("envmap: {what}");
+            note!("envmap: {what}");
         }
     };
     stage(format!("loading {}", a.input.display()));
@@ -345,7 +345,7 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         (format!("convert {c:.0} ms, save {s:.0} ms"), written)
     };
     if !a.quiet {
-        eprintln!(
+        note!(
             "{} {}×{} {} -> {} {}×{} {} ({}, {}×{} samples): load {:.0} ms, {}",
             a.input.display(),
             src_w,
@@ -368,10 +368,10 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
             times,
         );
         if let Some(t) = &texture_summary {
-            eprintln!("  texture: {t}");
+            note!("  texture: {t}");
         }
-        eprintln!("  input axes:  {}", src_axes.describe(src_mapping));
-        eprintln!("  output axes: {}", output_axes(a).describe(repr.mapping));
+        note!("  input axes:  {}", src_axes.describe(src_mapping));
+        note!("  output axes: {}", output_axes(a).describe(repr.mapping));
     }
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! `envmap demo`: every representation of the built-in sky side by side.
 
+use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -78,15 +79,22 @@ pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
     })
     .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
-    print!("{}", crate::scene::demo::report_table(&report.rows));
-    if !report.lit.is_empty() {
-        print!("\n{}", crate::scene::demo_lit::lit_table(&report.lit));
-    }
-    println!(
-        "\nwrote {} ({} images and report.md) in {:.1} s",
+    // The report is written (report.md); a standard output that cannot take
+    // it (closed early: `envmap demo | head`) is said, not a panic.
+    let mut out = std::io::stdout().lock();
+    let lit = if report.lit.is_empty() {
+        String::new()
+    } else {
+        format!("\n{}", crate::scene::demo_lit::lit_table(&report.lit))
+    };
+    write!(
+        out,
+        "{}{lit}\nwrote {} ({} images and report.md) in {:.1} s\n",
+        crate::scene::demo::report_table(&report.rows),
         a.out.display(),
         report.images,
         t.elapsed().as_secs_f64()
-    );
-    Ok(())
+    )
+    .and_then(|()| out.flush())
+    .map_err(|e| format!("<stdout>: {e}"))
 }

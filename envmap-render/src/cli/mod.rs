@@ -20,6 +20,16 @@ use signals::Signals;
 
 use clap::{Parser, Subcommand};
 
+/// A line on standard error, as `eprintln!` writes it, but a standard error
+/// that cannot be written (closed: `envmap bake … 2>&1 | head -1`) is no
+/// reason to stop: the outputs were made; the line is dropped.
+macro_rules! note {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod args;
 mod bake;
 mod convert;
@@ -97,17 +107,17 @@ pub fn main() -> ExitCode {
     };
     if let Some(status) = signals.exit_status() {
         match result {
-            Ok(()) => eprintln!(
-                "envmap: interrupted after the work had finished: every output was written"
-            ),
-            Err(_) => eprintln!("envmap: interrupted: nothing written"),
+            Ok(()) => {
+                note!("envmap: interrupted after the work had finished: every output was written")
+            }
+            Err(_) => note!("envmap: interrupted: nothing written"),
         }
         return ExitCode::from(status);
     }
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("envmap: error: {e}");
+            note!("envmap: error: {e}");
             ExitCode::from(1)
         }
     }

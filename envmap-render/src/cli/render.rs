@@ -163,7 +163,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         _ => None,
     };
     if let Some(b) = &baked {
-        eprintln!("{}", b.description);
+        note!("{}", b.description);
         if a.analytic {
             return Err("--analytic needs a built-in environment (sky, room), not a bake".into());
         }
@@ -263,7 +263,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     let t = Instant::now();
     let oracle = exact_source.as_ref().map(Oracle::bilinear);
     if oracle.is_some() {
-        eprintln!(
+        note!(
             "exact split sum: the oracle of the environment in {:.0} ms",
             t.elapsed().as_secs_f64() * 1e3
         );
@@ -295,7 +295,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
             spinner.finish_and_clear();
             let lit = lit?;
             let sizes: Vec<u32> = lit.levels().iter().map(|l| l.cell_size().0).collect();
-            eprintln!(
+            note!(
                 "baked {} levels ({}² … {}²{}) and a 32² irradiance map in {:.0} ms",
                 lit.levels().len(),
                 sizes[0],
@@ -391,7 +391,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         ..a.write.over(SaveOptions::default())
     };
     crate::image::io::write_rgb(&img, &a.output, &sopts).map_err(|e| e.to_string())?;
-    eprintln!(
+    note!(
         "{} {}×{} ({} triangles, {} lookups, {}×{} samples): {:.0} ms",
         a.output.display(),
         a.width,
