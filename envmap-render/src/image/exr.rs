@@ -444,9 +444,24 @@ pub(super) fn encode<W: Write + Seek>(
         .into_iter()
         .map(|c| ChannelDescription::named(c, sample))
         .collect();
+    // `auto` in f32 with empty cells (a cube cross's corners): the file is
+    // RLE, but only the blocks that cross an empty cell are compressed (to
+    // a few bytes for the empty part); the rest are stored raw, as an RLE
+    // file stores any block compression does not shrink (the OpenEXR
+    // file layout: a chunk whose size is its pixels' is not compressed).
+    let sparse = view
+        .atlas
+        .filter(|_| {
+            compression == ExrCompression::Auto && precision == ExrPrecision::F32 && view.height > 0
+        })
+        .and_then(|a| EmptyCells::of(&a, view.height));
     let header = Header::new(Text::from(""), (w, h), channels)
         .with_encoding(
-            codec(compression, precision),
+            if sparse.is_some() {
+                ::exr::prelude::Compression::RLE
+            } else {
+                codec(compression, precision)
+            },
             ::exr::meta::BlockDescription::ScanLines,
             ::exr::meta::attribute::LineOrder::Increasing,
         )
@@ -473,11 +488,11 @@ pub(super) fn encode<W: Write + Seek>(
             let chunks: Vec<::exr::error::Result<(usize, ::exr::block::chunk::Chunk)>> = batch
                 .par_iter()
                 .map(|&(i, index)| {
+                    let (y0, bh) = (index.pixel_position.y(), index.pixel_size.height());
                     let data = match view.stream {
                         None => block_bytes(view.pixels, w, index, &order, sample),
                         Some(stream) => {
                             // The block's rows made now, and encoded.
-                            let (y0, bh) = (index.pixel_position.y(), index.pixel_size.height());
                             let mut rows = vec![[0.0f32; 3]; bh * w];
                             stream.rows(y0 as u32, &mut rows);
                             let at = ::exr::block::BlockIndex {
@@ -487,6 +502,9 @@ pub(super) fn encode<W: Write + Seek>(
                             block_bytes(&rows, w, at, &order, sample)
                         }
                     };
+                    if sparse.is_some_and(|e| !e.crossed(y0, bh)) {
+                        return Ok((i, raw_chunk(y0, data)));
+                    }
                     ::exr::block::UncompressedBlock { index, data }
                         .compress_to_chunk(&meta.headers)
                         .map(|c| (i, c))
@@ -507,6 +525,57 @@ pub(super) fn encode<W: Write + Seek>(
             message: other.to_string(),
         },
     })
+}
+
+/// Which rows of an atlas image cross a cell without a chart.
+#[derive(Clone, Copy, Debug)]
+struct EmptyCells {
+    /// Rows per cell.
+    cell_height: usize,
+    /// Bit r: cell row r has an empty cell (atlases have at most a few rows).
+    rows: u64,
+}
+
+impl EmptyCells {
+    /// `None` for an atlas every cell of which holds a chart (or one whose
+    /// rows the height does not divide evenly).
+    fn of(atlas: &envmap_core::Atlas, height: u32) -> Option<Self> {
+        let cell_height = (height / atlas.rows.max(1)) as usize;
+        if cell_height == 0 || atlas.rows > 64 || !height.is_multiple_of(atlas.rows) {
+            return None;
+        }
+        let rows = (0..atlas.rows)
+            .filter(|&r| (atlas.cells.iter().filter(|c| c.row == r).count() as u32) < atlas.cols)
+            .fold(0u64, |m, r| m | 1 << r);
+        (rows != 0).then_some(Self { cell_height, rows })
+    }
+
+    /// Whether rows `y0..y0 + n` cross an empty cell.
+    fn crossed(self, y0: usize, n: usize) -> bool {
+        let (first, last) = (
+            y0 / self.cell_height,
+            (y0 + n.max(1) - 1) / self.cell_height,
+        );
+        (first..=last).any(|r| r < 64 && self.rows & (1 << r) != 0)
+    }
+}
+
+/// A scan-line block stored as it is: its bytes (native endian, f32 or
+/// f16 samples) made little endian.
+fn raw_chunk(y0: usize, mut data: Vec<u8>) -> ::exr::block::chunk::Chunk {
+    use ::exr::block::chunk::{Chunk, CompressedBlock, CompressedScanLineBlock};
+    if cfg!(target_endian = "big") {
+        // Every channel has the same sample type: f32 here (the `auto`
+        // case that stores blocks raw is f32 only).
+        data.chunks_exact_mut(4).for_each(<[u8]>::reverse);
+    }
+    Chunk {
+        layer_index: 0,
+        compressed_block: CompressedBlock::ScanLine(CompressedScanLineBlock {
+            y_coordinate: i32::try_from(y0).unwrap_or(i32::MAX),
+            compressed_pixels_le: data,
+        }),
+    }
 }
 
 /// A scan-line block's bytes (native endian, as the `exr` crate's blocks
@@ -582,6 +651,19 @@ mod tests {
         } else {
             v * 1.000_001
         }
+    }
+
+    /// A file's RGB texels as the `exr` crate's own reader reads them.
+    fn read_by_the_exr_crate(path: &std::path::Path) -> Vec<[f32; 3]> {
+        let back = read_first_rgba_layer_from_file(
+            path,
+            |res, _| (res.width(), vec![[0f32; 3]; res.area()]),
+            |s: &mut (usize, Vec<[f32; 3]>), p, (r, g, b, _): (f32, f32, f32, f32)| {
+                s.1[p.y() * s.0 + p.x()] = [r, g, b];
+            },
+        )
+        .expect("the exr crate reads it");
+        back.layer_data.channel_data.pixels.1
     }
 
     fn temp(name: &str) -> std::path::PathBuf {
@@ -672,14 +754,7 @@ mod tests {
                     ..SaveOptions::default()
                 };
                 write_rgb(&img, &path, &opts).expect("write");
-                let back = read_first_rgba_layer_from_file(
-                    &path,
-                    |res, _| (res.width(), vec![[0f32; 3]; res.area()]),
-                    |s: &mut (usize, Vec<[f32; 3]>), p, (r, g, b, _): (f32, f32, f32, f32)| {
-                        s.1[p.y() * s.0 + p.x()] = [r, g, b];
-                    },
-                )
-                .expect("the exr crate reads it");
+                let got = read_by_the_exr_crate(&path);
                 let meta = ::exr::meta::MetaData::read_from_file(&path, false).expect("meta");
                 let _ = std::fs::remove_file(&path);
                 let header = &meta.headers[0];
@@ -697,7 +772,6 @@ mod tests {
                     .comments
                     .as_ref()
                     .is_some_and(|c| c.to_string().contains("test content")));
-                let got = back.layer_data.channel_data.pixels.1;
                 for (k, (g, p)) in got.iter().zip(&pixels).enumerate() {
                     let want = match precision {
                         ExrPrecision::F32 => *p,
@@ -710,6 +784,89 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// `auto` in f32: an atlas with empty cells (the crosses) is an RLE file
+    /// whose blocks are compressed only where they cross an empty cell, and
+    /// stored raw elsewhere; an atlas without one (a strip, a latlong) is
+    /// uncompressed. Either reads back to the bit through the `exr`
+    /// crate's own reader, and the cross takes little more than its faces.
+    #[test]
+    fn auto_compresses_only_the_rows_through_empty_cells() {
+        use crate::image::io::save;
+        use crate::image::{EnvImage, Representation};
+        use envmap_core::{AnyMapping, Atlas, Frame, Mapping};
+        let face = 24u32;
+        for (mapping, atlas, compressed) in [
+            (AnyMapping::Cube, Atlas::CUBE_HORIZONTAL_CROSS, true),
+            (AnyMapping::Cube, Atlas::CUBE_VERTICAL_CROSS, true),
+            (AnyMapping::Cube, Atlas::CUBE_HORIZONTAL_STRIP, false),
+            (AnyMapping::LatLong, Atlas::LATLONG, false),
+        ] {
+            let repr = Representation::new(mapping, atlas, Frame::IDENTITY).unwrap();
+            let (w, h) = atlas.image_size_for_cell_width(face).unwrap();
+            let mut img = EnvImage::new(w, h, repr).unwrap();
+            for chart in 0..mapping.chart_count() {
+                let (cw, ch) = img.cell_size();
+                for j in 0..ch {
+                    for i in 0..cw {
+                        let v = [0, 1, 2]
+                            .map(|c| value(i as usize, j as usize, c + chart as usize, false));
+                        assert!(img.set_chart_texel(chart, i, j, v));
+                    }
+                }
+            }
+            let path = temp(&format!("auto-{}.exr", atlas.name));
+            save(&img, &path, &SaveOptions::default()).expect("save");
+            let meta = ::exr::meta::MetaData::read_from_file(&path, false).expect("meta");
+            let header = &meta.headers[0];
+            let want = if compressed {
+                Compression::RLE
+            } else {
+                Compression::Uncompressed
+            };
+            assert_eq!(header.compression, want, "{}", atlas.name);
+            // Each block: raw exactly where its row crosses no empty cell.
+            let file = std::fs::File::open(&path).expect("open");
+            let reader = ::exr::block::read(std::io::BufReader::new(file), false).expect("read");
+            let line_bytes = w as usize * 12;
+            let cell_h = (h / atlas.rows) as usize;
+            let mut stored = 0usize;
+            for chunk in reader.all_chunks(false).expect("chunks") {
+                let chunk = chunk.expect("chunk");
+                let ::exr::block::chunk::CompressedBlock::ScanLine(b) = chunk.compressed_block
+                else {
+                    panic!("scan lines")
+                };
+                let y = b.y_coordinate as usize;
+                let r = (y / cell_h) as u32;
+                let full = atlas.cells.iter().filter(|c| c.row == r).count() as u32 == atlas.cols;
+                let n = b.compressed_pixels_le.len();
+                stored += n;
+                if full || !compressed {
+                    assert_eq!(n, line_bytes, "{} row {y}: stored raw", atlas.name);
+                } else {
+                    assert!(n < line_bytes, "{} row {y}: compressed", atlas.name);
+                }
+            }
+            let faces = (mapping.chart_count() * face * face) as usize * 12;
+            if compressed {
+                assert!(
+                    stored < faces + faces / 20,
+                    "{}: {stored} bytes for {faces}",
+                    atlas.name
+                );
+            }
+            let got = read_by_the_exr_crate(&path);
+            let _ = std::fs::remove_file(&path);
+            assert!(
+                got.iter()
+                    .zip(img.pixels())
+                    .all(|(g, p)| g.map(f32::to_bits) == p.map(f32::to_bits)),
+                "{}: read back",
+                atlas.name
+            );
         }
     }
 }

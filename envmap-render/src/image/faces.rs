@@ -423,6 +423,7 @@ pub(super) fn stage(
             height: face.height,
             pixels: &face.pixels,
             stream: None,
+            atlas: None,
             tags: &tags,
             description: &description,
         };

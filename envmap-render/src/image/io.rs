@@ -70,7 +70,7 @@ use std::sync::atomic::AtomicBool;
 
 #[cfg(feature = "image")]
 use ::image::{DynamicImage, ImageDecoder, ImageReader};
-use envmap_core::AnyMapping;
+use envmap_core::{AnyMapping, Atlas};
 
 use crate::cancel::{self, Cancellable};
 use crate::error::{Error, Result};
@@ -116,8 +116,13 @@ pub enum ExrPrecision {
 /// ZIP shrink smooth maps several times over.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ExrCompression {
-    /// The default: [`ExrCompression::None`] for f32 samples (written and
-    /// read at memory speed), [`ExrCompression::Rle`] for f16 (lossless,
+    /// The default: for f32 samples, uncompressed scan lines (written and
+    /// read at memory speed), except that the scan lines through an atlas's
+    /// empty cells (the corners of a cube cross) are RLE-compressed, which
+    /// takes their empty part to a few bytes: the file is then an RLE file
+    /// whose other lines are stored raw (as OpenEXR stores any block a
+    /// codec does not shrink), half the size of an uncompressed cross for
+    /// the same write time. [`ExrCompression::Rle`] for f16 (lossless,
     /// fast, and it does shrink half floats).
     #[default]
     Auto,
@@ -172,8 +177,10 @@ impl ExrCompression {
         }
     }
 
-    /// What [`ExrCompression::Auto`] stands for at `precision`; any other
-    /// choice is itself.
+    /// What [`ExrCompression::Auto`] stands for at `precision` for an image
+    /// without empty cells (an f32 cube cross is RLE with its full lines
+    /// stored raw: see [`ExrCompression::Auto`]); any other choice is
+    /// itself.
     #[must_use]
     pub const fn resolve(self, precision: ExrPrecision) -> ExrCompression {
         match (self, precision) {
@@ -905,6 +912,10 @@ pub(super) struct View<'a> {
     /// [`Outputs::stage_streamed`]. Only OpenEXR reads it.
     #[cfg_attr(not(feature = "exr"), allow(dead_code))]
     pub(super) stream: Option<&'a dyn RowSource>,
+    /// The atlas the texels are laid out in, if the image is an
+    /// environment map (where its empty cells are: OpenEXR's `auto`
+    /// compresses only the rows that cross one).
+    pub(super) atlas: Option<Atlas>,
     /// What the file says about itself where its format has a place
     /// ([`crate::image::metadata`]): the `envmap.*` tags and a description.
     pub(super) tags: &'a [(String, String)],
@@ -982,6 +993,7 @@ impl<'a> Outputs<'a> {
             height: image.height(),
             pixels: image.pixels(),
             stream: None,
+            atlas: Some(repr.atlas),
             tags: &tags,
             description: &description,
         };
@@ -1020,6 +1032,7 @@ impl<'a> Outputs<'a> {
             height: image.height,
             pixels: &image.pixels,
             stream: None,
+            atlas: None,
             tags: &tags,
             description: &description,
         };
@@ -1074,6 +1087,7 @@ impl<'a> Outputs<'a> {
             height: stream.height(),
             pixels: &[],
             stream: Some(stream),
+            atlas: Some(repr.atlas),
             tags: &tags,
             description: &description,
         };
