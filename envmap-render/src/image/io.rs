@@ -915,6 +915,7 @@ pub(super) struct View<'a> {
     /// The atlas the texels are laid out in, if the image is an
     /// environment map (where its empty cells are: OpenEXR's `auto`
     /// compresses only the rows that cross one).
+    #[cfg_attr(not(feature = "exr"), allow(dead_code))]
     pub(super) atlas: Option<Atlas>,
     /// What the file says about itself where its format has a place
     /// ([`crate::image::metadata`]): the `envmap.*` tags and a description.
