@@ -244,7 +244,7 @@ fn exr_levels_read_back_face_for_face_in_every_layout() {
             let (cw, ch) = file.cell_size();
             for r in 0..atlas.rows {
                 for c in 0..atlas.cols {
-                    if atlas.cells.iter().any(|k| k.row == r && k.col == c) {
+                    if atlas.cell_at(c, r).is_some() {
                         continue;
                     }
                     let black = (r * ch..(r + 1) * ch)

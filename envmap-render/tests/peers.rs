@@ -1,10 +1,11 @@
 //! envmap's default file conventions against the peer tools themselves:
 //! Filament's `cmgen` (Debian's `libfilament-tools`) and `py360convert`
-//! (PyPI). Runs only with `ENVMAP_PEERS=1` (the tools are not needed
+//! (PyPI), and its default EXR files read by OpenEXR's library through
+//! OpenCV (PyPI). Runs only with `ENVMAP_PEERS=1` (the tools are not needed
 //! otherwise):
 //!
 //! ```sh
-//! apt-get install libfilament-tools && pip install py360convert numpy scipy
+//! apt-get install libfilament-tools && pip install py360convert numpy scipy "opencv-python-headless<4.11"
 //! ENVMAP_PEERS=1 cargo test --release -p envmap-render --test peers -- --nocapture
 //! ```
 //!
@@ -182,4 +183,71 @@ fn the_default_cube_is_py360converts() {
         theirs.set_chart_image(k as u32, &face).unwrap();
     }
     same_faces("py360convert", &theirs, &ours(d, &[]), 0.02);
+}
+
+/// The cube cross `auto` writes (an RLE file whose lines through the empty
+/// cells alone are compressed, the rest stored raw) and a bake's level,
+/// read by OpenEXR's own library through OpenCV (`pip install
+/// "opencv-python-headless<4.11" numpy`): every texel to the bit.
+#[test]
+fn opencv_reads_the_default_cross_to_the_bit() {
+    if !peers() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    input(d, "in.exr");
+    let o = envmap(
+        &[
+            "convert",
+            "in.exr",
+            "cross.exr",
+            "--to",
+            "cube",
+            "--size",
+            "48",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = envmap(&["bake", "in.exr", "--out", "ibl", "--size", "32", "-q"], d);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for file in ["cross.exr", "ibl/specular_0.exr", "ibl/specular_3.exr"] {
+        let ours = load(d.join(file), &LoadOptions::default()).unwrap();
+        let script = format!(
+            "import os\n\
+            os.environ['OPENCV_IO_ENABLE_OPENEXR'] = '1'\n\
+            import cv2, numpy as np\n\
+            a = cv2.imread('{file}', cv2.IMREAD_UNCHANGED)\n\
+            assert a is not None and a.dtype == np.float32, 'not read as f32'\n\
+            a[:, :, ::-1].astype('<f4').tofile('back.f32')\n\
+            print(a.shape[1], a.shape[0])\n"
+        );
+        let o = Command::new("python3")
+            .args(["-c", &script])
+            .current_dir(d)
+            .output()
+            .expect(r#"run python3 (pip install "opencv-python-headless<4.11" numpy)"#);
+        assert!(o.status.success(), "{file}: {}", text(&o.stderr));
+        assert_eq!(
+            text(&o.stdout).trim(),
+            format!("{} {}", ours.width(), ours.height()),
+            "{file}"
+        );
+        let b = std::fs::read(d.join("back.f32")).unwrap();
+        let theirs: Vec<u32> = b
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        let mine: Vec<u32> = ours
+            .pixels()
+            .iter()
+            .flatten()
+            .map(|v| v.to_bits())
+            .collect();
+        assert!(theirs == mine, "{file}: OpenCV reads other texels");
+    }
+    // The cross was written as this test means: its empty half compressed.
+    let size = std::fs::metadata(d.join("cross.exr")).unwrap().len();
+    assert!(size < 6 * 48 * 48 * 12 * 21 / 20, "{size} bytes");
 }

@@ -169,7 +169,7 @@ impl TextureFlags {
 /// How files are written, shared by `convert`, `bake` and `render`.
 #[derive(clap::Args, Clone, Copy, Debug)]
 pub(crate) struct WriteFlags {
-    /// Compression of .exr outputs: auto (the default: f32 uncompressed but for the lines through a cube cross's empty cells, which rle takes to a few bytes; rle for f16), none, rle, zips, zip, piz, pxr24 (lossy for f32), b44, b44a (lossy, f16 only). auto writes a cube cross at half the size of none in about the same time; rle on every line costs about twice the write time; the other lossless codecs save 25–55 % of a real f32 photograph at 10–20 times the write time (docs/performance.md).
+    /// Compression of .exr outputs: auto (the default: f32 uncompressed but for the lines through a cube cross's empty cells, which rle takes to a few bytes; rle for f16), none, rle, zips, zip, piz, pxr24 (lossy for f32), b44, b44a (lossy, f16 only). auto writes a cube cross at half the size of none for 1.4–1.5 times its write time with a warm page cache; rle on every line costs about twice the write time; the other lossless codecs save 25–55 % of a real f32 photograph at 10–20 times the write time (docs/performance.md).
     #[arg(long, value_parser = parse_exr_compression)]
     pub(crate) exr_compression: Option<crate::image::io::ExrCompression>,
     /// When outputs are flushed to the disk before they are renamed into place: replacing (the default: when an existing file is replaced, so that a power loss cannot leave neither), always, never. Every output is written to a temporary file and renamed either way.

@@ -643,10 +643,7 @@ impl RowSource for InAtlas<'_> {
             let y = y0 + k as u32;
             let (r, jj) = (y / ch, y % ch);
             for (col, dst) in row.chunks_exact_mut(cw).enumerate() {
-                let cell = atlas
-                    .cells
-                    .iter()
-                    .find(|c| c.row == r && c.col as usize == col);
+                let cell = atlas.cell_at(col as u32, r);
                 // A cell turned half a turn stores chart row h − 1 − jj here,
                 // reversed.
                 let stored = cell.and_then(|c| {
@@ -792,7 +789,7 @@ mod tests {
             let (cw, ch) = whole.cell_size();
             for r in 0..atlas.rows {
                 for c in 0..atlas.cols {
-                    if atlas.cells.iter().any(|k| k.row == r && k.col == c) {
+                    if atlas.cell_at(c, r).is_some() {
                         continue;
                     }
                     for y in r * ch..(r + 1) * ch {

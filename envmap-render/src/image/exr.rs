@@ -545,7 +545,7 @@ impl EmptyCells {
             return None;
         }
         let rows = (0..atlas.rows)
-            .filter(|&r| (atlas.cells.iter().filter(|c| c.row == r).count() as u32) < atlas.cols)
+            .filter(|&r| (0..atlas.cols).any(|c| atlas.cell_at(c, r).is_none()))
             .fold(0u64, |m, r| m | 1 << r);
         (rows != 0).then_some(Self { cell_height, rows })
     }
@@ -841,7 +841,7 @@ mod tests {
                 };
                 let y = b.y_coordinate as usize;
                 let r = (y / cell_h) as u32;
-                let full = atlas.cells.iter().filter(|c| c.row == r).count() as u32 == atlas.cols;
+                let full = (0..atlas.cols).all(|c| atlas.cell_at(c, r).is_some());
                 let n = b.compressed_pixels_le.len();
                 stored += n;
                 if full || !compressed {

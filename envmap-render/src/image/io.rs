@@ -121,8 +121,10 @@ pub enum ExrCompression {
     /// empty cells (the corners of a cube cross) are RLE-compressed, which
     /// takes their empty part to a few bytes: the file is then an RLE file
     /// whose other lines are stored raw (as OpenEXR stores any block a
-    /// codec does not shrink), half the size of an uncompressed cross for
-    /// the same write time. [`ExrCompression::Rle`] for f16 (lossless,
+    /// codec does not shrink): half the size of an uncompressed cross, for
+    /// 1.4–1.5× its save time when the page cache is warm (less time
+    /// in all when the kernel must find fresh pages for the file:
+    /// `docs/performance.md`). [`ExrCompression::Rle`] for f16 (lossless,
     /// fast, and it does shrink half floats).
     #[default]
     Auto,
