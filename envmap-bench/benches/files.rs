@@ -16,7 +16,10 @@
 //! * `files/bake`: the default bake (512² chain, SH9, 32² irradiance, DFG)
 //!   of the EXR file in memory (`in-memory`: the map already loaded, no
 //!   file written) and as `envmap bake FILE --out DIR` runs it (`with-files`:
-//!   load, the loaded map given to the bake, every file written).
+//!   load, the loaded map given to the bake, each level's file written
+//!   while the next level is made, then the rest: `bakedir::bake_into`);
+//!   `then-files` writes every file after the bake instead (`bake_owned`
+//!   then `bakedir::write`).
 //!
 //! On jemalloc, as the `envmap` command runs.
 //!
@@ -208,28 +211,31 @@ fn bench(c: &mut Criterion) {
             BatchSize::PerIteration,
         )
     });
-    g.bench_function("with-files/2-threads", |b| {
-        b.iter_batched(
-            || {
-                let _ = std::fs::remove_dir_all(&dir);
-            },
-            |()| {
-                pool.install(|| {
-                    let m = load(black_box(&exr), &LoadOptions::default()).expect("load");
-                    let baked = bake_owned(m, &opts, &|_, _| {}).expect("bake");
-                    bakedir::write(
-                        &dir,
-                        &baked,
-                        &opts,
-                        &preset,
-                        &Provenance::new("smooth4096.exr"),
-                        &SaveOptions::default(),
-                    )
-                    .expect("write")
-                })
-            },
-            BatchSize::PerIteration,
-        )
+    // Load, then `job`: a new directory each time, as a user's job makes.
+    let mut with_load = |name: &str, job: &(dyn Fn(EnvImage) + Sync)| {
+        g.bench_function(name, |b| {
+            b.iter_batched(
+                || {
+                    let _ = std::fs::remove_dir_all(&dir);
+                },
+                |()| {
+                    pool.install(|| {
+                        job(load(black_box(&exr), &LoadOptions::default()).expect("load"));
+                    })
+                },
+                BatchSize::PerIteration,
+            )
+        });
+    };
+    let provenance = Provenance::new("smooth4096.exr");
+    let save = SaveOptions::default();
+    with_load("with-files/2-threads", &|m| {
+        bakedir::bake_into(&dir, m, &opts, &preset, &provenance, &save, &|_, _| {})
+            .expect("bake into");
+    });
+    with_load("then-files/2-threads", &|m| {
+        let baked = bake_owned(m, &opts, &|_, _| {}).expect("bake");
+        bakedir::write(&dir, &baked, &opts, &preset, &provenance, &save).expect("write");
     });
     g.finish();
 }

@@ -255,3 +255,117 @@ fn exr_levels_read_back_face_for_face_in_every_layout() {
         }
     }
 }
+
+/// The files of one directory, by name.
+fn files_of(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|e| {
+            let e = e.expect("entry");
+            let name = e.file_name().to_string_lossy().into_owned();
+            (name, std::fs::read(e.path()).expect("read"))
+        })
+        .collect()
+}
+
+/// `bake_into` (each OpenEXR level written while the next is made) writes
+/// the files `bake_owned` then `write` write, in every layout and
+/// container; cancelled while it bakes, it leaves no file and no directory.
+#[test]
+fn bake_into_writes_what_a_bake_then_write_writes_and_nothing_when_cancelled() {
+    use envmap_render::filter::bake::bake_owned;
+    use envmap_render::io::SaveOptions;
+    use envmap_render::Layout;
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let src = source();
+    let mut presets = Vec::new();
+    for layout in [Layout::Cross, Layout::Strip, Layout::Faces] {
+        let mut p = Preset::default();
+        p.layout = layout;
+        presets.push((layout.name().to_owned(), p));
+    }
+    for t in [Target::Bevy, Target::Filament] {
+        presets.push((
+            t.name().to_owned(),
+            Preset::for_target(t, FileAxes::default()),
+        ));
+    }
+    for (label, mut preset) in presets {
+        // Two levels at least, in every rule.
+        preset.size = 32;
+        preset.irradiance_size = 4;
+        preset.dfg_size = 8;
+        let opts = preset.bake_options(BakeOptions::default());
+        let provenance = Provenance::new("sky");
+        let save = SaveOptions::default();
+        // The same name (KTX 1 files are named after their directory).
+        let a = dir.path().join("a").join(&label);
+        let b = dir.path().join("b").join(&label);
+        let baked = bake_owned(src.clone(), &opts, &|_, _| {}).expect("bake");
+        bakedir::write(&a, &baked, &opts, &preset, &provenance, &save).expect("write");
+        let bake_into =
+            |dir: &Path, opts: &BakeOptions, progress: &(dyn Fn(usize, usize) + Sync)| {
+                bakedir::bake_into(
+                    dir,
+                    src.clone(),
+                    opts,
+                    &preset,
+                    &provenance,
+                    &save,
+                    progress,
+                )
+            };
+        let levels = AtomicUsize::new(0);
+        let into = bake_into(&b, &opts, &|k, _| {
+            levels.fetch_max(k, Ordering::Relaxed);
+        })
+        .expect("bake into");
+        let chain = into.bake.chain.as_ref().expect("chain");
+        assert_eq!(
+            levels.load(Ordering::Relaxed) + 1,
+            chain.levels.len(),
+            "{label}"
+        );
+        for (x, y) in chain
+            .levels
+            .iter()
+            .zip(&baked.chain.as_ref().expect("chain").levels)
+        {
+            assert!(x.pixels() == y.pixels(), "{label}: the same bake");
+        }
+        let (fa, fb) = (files_of(&a), files_of(&b));
+        assert_eq!(
+            fa.keys().collect::<Vec<_>>(),
+            fb.keys().collect::<Vec<_>>(),
+            "{label}: the same files"
+        );
+        for (name, bytes) in &fa {
+            same(&format!("{label}/{name}"), bytes, &fb[name]);
+        }
+        let mut written: Vec<String> = into
+            .written
+            .files
+            .iter()
+            .map(|p| p.file_name().expect("name").to_string_lossy().into_owned())
+            .collect();
+        written.sort();
+        assert_eq!(written, fb.keys().cloned().collect::<Vec<_>>(), "{label}");
+
+        // Stopped as level 1 starts: level 0 may be staged already.
+        let stop = AtomicBool::new(false);
+        let mut stopping = opts.clone();
+        stopping.cancel = Some(&stop);
+        let c = dir.path().join(format!("{label}-cancelled"));
+        let e = bake_into(&c, &stopping, &|k, _| {
+            if k == 1 {
+                stop.store(true, Ordering::Relaxed);
+            }
+        });
+        let Err(e) = e else {
+            panic!("{label}: not cancelled");
+        };
+        assert!(e.to_string().contains("cancel"), "{label}: {e}");
+        assert!(!c.exists(), "{label}: the new directory is removed");
+    }
+}

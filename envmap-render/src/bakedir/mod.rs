@@ -25,7 +25,10 @@
 //! * [`Preset`]: a [`Target`]'s choices (or envmap's default), turned into
 //!   [`crate::filter::bake::BakeOptions`] by [`Preset::bake_options`].
 //! * [`write()`]: every file into a directory, renamed into place together;
-//!   [`in_memory`]: the same files' bytes, with nothing on disk touched;
+//!   [`bake_into`]: the bake and its files at once, each level of an
+//!   OpenEXR chain written while the next is made (what `envmap bake`
+//!   runs); [`in_memory`]: the same files' bytes, with nothing on disk
+//!   touched;
 //!   [`engine_textures`]: the maps' texels per level and face in the
 //!   preset's texel format, for an engine's own upload.
 //! * [`read::open`]: the maps back as a [`crate::scene::lit::LitEnvironment`].
@@ -57,5 +60,6 @@ pub mod write;
 
 pub use preset::{Container, Preset, Target, DEFAULT_ZSTD};
 pub use write::{
-    engine_textures, in_memory, write, BakeFiles, EngineTextures, Provenance, Written,
+    bake_into, engine_textures, in_memory, write, BakeFiles, BakedInto, EngineTextures, Provenance,
+    Written,
 };

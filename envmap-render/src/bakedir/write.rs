@@ -3,12 +3,16 @@
 //! ([`write()`]) or into memory ([`in_memory`]), by the same code.
 
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
+use std::time::Instant;
 
 use envmap_core::AnyMapping;
 
 use super::preset::{Container, Preset, Target};
 use crate::error::{Error, Result};
-use crate::filter::bake::{Bake, BakeOptions};
+use crate::filter::bake::{
+    bake_owned, bake_owned_streaming, chain_sizes, Bake, BakeOptions, LevelReport,
+};
 use crate::filter::dfg::{DfgGrid, DfgTable};
 use crate::filter::sh::{IrradianceScale, NAMES};
 use crate::image::convention::FileAxes;
@@ -89,15 +93,97 @@ pub fn write(
     provenance: &Provenance,
     save: &SaveOptions,
 ) -> Result<Written> {
+    in_new_dir(dir, preset, || {
+        let mut run = Outputs::new(save);
+        let clamped =
+            Files::new(dir, opts, preset, save).stage(&mut run, bake, provenance, false)?;
+        let files = run.commit()?;
+        Ok(Written { files, clamped })
+    })
+}
+
+/// What [`bake_into`] made and how long it took.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct BakedInto {
+    /// The bake.
+    pub bake: Bake,
+    /// The files written.
+    pub written: Written,
+    /// Seconds of the bake, the levels' files written beside it included
+    /// (the manifest's `bake_seconds`).
+    pub bake_seconds: f64,
+    /// Seconds after the bake: the other files staged, all renamed into
+    /// place.
+    pub write_seconds: f64,
+}
+
+/// Bakes `src` ([`bake_owned`]) and writes every file of the bake into
+/// `dir` as [`write()`] writes them, an OpenEXR chain's levels each while
+/// the next is made ([`bake_owned_streaming`]): the levels' files take the
+/// bake's spare time instead of following it. Returns the bake and what
+/// was written ([`BakedInto`]); the manifest's bake time (`provenance.bake_seconds`) is
+/// measured here, the levels' files written beside it included. The bake
+/// and the files are those of [`bake_owned`] then [`write()`], byte for
+/// byte; as there, nothing is left half-written when the bake or a write
+/// fails or is cancelled (`opts.cancel`, `save.cancel`).
+///
+/// # Errors
+///
+/// As [`bake_owned`] and [`write()`].
+pub fn bake_into(
+    dir: &Path,
+    src: EnvImage,
+    opts: &BakeOptions,
+    preset: &Preset,
+    provenance: &Provenance,
+    save: &SaveOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<BakedInto> {
+    let n = chain_sizes(opts)?.len();
+    in_new_dir(dir, preset, || {
+        let files = Files::new(dir, opts, preset, save);
+        let run = Mutex::new(Outputs::new(save));
+        let streams = preset.container == Container::Exr;
+        let sink = |k: usize, level: &EnvImage, report: &LevelReport| {
+            let mut run = run.lock().unwrap_or_else(PoisonError::into_inner);
+            files.stage_level(&mut run, (k, n), level, report)
+        };
+        let t = Instant::now();
+        let bake = if streams {
+            bake_owned_streaming(src, opts, progress, &sink)?
+        } else {
+            bake_owned(src, opts, progress)?
+        };
+        let bake_seconds = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let provenance = Provenance {
+            bake_seconds,
+            ..provenance.clone()
+        };
+        let mut run = run.into_inner().unwrap_or_else(PoisonError::into_inner);
+        let clamped = files.stage(&mut run, &bake, &provenance, streams)?;
+        let files = run.commit()?;
+        Ok(BakedInto {
+            bake,
+            written: Written { files, clamped },
+            bake_seconds,
+            write_seconds: t.elapsed().as_secs_f64(),
+        })
+    })
+}
+
+/// `write_files` run for directory `dir` (created if missing, removed again
+/// if it was created and `write_files` fails), after the preset's check.
+fn in_new_dir<T>(
+    dir: &Path,
+    preset: &Preset,
+    write_files: impl FnOnce() -> Result<T>,
+) -> Result<T> {
     preset.check()?;
     let created = !dir.exists();
     std::fs::create_dir_all(dir).map_err(|e| Error::write(dir, e))?;
-    let result = (|| {
-        let mut run = Outputs::new(save);
-        let clamped = stage(&mut run, dir, bake, opts, preset, provenance, save)?;
-        let files = run.commit()?;
-        Ok(Written { files, clamped })
-    })();
+    let result = write_files();
     if result.is_err() && created {
         let _ = std::fs::remove_dir(dir);
     }
@@ -125,7 +211,7 @@ pub fn in_memory(
         cancel: opts.cancel,
         ..SaveOptions::default()
     };
-    let clamped = stage(&mut run, dir, bake, opts, preset, provenance, &save)?;
+    let clamped = Files::new(dir, opts, preset, &save).stage(&mut run, bake, provenance, false)?;
     let name = |p: PathBuf| p.strip_prefix(dir).map(Path::to_path_buf).unwrap_or(p);
     let files = run
         .into_memory()?
@@ -190,159 +276,206 @@ fn ktx1_with_keys(
     }
 }
 
-/// Stages every file of `bake` into `run`, each at `dir`/name; returns what
-/// packing clamped per texture file.
-fn stage(
-    run: &mut Outputs<'_>,
-    dir: &Path,
-    bake: &Bake,
-    opts: &BakeOptions,
-    preset: &Preset,
-    provenance: &Provenance,
-    save: &SaveOptions,
-) -> Result<Vec<(PathBuf, Clamped)>> {
-    let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
-    let sopts = SaveOptions {
-        six_files: preset.layout.is_six_files(),
-        ..save.clone()
-    };
-    if preset.container == Container::Exr {
-        // A level in the preset's atlas is written from its faces as the
-        // writer asks for rows: no copy of it is made.
-        let mut stage_exr = |img: &EnvImage, stem: &str, content: String| -> Result<()> {
-            let o = SaveOptions {
-                content: Some(content),
-                ..sopts.clone()
-            };
-            let path = dir.join(file_name(preset, stem));
-            let atlas = preset.layout.atlas();
-            if preset.layout.is_six_files() || img.representation().atlas == atlas {
-                run.stage_image(img, path, &o)
-            } else {
-                run.stage_streamed(&img.in_atlas(atlas)?, path, &o)
-            }
-        };
-        if let Some(chain) = &bake.chain {
-            let n = chain.levels.len();
-            for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
-                let content = format!(
-                    "GGX-prefiltered radiance (split sum, N = V = R): level {k} of {n}, perceptual roughness {:.4} (alpha = roughness^2), rule {}",
-                    r.roughness,
-                    opts.rule.name()
-                );
-                stage_exr(level, &format!("specular_{k}"), content)?;
-            }
+/// The files of one bake directory: where, how baked, in what preset,
+/// saved how; what stages them.
+struct Files<'p> {
+    dir: &'p Path,
+    opts: &'p BakeOptions<'p>,
+    preset: &'p Preset,
+    /// The options of the image files (the preset's six files or not).
+    save: SaveOptions<'p>,
+}
+
+impl<'p> Files<'p> {
+    fn new(
+        dir: &'p Path,
+        opts: &'p BakeOptions<'p>,
+        preset: &'p Preset,
+        save: &SaveOptions<'p>,
+    ) -> Self {
+        Self {
+            dir,
+            opts,
+            preset,
+            save: SaveOptions {
+                six_files: preset.layout.is_six_files(),
+                ..save.clone()
+            },
         }
-        if let Some(irr) = &bake.irradiance {
-            let content = match opts.irradiance_scale {
-                IrradianceScale::EOverPi => {
-                    "irradiance E/pi (the radiance a white Lambertian surface reflects)".to_owned()
+    }
+
+    /// Stages an image of an OpenEXR bake (a level, the irradiance map) in
+    /// the preset's layout, described by `content`. An image in another
+    /// atlas is written from its faces as the writer asks for rows: no copy
+    /// of it is made.
+    fn stage_exr(
+        &self,
+        run: &mut Outputs<'_>,
+        img: &EnvImage,
+        stem: &str,
+        content: String,
+    ) -> Result<()> {
+        let o = SaveOptions {
+            content: Some(content),
+            ..self.save.clone()
+        };
+        let path = self.dir.join(file_name(self.preset, stem));
+        let atlas = self.preset.layout.atlas();
+        if self.preset.layout.is_six_files() || img.representation().atlas == atlas {
+            run.stage_image(img, path, &o)
+        } else {
+            run.stage_streamed(&img.in_atlas(atlas)?, path, &o)
+        }
+    }
+
+    /// Stages level `k` of `n` of an OpenEXR bake's chain.
+    fn stage_level(
+        &self,
+        run: &mut Outputs<'_>,
+        (k, n): (usize, usize),
+        level: &EnvImage,
+        report: &LevelReport,
+    ) -> Result<()> {
+        let content = format!(
+            "GGX-prefiltered radiance (split sum, N = V = R): level {k} of {n}, perceptual roughness {:.4} (alpha = roughness^2), rule {}",
+            report.roughness,
+            self.opts.rule.name()
+        );
+        self.stage_exr(run, level, &format!("specular_{k}"), content)
+    }
+
+    /// Stages every file of `bake` into `run`, each at `dir`/name, but for
+    /// an OpenEXR chain's levels when `levels_staged` (they were, as they
+    /// were made: [`bake_into`]); returns what packing clamped per texture
+    /// file.
+    fn stage(
+        &self,
+        run: &mut Outputs<'_>,
+        bake: &Bake,
+        provenance: &Provenance,
+        levels_staged: bool,
+    ) -> Result<Vec<(PathBuf, Clamped)>> {
+        let (dir, opts, preset) = (self.dir, self.opts, self.preset);
+        let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
+        if preset.container == Container::Exr {
+            if let Some(chain) = bake.chain.as_ref().filter(|_| !levels_staged) {
+                let n = chain.levels.len();
+                for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
+                    self.stage_level(run, (k, n), level, r)?;
                 }
-                IrradianceScale::E => "irradiance E (not divided by pi)".to_owned(),
+            }
+            if let Some(irr) = &bake.irradiance {
+                let content = match opts.irradiance_scale {
+                    IrradianceScale::EOverPi => {
+                        "irradiance E/pi (the radiance a white Lambertian surface reflects)"
+                            .to_owned()
+                    }
+                    IrradianceScale::E => "irradiance E (not divided by pi)".to_owned(),
+                };
+                self.stage_exr(run, &irr.image, "irradiance", content)?;
+            }
+        } else {
+            let mut texture = |run: &mut Outputs<'_>,
+                               levels: &[EnvImage],
+                               name: &str,
+                               kv: &[(&str, &[u8])]|
+             -> Result<()> {
+                let tex = Texture::from_env(levels)?;
+                let path = dir.join(name);
+                let clamped = if preset.container == Container::Ktx {
+                    let (bytes, c) = ktx1_with_keys(&tex, preset, kv, &path)?;
+                    run.stage_bytes(&path, &bytes)?;
+                    c
+                } else {
+                    run.stage_texture(&tex, &path, preset.texture)?
+                };
+                clamped_total.push((path, clamped));
+                Ok(())
             };
-            stage_exr(&irr.image, "irradiance", content)?;
-        }
-    } else {
-        let mut texture = |run: &mut Outputs<'_>,
-                           levels: &[EnvImage],
-                           name: &str,
-                           kv: &[(&str, &[u8])]|
-         -> Result<()> {
-            let tex = Texture::from_env(levels)?;
-            let path = dir.join(name);
-            let clamped = if preset.container == Container::Ktx {
-                let (bytes, c) = ktx1_with_keys(&tex, preset, kv, &path)?;
-                run.stage_bytes(&path, &bytes)?;
-                c
-            } else {
-                run.stage_texture(&tex, &path, preset.texture)?
-            };
-            clamped_total.push((path, clamped));
-            Ok(())
-        };
-        let ext = preset.container.extension();
-        let sh_key = filament_sh_key(bake, preset);
-        if let Some(chain) = &bake.chain {
-            let kv: Vec<(&str, &[u8])> = if preset.container == Container::Ktx {
-                vec![("sh", sh_key.as_bytes())]
-            } else {
-                Vec::new()
-            };
-            texture(
-                run,
-                &chain.levels,
-                &texture_name(dir, preset, preset.specular),
-                &kv,
-            )?;
-            if preset.container == Container::Ktx {
+            let ext = preset.container.extension();
+            let sh_key = filament_sh_key(bake, preset);
+            if let Some(chain) = &bake.chain {
+                let kv: Vec<(&str, &[u8])> = if preset.container == Container::Ktx {
+                    vec![("sh", sh_key.as_bytes())]
+                } else {
+                    Vec::new()
+                };
                 texture(
                     run,
-                    &chain.levels[..1],
-                    &texture_name(dir, preset, "skybox"),
+                    &chain.levels,
+                    &texture_name(dir, preset, preset.specular),
+                    &kv,
+                )?;
+                if preset.container == Container::Ktx {
+                    texture(
+                        run,
+                        &chain.levels[..1],
+                        &texture_name(dir, preset, "skybox"),
+                        &[],
+                    )?;
+                }
+            }
+            if let Some(irr) = &bake.irradiance {
+                texture(
+                    run,
+                    std::slice::from_ref(&irr.image),
+                    &texture_name(dir, preset, preset.irradiance),
                     &[],
                 )?;
             }
+            if preset.container == Container::Ktx {
+                run.stage_bytes(dir.join("sh.txt"), filament_sh_txt(bake, preset).as_bytes())?;
+            }
+            if let (Some(t), Some(Target::Gltf)) = (&bake.dfg, preset.target) {
+                // glTF-IBL-Sampler's LUT: R = scale, G = bias, N·V across,
+                // roughness down (row 0 = roughness 0.5/size, or 0 on the edges
+                // grid: the manifest's `dfg.grid`).
+                let lut = Texture::new(TextureKind::Flat, vec![vec![t.single_scatter_image()]])?;
+                let path = dir.join(format!("lut_ggx.{ext}"));
+                let c = run.stage_texture(
+                    &lut,
+                    &path,
+                    TextureOptions {
+                        zstd: None,
+                        ..preset.texture
+                    },
+                )?;
+                clamped_total.push((path, c));
+            }
         }
-        if let Some(irr) = &bake.irradiance {
-            texture(
-                run,
-                std::slice::from_ref(&irr.image),
-                &texture_name(dir, preset, preset.irradiance),
-                &[],
-            )?;
+        if let Some(t) = &bake.dfg {
+            let (x, y) = dfg_axes(t);
+            let axes = format!("{x}, {y}; height-correlated Smith GGX");
+            for (file, form, image) in [
+                (
+                    "dfg.exr",
+                    "DFG single scatter: R = scale, G = bias (F0 scale + bias)",
+                    t.single_scatter_image(),
+                ),
+                (
+                    "dfg_multiscatter.exr",
+                    "DFG multiscatter (Filament): R = bias, G = scale + bias",
+                    t.multiscatter_image(),
+                ),
+            ] {
+                let o = SaveOptions {
+                    exr_precision: ExrPrecision::F32,
+                    content: Some(format!("{form}; {axes}")),
+                    ..self.save.clone()
+                };
+                run.stage_rgb(&image, dir.join(file), &o)?;
+            }
         }
-        if preset.container == Container::Ktx {
-            run.stage_bytes(dir.join("sh.txt"), filament_sh_txt(bake, preset).as_bytes())?;
-        }
-        if let (Some(t), Some(Target::Gltf)) = (&bake.dfg, preset.target) {
-            // glTF-IBL-Sampler's LUT: R = scale, G = bias, N·V across,
-            // roughness down (row 0 = roughness 0.5/size, or 0 on the edges
-            // grid: the manifest's `dfg.grid`).
-            let lut = Texture::new(TextureKind::Flat, vec![vec![t.single_scatter_image()]])?;
-            let path = dir.join(format!("lut_ggx.{ext}"));
-            let c = run.stage_texture(
-                &lut,
-                &path,
-                TextureOptions {
-                    zstd: None,
-                    ..preset.texture
-                },
-            )?;
-            clamped_total.push((path, c));
-        }
+        run.stage_bytes(
+            dir.join("sh.json"),
+            sh_json(preset, bake, opts.axes).as_bytes(),
+        )?;
+        run.stage_bytes(
+            dir.join("manifest.json"),
+            manifest(dir, preset, provenance, bake, opts).as_bytes(),
+        )?;
+        Ok(clamped_total)
     }
-    if let Some(t) = &bake.dfg {
-        let (x, y) = dfg_axes(t);
-        let axes = format!("{x}, {y}; height-correlated Smith GGX");
-        for (file, form, image) in [
-            (
-                "dfg.exr",
-                "DFG single scatter: R = scale, G = bias (F0 scale + bias)",
-                t.single_scatter_image(),
-            ),
-            (
-                "dfg_multiscatter.exr",
-                "DFG multiscatter (Filament): R = bias, G = scale + bias",
-                t.multiscatter_image(),
-            ),
-        ] {
-            let o = SaveOptions {
-                exr_precision: ExrPrecision::F32,
-                content: Some(format!("{form}; {axes}")),
-                ..sopts.clone()
-            };
-            run.stage_rgb(&image, dir.join(file), &o)?;
-        }
-    }
-    run.stage_bytes(
-        dir.join("sh.json"),
-        sh_json(preset, bake, opts.axes).as_bytes(),
-    )?;
-    run.stage_bytes(
-        dir.join("manifest.json"),
-        manifest(dir, preset, provenance, bake, opts).as_bytes(),
-    )?;
-    Ok(clamped_total)
 }
 
 /// The file of a texture container: `<stem>.<ext>`, or for KTX 1 (cmgen's

@@ -14,7 +14,7 @@ use crate::cli::args::{
     load_error, parse_convention, parse_layout, parse_mapping, parse_world, set_threads,
     warn_clamped, warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
-use crate::filter::bake::{bake_owned, chain_sizes, Bake, BakeOptions, Quality};
+use crate::filter::bake::{chain_sizes, Bake, BakeOptions, Quality};
 use crate::filter::dfg::DfgGrid;
 use crate::filter::sh::{IrradianceScale, ShWindow};
 use crate::filter::specular::RoughnessRule;
@@ -315,38 +315,35 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             ));
         }
     };
-    let t1 = Instant::now();
-    // The bake takes the input: its working copy is the input itself.
-    let baked = bake_owned(src, &opts, &progress).map_err(|e| e.to_string())?;
-    let t_bake = t1.elapsed();
-    if let Ok(b) = bar.lock() {
-        b.finish_and_clear();
-    }
     let provenance = Provenance {
         input: name.clone(),
         load_seconds: t_load.as_secs_f64(),
-        bake_seconds: t_bake.as_secs_f64(),
+        ..Provenance::default()
     };
     let save = SaveOptions {
         inputs: inputs.clone(),
         cancel: Some(stop),
         ..a.write.over(SaveOptions::default())
     };
-    let t2 = Instant::now();
-    let written = bakedir::write(&a.out, &baked, &opts, &plan, &provenance, &save)
-        .map_err(|e| e.to_string())?;
-    let t_write = t2.elapsed();
-    for (path, c) in &written.clamped {
+    // The bake takes the input (its working copy is the input itself) and
+    // writes each level of an OpenEXR chain while it makes the next.
+    let done = bakedir::bake_into(&a.out, src, &opts, &plan, &provenance, &save, &progress)
+        .map_err(|e| e.to_string());
+    if let Ok(b) = bar.lock() {
+        b.finish_and_clear();
+    }
+    let done = done?;
+    for (path, c) in &done.written.clamped {
         warn_clamped(path, plan.texture.format, *c);
     }
-    let written = written.files;
     if !a.quiet {
         summary(
             a,
+            &plan,
             &name,
-            &baked,
-            written.len(),
-            [t_load, t_bake, t_write].map(|t| t.as_secs_f64()),
+            &done.bake,
+            done.written.files.len(),
+            [t_load.as_secs_f64(), done.bake_seconds, done.write_seconds],
         );
     }
     Ok(())
@@ -359,11 +356,17 @@ fn triple(v: [f64; 3]) -> String {
 
 /// The table printed at the end.
 ///
-/// `times`: the seconds spent loading, baking and writing.
-fn summary(a: &BakeArgs, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
+/// `times`: the seconds spent loading, baking (an OpenEXR chain's levels
+/// written beside it) and writing the rest.
+fn summary(a: &BakeArgs, plan: &Preset, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
     let [load, work, write] = times.map(|t| t * 1e3);
+    let beside = if plan.container == Container::Exr && b.chain.is_some() {
+        " (its levels' files written beside it)"
+    } else {
+        ""
+    };
     note!(
-        "{name} -> {} ({files} files): load {load:.0} ms, bake {work:.0} ms, write {write:.0} ms",
+        "{name} -> {} ({files} files): load {load:.0} ms, bake {work:.0} ms{beside}, write {write:.0} ms",
         a.out.display(),
     );
     if let Some(chain) = &b.chain {

@@ -16,7 +16,7 @@
 //! it clamps). NaN and infinite texels are refused (the command replaces
 //! them by black when it loads a file, as `convert` does).
 
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use envmap_core::texel::texel_center;
@@ -816,16 +816,18 @@ pub fn specular_chain(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SpecularChain> {
     let oracle = (opts.check > 0).then(|| Oracle::new(src));
-    chain_checked(Cow::Borrowed(src), opts, progress, oracle.as_ref())
+    chain_checked(Cow::Borrowed(src), opts, progress, oracle.as_ref(), None)
 }
 
 /// [`specular_chain`], measuring against `oracle` (of `src`) when
-/// [`BakeOptions::check`] asks.
+/// [`BakeOptions::check`] asks, handing each level to `sink` as soon as it
+/// is final, beside the making of the next.
 fn chain_checked(
     input: Cow<'_, EnvImage>,
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
     oracle: Option<&Oracle>,
+    sink: Option<&LevelSink<'_>>,
 ) -> Result<SpecularChain> {
     let src = &*input;
     refuse_non_finite(src)?;
@@ -860,6 +862,7 @@ fn chain_checked(
         last = Instant::now();
     };
     let mut level0 = convert(src, cube, 6 * sizes[0], sizes[0], &copts, None)?;
+    let level0_seconds = t0.elapsed().as_secs_f64();
     tr("level 0 resampled");
     let input_energy = channel_energy(src);
     tr("input energy");
@@ -879,179 +882,222 @@ fn chain_checked(
         None => None,
     };
     let n = sizes.len();
-    let narrowest = (1..n)
-        .map(|k| opts.rule.roughness(k, n))
-        .filter(|&r| r > 0.0)
-        .fold(1.0f32, f32::min);
-    let alpha_min = f64::from(narrowest) * f64::from(narrowest);
-    let mut bright = split_bright(&mut rest_src, opts.bright_max, lobe_width(alpha_min) / PART)?;
-    tr("bright texels split");
-    // The base cube: the footprint average of the rest, each texel the mean
-    // over N × N points of its footprint of the input's bilinear
-    // reconstruction (which integrates to the input's own integral), N ≥ 2
-    // making the points at most 2/3 of an input texel apart. Measured on
-    // the real HDRIs: the base's energy plus the split's is the input's
-    // within 1e-4 (a nearest-texel average at the same N misses by 1e-3:
-    // its points divide the input's texels unevenly).
-    let input_texel = (4.0 * std::f64::consts::PI / src_texels.max(1) as f64).sqrt();
-    let base_texel = std::f64::consts::FRAC_PI_2 / f64::from(base_size);
-    // A base between one and two times as dense as the input takes at
-    // least 3 × 3 points: 2 × 2 there fall unevenly on the input's texels
-    // (lab.exr at --size 128, base 256²: input and base + split differ by
-    // 2.8·10⁻⁴ at 2 × 2, 3.8·10⁻⁵ at 3 × 3).
-    let ratio = base_texel / input_texel;
-    let least = if (0.5..1.0).contains(&ratio) { 3 } else { 2 };
-    let n_foot = ((1.5 * ratio).ceil() as u32).clamp(least, 16);
-    // A latlong's rows near the poles hold texels far narrower than a base
-    // texel, which N × N points would alias (a few hot texels near a pole
-    // read at half or twice their energy); a circular box along each such
-    // row, as wide as a base texel, keeps the row's energy exactly (its
-    // texels have equal solid angles) and leaves nothing narrow to alias.
-    if rest_src.mapping() == AnyMapping::LatLong && rest_src.atlas().cols == 1 {
-        widen_polar_rows(&mut rest_src, base_texel);
-    }
-    let base = convert(
-        &rest_src,
-        cube,
-        6 * base_size,
-        base_size,
-        &ConvertOptions {
-            filter: Filter::Bilinear,
-            samples: Some(n_foot),
-            ..copts
-        },
-        None,
-    )?;
-    drop(rest_src);
-    tr("base cube");
-    let base_energy = channel_energy(&base);
-    // The split points from the input's axes into the base's.
-    let to_base = base.representation().frame.matrix().transpose() * src_frame;
-    for d in &mut bright.dirs {
-        *d = (to_base * *d).normalize();
-    }
-    let energy = EnergyReport {
-        input: input_energy.total,
-        negative: input_energy.negative,
-        base: base_energy.total,
-        split: bright.report.energy,
-        footprint_samples: n_foot,
-    };
+    // Level 0 is final here: it is handed out while the rest is made.
     let clamped0 = clamp_negative(&mut level0);
-    let mut reports = vec![LevelReport {
+    let report0 = LevelReport {
         size: sizes[0],
         roughness: 0.0,
         method: "resampled",
         samples: 0,
         source_level: None,
         clamped: clamped0,
-        seconds: t0.elapsed().as_secs_f64(),
+        seconds: level0_seconds,
         measured: None,
-    }];
-    let rest = Pyramid::new(base, 1)?;
-    tr("pyramid");
-    cancel::check(opts.cancel)?;
-    // Each level's roughness and method: exact where that costs no more
-    // than sampling (a source texel's weight, eight output texels at a
-    // time, costs about a sixteenth of a sample's trilinear read), or when
-    // asked.
-    let plans: Vec<(f32, Method)> = sizes
-        .iter()
-        .enumerate()
-        .skip(1)
-        .map(|(k, &size)| {
-            let roughness = opts.rule.roughness(k, n);
-            let out_texels = 6 * u64::from(size) * u64::from(size);
-            let samples = opts.samples.unwrap_or_else(|| {
-                let n = opts.quality.samples_for(roughness, out_texels);
-                // A lobe under two of the input's texels across meets their
-                // edges as the sharpest thing in the map: twice the samples
-                // (a 512 × 256 input at a 512² chain, level 1: 1.15° against
-                // 0.70° texels; on the 18 real HDRIs 0.95 % → 0.53 % RMS
-                // at the worst, night).
-                let alpha = f64::from(roughness) * f64::from(roughness);
-                if lobe_width(alpha) < SHARP_TEXELS * input_pitch {
-                    n.saturating_mul(2).min(4096)
+    };
+    // A level handed out whose sink fails stops the bake at the next
+    // level (the sink's error is the one returned).
+    let failed = AtomicBool::new(false);
+    let hand = |k: usize, img: &EnvImage, report: &LevelReport| -> Result<()> {
+        match sink {
+            None => Ok(()),
+            Some(f) => f(k, img, report).inspect_err(|_| failed.store(true, Ordering::Relaxed)),
+        }
+    };
+    // Everything after level 0, made while level 0 is handed out.
+    let make_rest = || -> Result<_> {
+        let narrowest = (1..n)
+            .map(|k| opts.rule.roughness(k, n))
+            .filter(|&r| r > 0.0)
+            .fold(1.0f32, f32::min);
+        let alpha_min = f64::from(narrowest) * f64::from(narrowest);
+        let mut bright =
+            split_bright(&mut rest_src, opts.bright_max, lobe_width(alpha_min) / PART)?;
+        tr("bright texels split");
+        // The base cube: the footprint average of the rest, each texel the mean
+        // over N × N points of its footprint of the input's bilinear
+        // reconstruction (which integrates to the input's own integral), N ≥ 2
+        // making the points at most 2/3 of an input texel apart. Measured on
+        // the real HDRIs: the base's energy plus the split's is the input's
+        // within 1e-4 (a nearest-texel average at the same N misses by 1e-3:
+        // its points divide the input's texels unevenly).
+        let input_texel = (4.0 * std::f64::consts::PI / src_texels.max(1) as f64).sqrt();
+        let base_texel = std::f64::consts::FRAC_PI_2 / f64::from(base_size);
+        // A base between one and two times as dense as the input takes at
+        // least 3 × 3 points: 2 × 2 there fall unevenly on the input's texels
+        // (lab.exr at --size 128, base 256²: input and base + split differ by
+        // 2.8·10⁻⁴ at 2 × 2, 3.8·10⁻⁵ at 3 × 3).
+        let ratio = base_texel / input_texel;
+        let least = if (0.5..1.0).contains(&ratio) { 3 } else { 2 };
+        let n_foot = ((1.5 * ratio).ceil() as u32).clamp(least, 16);
+        // A latlong's rows near the poles hold texels far narrower than a base
+        // texel, which N × N points would alias (a few hot texels near a pole
+        // read at half or twice their energy); a circular box along each such
+        // row, as wide as a base texel, keeps the row's energy exactly (its
+        // texels have equal solid angles) and leaves nothing narrow to alias.
+        if rest_src.mapping() == AnyMapping::LatLong && rest_src.atlas().cols == 1 {
+            widen_polar_rows(&mut rest_src, base_texel);
+        }
+        let base = convert(
+            &rest_src,
+            cube,
+            6 * base_size,
+            base_size,
+            &ConvertOptions {
+                filter: Filter::Bilinear,
+                samples: Some(n_foot),
+                ..copts
+            },
+            None,
+        )?;
+        drop(rest_src);
+        tr("base cube");
+        let base_energy = channel_energy(&base);
+        // The split points from the input's axes into the base's.
+        let to_base = base.representation().frame.matrix().transpose() * src_frame;
+        for d in &mut bright.dirs {
+            *d = (to_base * *d).normalize();
+        }
+        let energy = EnergyReport {
+            input: input_energy.total,
+            negative: input_energy.negative,
+            base: base_energy.total,
+            split: bright.report.energy,
+            footprint_samples: n_foot,
+        };
+        let mut reports: Vec<LevelReport> = Vec::with_capacity(sizes.len());
+        let rest = Pyramid::new(base, 1)?;
+        tr("pyramid");
+        cancel::check(opts.cancel)?;
+        // Each level's roughness and method: exact where that costs no more
+        // than sampling (a source texel's weight, eight output texels at a
+        // time, costs about a sixteenth of a sample's trilinear read), or when
+        // asked.
+        let plans: Vec<(f32, Method)> = sizes
+            .iter()
+            .enumerate()
+            .skip(1)
+            .map(|(k, &size)| {
+                let roughness = opts.rule.roughness(k, n);
+                let out_texels = 6 * u64::from(size) * u64::from(size);
+                let samples = opts.samples.unwrap_or_else(|| {
+                    let n = opts.quality.samples_for(roughness, out_texels);
+                    // A lobe under two of the input's texels across meets their
+                    // edges as the sharpest thing in the map: twice the samples
+                    // (a 512 × 256 input at a 512² chain, level 1: 1.15° against
+                    // 0.70° texels; on the 18 real HDRIs 0.95 % → 0.53 % RMS
+                    // at the worst, night).
+                    let alpha = f64::from(roughness) * f64::from(roughness);
+                    if lobe_width(alpha) < SHARP_TEXELS * input_pitch {
+                        n.saturating_mul(2).min(4096)
+                    } else {
+                        n
+                    }
+                });
+                let el = exact_level(&rest, roughness);
+                let src_texels = rest.level(el).pixels().len() as u64;
+                let method = if opts.exact
+                    || src_texels <= EXACT_PER_SAMPLE * u64::from(samples)
+                    || out_texels.saturating_mul(src_texels) <= EXACT_BUDGET
+                {
+                    Method::Exact { level: el }
                 } else {
-                    n
+                    Method::Sampled { samples }
+                };
+                (roughness, method)
+            })
+            .collect();
+        // Only the levels the samples read are prepared for trilinear reads.
+        let first = plans
+            .iter()
+            .filter_map(|&(r, m)| match m {
+                Method::Sampled { samples } => {
+                    Some(finest_sampled_level(&rest, r, samples, opts.lod_bias))
                 }
-            });
-            let el = exact_level(&rest, roughness);
-            let src_texels = rest.level(el).pixels().len() as u64;
-            let method = if opts.exact
-                || src_texels <= EXACT_PER_SAMPLE * u64::from(samples)
-                || out_texels.saturating_mul(src_texels) <= EXACT_BUDGET
-            {
-                Method::Exact { level: el }
-            } else {
-                Method::Sampled { samples }
+                Method::Exact { .. } => None,
+            })
+            .min()
+            .unwrap_or(rest.len() - 1);
+        let sampler = Trilinear::starting_at(&rest, first);
+        tr("bordered levels");
+        let mut levels: Vec<EnvImage> = Vec::with_capacity(sizes.len());
+        for (i, (&size, &(roughness, method))) in sizes[1..].iter().zip(&plans).enumerate() {
+            let k = i + 1;
+            if failed.load(Ordering::Relaxed) {
+                return Err(Error::Cancelled);
+            }
+            progress(k, n);
+            let make = || -> Result<_> {
+                let t = Instant::now();
+                let job = LevelJob {
+                    rest: &rest,
+                    sampler: &sampler,
+                    bright: &bright,
+                    roughness,
+                    method,
+                    lod_bias: opts.lod_bias,
+                    level: k as u32,
+                    cancel: opts.cancel,
+                };
+                let mut img = prefilter_level(&job, cube, 6 * size, size)?;
+                let clamped = clamp_negative(&mut img);
+                let seconds = t.elapsed().as_secs_f64();
+                // --check: every level, exact or sampled, against the oracle.
+                let measured = match oracle {
+                    Some(o) if opts.check > 0 => {
+                        Some(measure_level(o, roughness, &img, opts.check, k as u32)?)
+                    }
+                    _ => None,
+                };
+                Ok((img, clamped, seconds, measured))
             };
-            (roughness, method)
-        })
-        .collect();
-    // Only the levels the samples read are prepared for trilinear reads.
-    let first = plans
-        .iter()
-        .filter_map(|&(r, m)| match m {
-            Method::Sampled { samples } => {
-                Some(finest_sampled_level(&rest, r, samples, opts.lod_bias))
-            }
-            Method::Exact { .. } => None,
-        })
-        .min()
-        .unwrap_or(rest.len() - 1);
-    let sampler = Trilinear::starting_at(&rest, first);
-    tr("bordered levels");
-    let mut levels = vec![level0];
-    for (i, (&size, &(roughness, method))) in sizes[1..].iter().zip(&plans).enumerate() {
-        let k = i + 1;
-        progress(k, n);
-        let t = Instant::now();
-        let job = LevelJob {
-            rest: &rest,
-            sampler: &sampler,
-            bright: &bright,
-            roughness,
-            method,
-            lod_bias: opts.lod_bias,
-            level: k as u32,
-            cancel: opts.cancel,
-        };
-        let mut img = prefilter_level(&job, cube, 6 * size, size)?;
-        let clamped = clamp_negative(&mut img);
-        let seconds = t.elapsed().as_secs_f64();
-        // --check: every level, exact or sampled, against the oracle.
-        let measured = match oracle {
-            Some(o) if opts.check > 0 => {
-                Some(measure_level(o, roughness, &img, opts.check, k as u32)?)
-            }
-            _ => None,
-        };
-        reports.push(LevelReport {
-            size,
-            roughness,
-            method: match method {
-                Method::Exact { .. } => "exact",
-                Method::Sampled { .. } => "sampled",
-            },
-            samples: match method {
-                Method::Sampled { samples } => samples,
-                Method::Exact { .. } => 0,
-            },
-            source_level: match method {
-                Method::Exact { level } => Some(level),
-                Method::Sampled { .. } => None,
-            },
-            clamped,
-            seconds,
-            measured,
-        });
-        levels.push(img);
-    }
+            // Level k is made while level k − 1 is handed out (level 0
+            // was already).
+            let previous = || match (levels.last(), reports.last()) {
+                (Some(prev), Some(r)) => hand(k - 1, prev, r),
+                _ => Ok(()),
+            };
+            let (handed, made) = join(previous, make);
+            handed?;
+            let (img, clamped, seconds, measured) = made?;
+            reports.push(LevelReport {
+                size,
+                roughness,
+                method: match method {
+                    Method::Exact { .. } => "exact",
+                    Method::Sampled { .. } => "sampled",
+                },
+                samples: match method {
+                    Method::Sampled { samples } => samples,
+                    Method::Exact { .. } => 0,
+                },
+                source_level: match method {
+                    Method::Exact { level } => Some(level),
+                    Method::Sampled { .. } => None,
+                },
+                clamped,
+                seconds,
+                measured,
+            });
+            levels.push(img);
+        }
+        if let (Some(last), Some(r)) = (levels.last(), reports.last()) {
+            hand(n - 1, last, r)?;
+        }
+        Ok((levels, reports, bright.report, energy))
+    };
+    let (handed0, rest) = join(|| hand(0, &level0, &report0), make_rest);
+    handed0?;
+    let (more, more_reports, bright, energy) = rest?;
+    let mut levels = Vec::with_capacity(n);
+    levels.push(level0);
+    levels.extend(more);
+    let mut reports = Vec::with_capacity(n);
+    reports.push(report0);
+    reports.extend(more_reports);
     Ok(SpecularChain {
         levels,
         reports,
-        bright: bright.report,
+        bright,
         energy,
         clamp,
         base_size,
@@ -1120,7 +1166,7 @@ pub fn bake(
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Bake> {
-    bake_input(Cow::Borrowed(src), opts, progress)
+    bake_input(Cow::Borrowed(src), opts, progress, None)
 }
 
 /// [`bake`] of an input the caller gives away: the chain's working copy
@@ -1139,13 +1185,43 @@ pub fn bake_owned(
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Bake> {
-    bake_input(Cow::Owned(src), opts, progress)
+    bake_input(Cow::Owned(src), opts, progress, None)
+}
+
+/// What [`bake_owned_streaming`] hands each level of the specular chain
+/// to, as soon as the level is final: its index (0: the input resampled),
+/// the level as [`SpecularChain::levels`] will hold it, and its report.
+pub type LevelSink<'s> = dyn Fn(usize, &EnvImage, &LevelReport) -> Result<()> + Sync + 's;
+
+/// [`bake_owned`], handing each level of the specular chain to `sink` as
+/// soon as it is final, while the bake goes on: a caller writes (or
+/// uploads) level k while level k + 1 is filtered
+/// ([`crate::bakedir::bake_into`] writes a bake directory so).
+///
+/// The levels come in order, each once: level 0 before the base cube and
+/// the pyramid are made, level k − 1 beside the making of level k
+/// (`rayon::join`: the sink runs on the pool's threads, none of its own;
+/// in order on the calling thread without the `parallel` feature), the
+/// last after it. The result is [`bake_owned`]'s, bit for bit.
+///
+/// # Errors
+///
+/// As [`bake`]; an error `sink` returns stops the bake before its next
+/// level and is the bake's error.
+pub fn bake_owned_streaming(
+    src: EnvImage,
+    opts: &BakeOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    sink: &LevelSink<'_>,
+) -> Result<Bake> {
+    bake_input(Cow::Owned(src), opts, progress, Some(sink))
 }
 
 fn bake_input(
     input: Cow<'_, EnvImage>,
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
+    sink: Option<&LevelSink<'_>>,
 ) -> Result<Bake> {
     let mut stages = Vec::new();
     // The SH9 first: the chain may consume the input.
@@ -1166,11 +1242,12 @@ fn bake_input(
                 opts,
                 progress,
                 oracle.as_ref(),
+                sink,
             )?)
         };
         finish(Some(src), oracle, chain, sh, stages, opts)
     } else {
-        let chain = chain_checked(input, opts, progress, None)?;
+        let chain = chain_checked(input, opts, progress, None, sink)?;
         finish(None, None, Some(chain), sh, stages, opts)
     }
 }
@@ -1271,10 +1348,8 @@ fn finish(
 mod tests {
     use super::*;
 
-    /// The bake of an input given away is the bake of a borrowed one, bit
-    /// for bit (its working copy is the input itself).
-    #[test]
-    fn an_owned_input_bakes_as_a_borrowed_one() {
+    /// A small smooth latlong and a small bake of it.
+    fn small() -> (EnvImage, BakeOptions<'static>) {
         use crate::scene::procedural::{fill, smooth};
         let src = fill(
             Representation::default_for(AnyMapping::LatLong),
@@ -1289,6 +1364,14 @@ mod tests {
             dfg_size: 8,
             ..BakeOptions::default()
         };
+        (src, opts)
+    }
+
+    /// The bake of an input given away is the bake of a borrowed one, bit
+    /// for bit (its working copy is the input itself).
+    #[test]
+    fn an_owned_input_bakes_as_a_borrowed_one() {
+        let (src, opts) = small();
         let a = bake(&src, &opts, &|_, _| {}).unwrap();
         let b = bake_owned(src, &opts, &|_, _| {}).unwrap();
         let (ca, cb) = (a.chain.unwrap(), b.chain.unwrap());
@@ -1301,6 +1384,50 @@ mod tests {
             a.irradiance.unwrap().image.pixels(),
             b.irradiance.unwrap().image.pixels()
         );
+    }
+
+    /// The streaming bake hands every level once, in order, as the chain
+    /// holds it, and returns the plain bake; a sink's error stops it before
+    /// the next level and is its error.
+    #[test]
+    fn levels_are_handed_out_in_order_and_a_sink_error_stops_the_bake() {
+        use std::sync::Mutex;
+        let (src, opts) = small();
+        let plain = bake(&src, &opts, &|_, _| {}).unwrap();
+        let handed = Mutex::new(Vec::new());
+        let sink = |k: usize, img: &EnvImage, r: &LevelReport| -> Result<()> {
+            handed.lock().unwrap().push((k, img.clone(), r.clone()));
+            Ok(())
+        };
+        let streamed = bake_owned_streaming(src.clone(), &opts, &|_, _| {}, &sink).unwrap();
+        let chain = streamed.chain.unwrap();
+        let handed = handed.into_inner().unwrap();
+        assert_eq!(handed.len(), chain.levels.len());
+        for (i, (k, img, r)) in handed.iter().enumerate() {
+            assert_eq!(*k, i);
+            assert_eq!(img.pixels(), chain.levels[i].pixels());
+            assert_eq!(r, &chain.reports[i]);
+        }
+        for (x, y) in chain.levels.iter().zip(&plain.chain.unwrap().levels) {
+            assert_eq!(x.pixels(), y.pixels());
+        }
+        assert_eq!(streamed.sh.coeffs, plain.sh.coeffs);
+
+        // Level 0's sink fails: no level past 1 is started, and the error
+        // is the sink's.
+        let started = Mutex::new(Vec::new());
+        let failing = |k: usize, _: &EnvImage, _: &LevelReport| -> Result<()> {
+            Err(Error::Input(format!("disk full at level {k}")))
+        };
+        let e = bake_owned_streaming(
+            src,
+            &opts,
+            &|k, _| started.lock().unwrap().push(k),
+            &failing,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("disk full at level 0"), "{e}");
+        assert!(started.into_inner().unwrap().iter().all(|&k| k <= 1));
     }
 
     #[test]
