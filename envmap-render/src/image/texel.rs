@@ -620,8 +620,9 @@ fn floor_log2(v: f32) -> i32 {
 /// (`EXT_texture_shared_exponent`, "Appendix: RGB9E5 shared exponent
 /// conversion"): each channel clamped to [0, 65408], the shared exponent
 /// from the largest, raised by one when that channel's mantissa rounds to
-/// 512, mantissas ⌊c/2^(e−24) + ½⌋. The arithmetic is in f64, where every
-/// step is exact.
+/// 512, mantissas ⌊c/2^(e−24) + ½⌋. Exact: each mantissa is rounded from
+/// the channel's own significand and exponent in integers (a test checks
+/// it against the same arithmetic in f64, where every step is exact too).
 #[must_use]
 pub fn pack_rgb9e5(rgb: [f32; 3], c: &mut Clamped) -> u32 {
     let ch = rgb.map(|v| clamp_counted(v, 0.0, RGB9E5_MAX, c));
@@ -631,14 +632,35 @@ pub fn pack_rgb9e5(rgb: [f32; 3], c: &mut Clamped) -> u32 {
     } else {
         0
     };
-    // 2^(24 − e) exactly, from its bits (e in 0..=32).
-    let scale = |e: i32| f64::from_bits(((1023 + 24 - e) as u64) << 52);
-    if (f64::from(max) * scale(e) + 0.5).floor() >= 512.0 {
+    if scaled_round(max, e) >= 512 {
         e += 1;
     }
-    let s = scale(e);
-    let m = ch.map(|v| (f64::from(v) * s + 0.5).floor() as u32);
+    let m = ch.map(|v| scaled_round(v, e));
     m[0] | (m[1] << 9) | (m[2] << 18) | ((e as u32) << 27)
+}
+
+/// ⌊v·2^(24 − e) + ½⌋ for a finite `v` in [0, 2^(e − 15)), exactly: `v` is
+/// M·2^E (M its integer significand), so the product is M shifted by
+/// E + 24 − e, rounded half up where the shift is to the right.
+fn scaled_round(v: f32, e: i32) -> u32 {
+    let bits = v.to_bits();
+    let exp = ((bits >> 23) & 0xff) as i32;
+    let (m, ex) = if exp == 0 {
+        (bits & 0x7f_ffff, -149)
+    } else {
+        ((bits & 0x7f_ffff) | 0x80_0000, exp - 150)
+    };
+    let shift = ex + 24 - e;
+    if shift >= 0 {
+        // Below 512 by `v`'s range: no bit is lost.
+        m << shift
+    } else if shift > -25 {
+        let r = shift.unsigned_abs();
+        (m + (1 << (r - 1))) >> r
+    } else {
+        // Under a quarter: M < 2^24.
+        0
+    }
 }
 
 /// One `E5B9G9R9_UFLOAT_PACK32` texel: each mantissa · 2^(e − 24).
@@ -724,6 +746,84 @@ pub fn unpack_b10g11r11(w: u32) -> [f32; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The shared-exponent packing in f64 (every step exact there): the
+    /// reference the integer packing is held to.
+    fn pack_rgb9e5_f64(rgb: [f32; 3]) -> u32 {
+        let ch = rgb.map(|v| clamp_counted(v, 0.0, RGB9E5_MAX, &mut Clamped::default()));
+        let max = ch[0].max(ch[1]).max(ch[2]);
+        let mut e = if max > 0.0 {
+            floor_log2(max).max(-16) + 16
+        } else {
+            0
+        };
+        // 2^(24 − e) exactly, from its bits (e in 0..=32).
+        let scale = |e: i32| f64::from_bits(((1023 + 24 - e) as u64) << 52);
+        if (f64::from(max) * scale(e) + 0.5).floor() >= 512.0 {
+            e += 1;
+        }
+        let s = scale(e);
+        let m = ch.map(|v| (f64::from(v) * s + 0.5).floor() as u32);
+        m[0] | (m[1] << 9) | (m[2] << 18) | ((e as u32) << 27)
+    }
+
+    /// The integer packing equals the f64 one on every kind of value:
+    /// each exponent's mantissa ties and their neighbours, subnormals,
+    /// zero, the largest value and beyond, NaN, and a million random
+    /// texels over 2^-30 .. 2^17.
+    #[test]
+    fn rgb9e5_in_integers_is_the_f64_packing() {
+        let mut values = vec![
+            0.0,
+            f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            f32::from_bits(0x7f_ffff),
+            RGB9E5_MAX,
+            RGB9E5_MAX * 1.001,
+            f32::INFINITY,
+            f32::NAN,
+            -1.0,
+        ];
+        for e in -40..18 {
+            for k in [
+                0.5, 1.0, 255.5, 256.0, 256.5, 383.5, 510.5, 511.0, 511.5, 511.75,
+            ] {
+                let v = (k / 256.0) * 2f32.powi(e);
+                let b = v.to_bits();
+                values.extend([
+                    v,
+                    f32::from_bits(b + 1),
+                    f32::from_bits(b.saturating_sub(1)),
+                ]);
+            }
+        }
+        let check = |rgb: [f32; 3]| {
+            let mut c = Clamped::default();
+            assert_eq!(
+                pack_rgb9e5(rgb, &mut c),
+                pack_rgb9e5_f64(rgb),
+                "{rgb:?} ({:?})",
+                rgb.map(f32::to_bits)
+            );
+        };
+        for &a in &values {
+            for &b in &values {
+                check([a, b, 1.0]);
+                check([a, b, a * 0.37]);
+            }
+        }
+        let mut s = 0x9e37_79b9u32;
+        let mut r = || {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            s
+        };
+        for _ in 0..1_000_000 {
+            let mut v = || f32::from_bits(r() % (0x4800_0000 - 0x3080_0000) + 0x3080_0000);
+            check([v(), v(), v()]);
+        }
+    }
 
     fn rt9(v: [f32; 3]) -> [f32; 3] {
         unpack_rgb9e5(pack_rgb9e5(v, &mut Clamped::default()))
