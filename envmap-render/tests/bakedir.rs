@@ -285,7 +285,7 @@ fn bake_into_writes_what_a_bake_then_write_writes_and_nothing_when_cancelled() {
         p.layout = layout;
         presets.push((layout.name().to_owned(), p));
     }
-    for t in [Target::Bevy, Target::Filament] {
+    for t in [Target::Bevy, Target::Gltf, Target::Filament] {
         presets.push((
             t.name().to_owned(),
             Preset::for_target(t, FileAxes::default()),

@@ -37,6 +37,15 @@ fn peers() -> bool {
     on
 }
 
+/// A file of little-endian f32 values (what the Python peers write).
+fn raw_f32(path: &Path) -> Vec<f32> {
+    std::fs::read(path)
+        .unwrap()
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect()
+}
+
 /// The smooth test environment as an envmap latlong file (default
 /// conventions), 512 × 256.
 fn input(dir: &Path, name: &str) {
@@ -167,13 +176,9 @@ fn the_default_cube_is_py360converts() {
     .unwrap();
     let mut theirs = EnvImage::new(6 * 64, 64, repr).unwrap();
     for (k, f) in "RLUDFB".chars().enumerate() {
-        let b = std::fs::read(d.join(format!("face_{f}.f32"))).unwrap();
-        let px: Vec<[f32; 3]> = b
-            .chunks_exact(12)
-            .map(|c| {
-                let v = |i: usize| f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]);
-                [v(0), v(4), v(8)]
-            })
+        let px: Vec<[f32; 3]> = raw_f32(&d.join(format!("face_{f}.f32")))
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
             .collect();
         let face = RgbImage {
             width: 64,
@@ -234,10 +239,9 @@ fn opencv_reads_the_default_cross_to_the_bit() {
             format!("{} {}", ours.width(), ours.height()),
             "{file}"
         );
-        let b = std::fs::read(d.join("back.f32")).unwrap();
-        let theirs: Vec<u32> = b
-            .chunks_exact(4)
-            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        let theirs: Vec<u32> = raw_f32(&d.join("back.f32"))
+            .iter()
+            .map(|v| v.to_bits())
             .collect();
         let mine: Vec<u32> = ours
             .pixels()
