@@ -40,11 +40,11 @@ use std::path::{Path, PathBuf};
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use envmap_core::AnyMapping;
 use envmap_render::bakedir::{self, Preset, Provenance};
-use envmap_render::convert::{convert, ConvertOptions, Streamed};
 use envmap_render::filter::bake::{bake_owned, BakeOptions};
+use envmap_render::filter::convert::{convert, ConvertOptions, Streamed};
+use envmap_render::image::io::{load, save, ExrCompression, LoadOptions, Outputs, SaveOptions};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::io::{load, save, ExrCompression, LoadOptions, Outputs, SaveOptions};
-use envmap_render::procedural::{fill, smooth};
+use envmap_render::scene::procedural::{fill, smooth};
 
 /// A scratch directory, removed when dropped.
 struct Scratch(PathBuf);

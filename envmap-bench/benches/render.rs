@@ -26,10 +26,10 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use envmap_core::AnyMapping;
-use envmap_render::environments::Builtin;
 use envmap_render::image::Representation;
-use envmap_render::mesh::Mesh;
-use envmap_render::render::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
 
 fn bench(c: &mut Criterion) {
     let env = Builtin::Sky
@@ -48,12 +48,14 @@ fn bench(c: &mut Criterion) {
     });
     // The mip levels made once, as a program rendering one map many times
     // would (the `per-pixel-mip` case builds them in every render).
-    let levels = envmap_render::render::MipLevels::new(&env).expect("mip levels");
+    let levels = envmap_render::scene::render::MipLevels::new(&env).expect("mip levels");
     // What the `per-pixel-mip` case adds to the prebuilt one: the levels.
     let pool = common::pool(2);
     g.bench_function("mip-levels/2-threads", |b| {
         b.iter(|| {
-            pool.install(|| envmap_render::render::MipLevels::new(black_box(&env)).expect("levels"))
+            pool.install(|| {
+                envmap_render::scene::render::MipLevels::new(black_box(&env)).expect("levels")
+            })
         })
     });
     // Levels made again for each render into the memory of the last
@@ -123,7 +125,7 @@ fn bench(c: &mut Criterion) {
             width,
             height,
             samples: 1,
-            shading: envmap_render::render::Shading::SplitSum {
+            shading: envmap_render::scene::render::Shading::SplitSum {
                 env: lit,
                 material: envmap_render::scene::material::Material {
                     roughness: 0.5,

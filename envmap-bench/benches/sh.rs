@@ -23,7 +23,7 @@ use envmap_render::filter::sh::{
     IrradianceScale, Sh9,
 };
 use envmap_render::image::Representation;
-use envmap_render::procedural::{fill, smooth};
+use envmap_render::scene::procedural::{fill, smooth};
 
 fn bench(c: &mut Criterion) {
     let src = fill(

@@ -57,7 +57,7 @@ ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 ENVMAP=${ENVMAP:-$ROOT/target/release/envmap}
 if [ ! -x "$ENVMAP" ]; then
     echo "cmgen-chain.sh: building envmap ($ENVMAP)" >&2
-    (cd "$ROOT" && cargo build --release -q -p envmap-render --bin envmap) \
+    (cd "$ROOT" && cargo build --release -q -p envmap-cli) \
         || die "could not build envmap"
 fi
 

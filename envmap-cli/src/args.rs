@@ -5,12 +5,12 @@ use std::path::Path;
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, Frame};
 
-use crate::image::convention::{Convention, World};
-use crate::image::face_ops::FaceTransforms;
-use crate::image::io::FaceNames;
-use crate::image::layout::Layout;
-use crate::image::Representation;
-use crate::scene::render::Mode;
+use envmap_render::image::convention::{Convention, World};
+use envmap_render::image::face_ops::FaceTransforms;
+use envmap_render::image::io::FaceNames;
+use envmap_render::image::layout::Layout;
+use envmap_render::image::Representation;
+use envmap_render::scene::render::Mode;
 
 pub(crate) type CliResult = Result<(), String>;
 
@@ -79,11 +79,11 @@ pub(crate) fn parse_rotation(s: &str) -> Result<Frame, String> {
 
 /// A load error's message, with how to raise the size limit when that is
 /// what stopped it.
-pub(crate) fn load_error(e: &crate::Error) -> String {
-    fn too_large(e: &crate::Error) -> bool {
+pub(crate) fn load_error(e: &envmap_render::Error) -> String {
+    fn too_large(e: &envmap_render::Error) -> bool {
         match e {
-            crate::Error::TooLarge { .. } => true,
-            crate::Error::InFile { source, .. } => too_large(source),
+            envmap_render::Error::TooLarge { .. } => true,
+            envmap_render::Error::InFile { source, .. } => too_large(source),
             _ => false,
         }
     }
@@ -142,7 +142,7 @@ pub(crate) fn output_size(repr: &Representation, size: u32) -> Result<(u32, u32)
 pub(crate) struct TextureFlags {
     /// Texel format of .ktx2, .dds and .ktx outputs: rgba16f (the default), rgba32f, rg11b10f (B10G11R11), rgb9e5 (E5B9G9R9).
     #[arg(long, value_parser = parse_texel_format)]
-    pub(crate) format: Option<crate::image::TexelFormat>,
+    pub(crate) format: Option<envmap_render::image::TexelFormat>,
     /// Zstandard supercompression of .ktx2 outputs, each level its own frame; an optional level 1 (fastest) to 22 (smallest), default 3 (19: about 36 % smaller files, seconds instead of milliseconds for a 512² chain).
     #[arg(long, num_args = 0..=1, default_missing_value = "3", require_equals = false)]
     pub(crate) zstd: Option<i32>,
@@ -154,8 +154,11 @@ pub(crate) struct TextureFlags {
 impl TextureFlags {
     /// The options these flags give over `base` (a preset's, or the
     /// defaults).
-    pub(crate) fn over(&self, base: crate::image::TextureOptions) -> crate::image::TextureOptions {
-        crate::image::TextureOptions {
+    pub(crate) fn over(
+        &self,
+        base: envmap_render::image::TextureOptions,
+    ) -> envmap_render::image::TextureOptions {
+        envmap_render::image::TextureOptions {
             format: self.format.unwrap_or(base.format),
             zstd: if self.no_zstd {
                 None
@@ -171,19 +174,19 @@ impl TextureFlags {
 pub(crate) struct WriteFlags {
     /// Compression of .exr outputs: auto (the default: f32 uncompressed but for the lines through a cube cross's empty cells, which rle takes to a few bytes; rle for f16), none, rle, zips, zip, piz, pxr24 (lossy for f32), b44, b44a (lossy, f16 only). auto writes a cube cross at half the size of none for 1.4–1.5 times its write time with a warm page cache; rle on every line costs about twice the write time; the other lossless codecs save 25–55 % of a real f32 photograph at 10–20 times the write time (docs/performance.md).
     #[arg(long, value_parser = parse_exr_compression)]
-    pub(crate) exr_compression: Option<crate::image::io::ExrCompression>,
+    pub(crate) exr_compression: Option<envmap_render::image::io::ExrCompression>,
     /// When outputs are flushed to the disk before they are renamed into place: replacing (the default: when an existing file is replaced, so that a power loss cannot leave neither), always, never. Every output is written to a temporary file and renamed either way.
     #[arg(long, value_parser = parse_sync)]
-    pub(crate) sync: Option<crate::image::io::SyncPolicy>,
+    pub(crate) sync: Option<envmap_render::image::io::SyncPolicy>,
 }
 
 impl WriteFlags {
     /// `base` with these flags' choices.
     pub(crate) fn over<'a>(
         &self,
-        base: crate::image::io::SaveOptions<'a>,
-    ) -> crate::image::io::SaveOptions<'a> {
-        crate::image::io::SaveOptions {
+        base: envmap_render::image::io::SaveOptions<'a>,
+    ) -> envmap_render::image::io::SaveOptions<'a> {
+        envmap_render::image::io::SaveOptions {
             exr_compression: self.exr_compression.unwrap_or(base.exr_compression),
             sync: self.sync.unwrap_or(base.sync),
             ..base
@@ -192,25 +195,29 @@ impl WriteFlags {
 }
 
 /// `--exr-compression`: a codec's name.
-pub(crate) fn parse_exr_compression(s: &str) -> Result<crate::image::io::ExrCompression, String> {
-    s.parse().map_err(|e: crate::error::Error| e.to_string())
+pub(crate) fn parse_exr_compression(
+    s: &str,
+) -> Result<envmap_render::image::io::ExrCompression, String> {
+    s.parse()
+        .map_err(|e: envmap_render::error::Error| e.to_string())
 }
 
 /// `--sync`: a sync policy's name.
-pub(crate) fn parse_sync(s: &str) -> Result<crate::image::io::SyncPolicy, String> {
-    s.parse().map_err(|e: crate::error::Error| e.to_string())
+pub(crate) fn parse_sync(s: &str) -> Result<envmap_render::image::io::SyncPolicy, String> {
+    s.parse()
+        .map_err(|e: envmap_render::error::Error| e.to_string())
 }
 
 /// `--format`: a texel format's name.
-pub(crate) fn parse_texel_format(s: &str) -> Result<crate::image::TexelFormat, String> {
-    crate::image::TexelFormat::parse(s).map_err(|e| e.to_string())
+pub(crate) fn parse_texel_format(s: &str) -> Result<envmap_render::image::TexelFormat, String> {
+    envmap_render::image::TexelFormat::parse(s).map_err(|e| e.to_string())
 }
 
 /// One line saying what packing clamped, or nothing when nothing was.
 pub(crate) fn warn_clamped(
     path: &Path,
-    format: crate::image::TexelFormat,
-    c: crate::image::Clamped,
+    format: envmap_render::image::TexelFormat,
+    c: envmap_render::image::Clamped,
 ) {
     if !c.is_empty() {
         note!(

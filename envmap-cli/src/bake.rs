@@ -9,20 +9,20 @@ use clap::Args;
 use envmap_core::AnyMapping;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::bakedir::{self, Container, Preset, Provenance, Target};
-use crate::cli::args::{
+use crate::args::{
     load_error, parse_convention, parse_layout, parse_mapping, parse_world, set_threads,
     warn_clamped, warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
-use crate::filter::bake::{chain_sizes, Bake, BakeOptions, Quality};
-use crate::filter::dfg::DfgGrid;
-use crate::filter::sh::{IrradianceScale, ShWindow};
-use crate::filter::specular::RoughnessRule;
-use crate::image::convention::{Convention, FileAxes, World};
-use crate::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
-use crate::image::layout::Layout;
-use crate::image::{EnvImage, Representation};
-use crate::scene::environments::Builtin;
+use envmap_render::bakedir::{self, Container, Preset, Provenance, Target};
+use envmap_render::filter::bake::{chain_sizes, Bake, BakeOptions, Quality};
+use envmap_render::filter::dfg::DfgGrid;
+use envmap_render::filter::sh::{IrradianceScale, ShWindow};
+use envmap_render::filter::specular::RoughnessRule;
+use envmap_render::image::convention::{Convention, FileAxes, World};
+use envmap_render::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
+use envmap_render::image::layout::Layout;
+use envmap_render::image::{EnvImage, Representation};
+use envmap_render::scene::environments::Builtin;
 
 #[derive(Args)]
 pub(crate) struct BakeArgs {
@@ -138,10 +138,11 @@ fn plan(a: &BakeArgs) -> Result<Preset, String> {
     let convention = a.convention.unwrap_or_default();
     let gl = FileAxes::Convention(convention, a.to_frame);
     let base = match a.target {
-        None => Preset {
-            axes: gl,
-            ..Preset::default()
-        },
+        None => {
+            let mut p = Preset::default();
+            p.axes = gl;
+            p
+        }
         Some(Target::Filament) if a.no_mirror => {
             Preset::for_target(Target::Filament, gl).unmirrored(gl)
         }
@@ -161,24 +162,23 @@ fn plan(a: &BakeArgs) -> Result<Preset, String> {
             container.extension()
         ));
     }
-    Ok(Preset {
-        size: a.size.unwrap_or(base.size),
-        rule: a.roughness_rule.clone().unwrap_or(base.rule),
-        min_size: a.min_size.or(base.min_size),
-        irradiance_size: a.irradiance_size.unwrap_or(base.irradiance_size),
-        sh_window: a.sh_window.map_or(base.sh_window, |w| w.0),
-        dfg_size: a.dfg_size.unwrap_or(base.dfg_size),
-        dfg_grid: a.dfg_grid.unwrap_or(base.dfg_grid),
-        container,
-        texture,
-        layout: a.layout,
-        ..base
-    })
+    let mut p = base;
+    p.size = a.size.unwrap_or(p.size);
+    p.rule = a.roughness_rule.clone().unwrap_or(p.rule);
+    p.min_size = a.min_size.or(p.min_size);
+    p.irradiance_size = a.irradiance_size.unwrap_or(p.irradiance_size);
+    p.sh_window = a.sh_window.map_or(p.sh_window, |w| w.0);
+    p.dfg_size = a.dfg_size.unwrap_or(p.dfg_size);
+    p.dfg_grid = a.dfg_grid.unwrap_or(p.dfg_grid);
+    p.container = container;
+    p.texture = texture;
+    p.layout = a.layout;
+    Ok(p)
 }
 
 /// `--dfg-grid`: texel-centres or edges.
 fn parse_dfg_grid(s: &str) -> Result<DfgGrid, String> {
-    s.parse().map_err(|e: crate::Error| e.to_string())
+    s.parse().map_err(|e: envmap_render::Error| e.to_string())
 }
 
 /// `--sh-window`: none, auto, or a cutoff.
@@ -259,10 +259,10 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
     if plan.irradiance_size > 2048 {
         return Err("--irradiance-size: at most 2048".into());
     }
-    if plan.dfg_size > crate::filter::dfg::MAX_SIZE {
+    if plan.dfg_size > envmap_render::filter::dfg::MAX_SIZE {
         return Err(format!(
             "--dfg-size: at most {}",
-            crate::filter::dfg::MAX_SIZE
+            envmap_render::filter::dfg::MAX_SIZE
         ));
     }
     if a.clamp.is_some_and(|c| !(c > 0.0 && c.is_finite())) {
@@ -274,20 +274,19 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             a.layout
         ));
     }
-    let opts = plan.bake_options(BakeOptions {
-        levels: a.levels,
-        quality: a.quality,
-        samples: a.samples,
-        exact: a.exact,
-        exact_irradiance: a.exact_irradiance,
-        clamp: a.clamp,
-        irradiance_scale: a.irradiance_scale,
-        sh_only: a.sh_only,
-        bright_max: a.split,
-        check: a.check,
-        cancel: Some(stop),
-        ..BakeOptions::default()
-    });
+    let mut over = BakeOptions::default();
+    over.levels = a.levels;
+    over.quality = a.quality;
+    over.samples = a.samples;
+    over.exact = a.exact;
+    over.exact_irradiance = a.exact_irradiance;
+    over.clamp = a.clamp;
+    over.irradiance_scale = a.irradiance_scale;
+    over.sh_only = a.sh_only;
+    over.bright_max = a.split;
+    over.check = a.check;
+    over.cancel = Some(stop);
+    let opts = plan.bake_options(over);
     // Bad sizes and levels before any loading.
     let sizes = chain_sizes(&opts).map_err(|e| e.to_string())?;
     let t0 = Instant::now();
@@ -315,11 +314,8 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             ));
         }
     };
-    let provenance = Provenance {
-        input: name.clone(),
-        load_seconds: t_load.as_secs_f64(),
-        ..Provenance::default()
-    };
+    let mut provenance = Provenance::new(&name);
+    provenance.load_seconds = t_load.as_secs_f64();
     let save = SaveOptions {
         inputs: inputs.clone(),
         cancel: Some(stop),

@@ -8,25 +8,25 @@ use clap::Args;
 use envmap_core::{AnyMapping, Frame};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::cli::args::{
+use crate::args::{
     load_error, output_size, parse_convention, parse_face_names, parse_face_transforms,
     parse_layout, parse_mapping, parse_rotation, parse_world, set_threads, warn_clamped,
     warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
-use crate::filter::convert::{auto_samples, convert, ConvertOptions, Streamed};
-use crate::filter::pyramid::Pyramid;
-use crate::filter::sample::Filter;
-use crate::image::convention::{Convention, FileAxes, World};
-use crate::image::face_ops::FaceTransforms;
-use crate::image::io::FaceNames;
-use crate::image::io::{
+use envmap_render::filter::convert::{auto_samples, convert, ConvertOptions, Streamed};
+use envmap_render::filter::pyramid::Pyramid;
+use envmap_render::filter::sample::Filter;
+use envmap_render::image::convention::{Convention, FileAxes, World};
+use envmap_render::image::face_ops::FaceTransforms;
+use envmap_render::image::io::FaceNames;
+use envmap_render::image::io::{
     load_detailed, save, ExrPrecision, LoadOptions, Loaded, NonFinite, SaveOptions,
 };
-use crate::image::io::{FileFormat, Outputs};
-use crate::image::layout::Layout;
-use crate::image::metadata;
-use crate::image::Texture;
-use crate::image::{EnvImage, Representation, TextureOptions};
+use envmap_render::image::io::{FileFormat, Outputs};
+use envmap_render::image::layout::Layout;
+use envmap_render::image::metadata;
+use envmap_render::image::Texture;
+use envmap_render::image::{EnvImage, Representation, TextureOptions};
 
 #[derive(Args)]
 pub(crate) struct ConvertArgs {

@@ -7,17 +7,17 @@ use std::sync::atomic::AtomicBool;
 use clap::Args;
 use envmap_core::{AnyMapping, Mapping};
 
-use crate::cli::args::{
+use crate::args::{
     load_error, parse_convention, parse_face_transforms, parse_layout, parse_mapping, parse_world,
     CliResult,
 };
-use crate::image::convention::{Convention, FileAxes, World};
-use crate::image::face_ops::FaceTransforms;
-use crate::image::io::{load_detailed, FileFormat, LoadOptions};
-use crate::image::layout::Layout;
-use crate::image::metadata;
-use crate::image::texture::{level_size, TextureFile, TextureKind};
-use crate::image::EnvImage;
+use envmap_render::image::convention::{Convention, FileAxes, World};
+use envmap_render::image::face_ops::FaceTransforms;
+use envmap_render::image::io::{load_detailed, FileFormat, LoadOptions};
+use envmap_render::image::layout::Layout;
+use envmap_render::image::metadata;
+use envmap_render::image::texture::{level_size, TextureFile, TextureKind};
+use envmap_render::image::EnvImage;
 
 #[derive(Args)]
 pub(crate) struct InfoArgs {
@@ -63,7 +63,7 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
     // A GPU texture's levels, format and metadata (the rest below is of level 0).
     let texture = match FileFormat::from_path(&a.file) {
         Ok(f) if f.is_texture() => Some(
-            crate::image::texture::read(&a.file, opts.max_texels, Some(stop))
+            envmap_render::image::texture::read(&a.file, opts.max_texels, Some(stop))
                 .map_err(|e| load_error(&e))?,
         ),
         _ => None,
@@ -186,7 +186,7 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
             },
         )?;
         if s.negative > 0 {
-            let e = crate::filter::weights::channel_energy(img);
+            let e = envmap_render::filter::weights::channel_energy(img);
             let share: Vec<String> = (0..3)
                 .map(|c| {
                     let pos = e.total[c] - e.negative[c];

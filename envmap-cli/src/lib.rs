@@ -1,6 +1,6 @@
 //! The `envmap` command: convert environment maps between representations,
 //! inspect them, map directions to texture coordinates and back, render and
-//! demonstrate. `src/bin/envmap.rs` calls [`main`].
+//! demonstrate. `src/main.rs` (the binary) calls [`main`].
 //!
 //! One file per subcommand (`convert.rs`, `info.rs`, `map.rs` for `map` and
 //! `unmap`, `render.rs`, `demo.rs`), the argument parsers and helpers they
@@ -12,7 +12,11 @@
 //! reported by the argument parser); 130 and 143 interrupted by SIGINT and
 //! SIGTERM (see `signals.rs`). `--help` prints them.
 //!
-//! This folder may use every other folder of the crate; nothing else uses it.
+//! The command is a thin shell over the library `envmap-render`: flags,
+//! progress bars, printed tables, the demo and its report, interrupts and
+//! exit codes live here; every computation is the library's.
+
+#![forbid(unsafe_code)]
 
 use std::process::ExitCode;
 

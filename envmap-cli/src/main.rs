@@ -1,4 +1,4 @@
-//! The `envmap` command; see [`envmap_render::cli`] for what it does and its
+//! The `envmap` command; see [`envmap_cli`] for what it does and its
 //! exit codes.
 
 /// jemalloc keeps freed memory for the next allocation, where glibc's
@@ -11,5 +11,5 @@
 static ALLOCATOR: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
 
 fn main() -> std::process::ExitCode {
-    envmap_render::cli::main()
+    envmap_cli::main()
 }

@@ -1,5 +1,5 @@
 //! `envmap map` and `envmap unmap`: directions to chart points and back,
-//! one line each (see [`crate::cli::text`]).
+//! one line each (see [`crate::text`]).
 
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
@@ -10,15 +10,15 @@ use std::time::Duration;
 use clap::Args;
 use envmap_core::{AnyMapping, Frame, Mapping};
 
-use crate::cancel;
-use crate::cli::args::{
+use crate::args::{
     output_size, parse_convention, parse_layout, parse_mapping, parse_world, CliResult,
 };
-use crate::cli::text::{MapLines, UnmapLines};
-use crate::error::Error;
-use crate::image::convention::{Convention, World};
-use crate::image::layout::Layout;
-use crate::image::Representation;
+use crate::text::{MapLines, UnmapLines};
+use envmap_render::cancel;
+use envmap_render::error::Error;
+use envmap_render::image::convention::{Convention, World};
+use envmap_render::image::layout::Layout;
+use envmap_render::image::Representation;
 
 #[derive(Args)]
 pub(crate) struct MapArgs {
@@ -149,7 +149,7 @@ fn write_rows(
     name: &str,
     lines: &[String],
     header: &str,
-    row: impl Fn(&str) -> crate::Result<Option<String>>,
+    row: impl Fn(&str) -> envmap_render::Result<Option<String>>,
     stop: &AtomicBool,
 ) -> CliResult {
     let mut text = String::with_capacity(32 * lines.len() + header.len() + 1);

@@ -8,23 +8,23 @@ use clap::Args;
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
 
-use crate::bakedir::{Preset, Target};
-use crate::cli::args::{
+use crate::args::{
     load_error, output_size, parse_convention, parse_mapping, parse_mode, parse_vec3, parse_world,
     warn_replaced, CliResult, WriteFlags,
 };
-use crate::filter::bake::BakeOptions;
-use crate::filter::oracle::Oracle;
-use crate::filter::sample::Filter;
-use crate::image::convention::{Convention, FileAxes, World};
-use crate::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
-use crate::image::Representation;
-use crate::scene::environments::Builtin;
-use crate::scene::lit::{LevelBlend, LitEnvironment};
-use crate::scene::lit_files;
-use crate::scene::material::Material;
-use crate::scene::mesh::Mesh;
-use crate::scene::render::{
+use envmap_render::bakedir::read;
+use envmap_render::bakedir::{Preset, Target};
+use envmap_render::filter::bake::BakeOptions;
+use envmap_render::filter::oracle::Oracle;
+use envmap_render::filter::sample::Filter;
+use envmap_render::image::convention::{Convention, FileAxes, World};
+use envmap_render::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
+use envmap_render::image::Representation;
+use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
+use envmap_render::scene::material::Material;
+use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::render::{
     light_table, render, Camera, EnvSource, Mode, Progress, RenderOptions, Shading,
 };
 
@@ -153,7 +153,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     // A bake's directory or chain: the lit maps as baked; level 0 (the
     // sharpest) is the environment seen behind the object and in a mirror.
     let baked = match builtin {
-        None if lit_files::is_candidate(Path::new(&a.env)) => lit_files::open(
+        None if read::is_candidate(Path::new(&a.env)) => read::open(
             Path::new(&a.env),
             given,
             a.max_megatexels.saturating_mul(1_000_000),
@@ -245,7 +245,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     // The map the lit maps are baked from, and the exact split sum
     // integrates: the environment (the analytic built-ins through a cube of
     // --env-size).
-    let lit_source = || -> Result<crate::image::EnvImage, String> {
+    let lit_source = || -> Result<envmap_render::image::EnvImage, String> {
         match &env {
             Some(e) => Ok(e.clone()),
             None => {
@@ -390,7 +390,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         cancel: Some(stop),
         ..a.write.over(SaveOptions::default())
     };
-    crate::image::io::write_rgb(&img, &a.output, &sopts).map_err(|e| e.to_string())?;
+    envmap_render::image::io::write_rgb(&img, &a.output, &sopts).map_err(|e| e.to_string())?;
     note!(
         "{} {}×{} ({} triangles, {} lookups, {}×{} samples): {:.0} ms",
         a.output.display(),
@@ -441,7 +441,7 @@ fn material(a: &RenderArgs) -> Result<Option<Material>, String> {
 /// The maps a split-sum render reads, baked from `src` in its own axes:
 /// envmap's own, or the chain of `engine`'s preset read as it reads it.
 fn bake_lit(
-    src: &crate::image::EnvImage,
+    src: &envmap_render::image::EnvImage,
     size: u32,
     engine: Option<Target>,
     stop: &AtomicBool,
@@ -453,13 +453,11 @@ fn bake_lit(
         None => LitEnvironment::bake(src, size, Some(stop)),
         Some(t) => {
             let preset = Preset::for_target(t, FileAxes::default());
-            let opts = BakeOptions {
-                size,
-                irradiance_size: 32,
-                dfg_size: 0,
-                cancel: Some(stop),
-                ..preset.bake_options(BakeOptions::default())
-            };
+            let mut opts = preset.bake_options(BakeOptions::default());
+            opts.size = size;
+            opts.irradiance_size = 32;
+            opts.dfg_size = 0;
+            opts.cancel = Some(stop);
             LitEnvironment::bake_with(src, &opts)
                 .map(|l| l.with_blend(LevelBlend::engine(&preset.rule)))
         }

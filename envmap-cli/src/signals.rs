@@ -1,7 +1,7 @@
 //! Ctrl-C and SIGTERM: stop at the next safe point, clean up, say so.
 //!
 //! The first SIGINT or SIGTERM (Ctrl-C on Windows) sets the flag every
-//! long operation of the command was given (see [`crate::cancel`]): the
+//! long operation of the command was given (see [`envmap_render::cancel`]): the
 //! work stops at its next safe point (a band of rows, a read or write of at
 //! most a megabyte), every temporary file is removed, nothing is renamed
 //! into place, and the command prints one line and exits 130 (SIGINT) or

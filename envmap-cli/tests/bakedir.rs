@@ -1,7 +1,6 @@
 //! The bake directory from the library: the files `bakedir::in_memory`
 //! makes equal, byte for byte, those `envmap bake --target …` writes, for
 //! every preset; the engine upload data equals the KTX2 file's levels.
-#![cfg(feature = "cli")]
 
 mod common;
 
@@ -10,9 +9,9 @@ use std::path::Path;
 
 use envmap_core::AnyMapping;
 use envmap_render::bakedir::{self, Container, Preset, Provenance, Target};
-use envmap_render::environments::Builtin;
 use envmap_render::filter::bake::{bake, BakeOptions};
 use envmap_render::image::{FileAxes, Representation, TexelFormat};
+use envmap_render::scene::environments::Builtin;
 
 use common::{envmap, text};
 
@@ -199,7 +198,7 @@ fn engine_upload_data_is_the_ktx2_files_levels() {
 /// without a face black, in each cube layout a bake writes as one image.
 #[test]
 fn exr_levels_read_back_face_for_face_in_every_layout() {
-    use envmap_render::io::{load, LoadOptions};
+    use envmap_render::image::io::{load, LoadOptions};
     use envmap_render::Layout;
     let dir = tempfile::tempdir().expect("tempdir");
     let src = source();
@@ -274,7 +273,7 @@ fn files_of(dir: &Path) -> BTreeMap<String, Vec<u8>> {
 #[test]
 fn bake_into_writes_what_a_bake_then_write_writes_and_nothing_when_cancelled() {
     use envmap_render::filter::bake::bake_owned;
-    use envmap_render::io::SaveOptions;
+    use envmap_render::image::io::SaveOptions;
     use envmap_render::Layout;
     use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
     let dir = tempfile::tempdir().expect("tempdir");

@@ -17,10 +17,10 @@ use std::sync::{mpsc, OnceLock};
 use std::time::{Duration, Instant};
 
 use envmap_core::AnyMapping;
-use envmap_render::environments::Builtin;
-use envmap_render::io::{Outputs, SaveOptions};
-use envmap_render::procedural::{fill, smooth};
-use envmap_render::render::{render, Camera, EnvSource, RenderOptions};
+use envmap_render::image::io::{Outputs, SaveOptions};
+use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions};
 use envmap_render::{convert, save, ConvertOptions, Error, Representation};
 
 mod common;
@@ -338,7 +338,7 @@ fn the_cancel_flag_stops_a_render_and_a_load() {
         cancel: Some(&stop),
         ..RenderOptions::default()
     };
-    let mesh = envmap_render::mesh::Mesh::sphere(1.0, 16, 8);
+    let mesh = envmap_render::scene::mesh::Mesh::sphere(1.0, 16, 8);
     let r = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts);
     assert!(matches!(r, Err(Error::Cancelled)));
     let l = envmap_render::load(

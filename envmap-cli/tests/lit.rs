@@ -9,10 +9,10 @@ use envmap_core::AnyMapping;
 use envmap_render::filter::bake::{bake, BakeOptions};
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::image::FileAxes;
-use envmap_render::procedural::{fill, psnr, smooth};
 use envmap_render::scene::lit::LitEnvironment;
 use envmap_render::scene::material::Material;
 use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::procedural::{fill, psnr, smooth};
 use envmap_render::scene::render::{render, Camera, EnvSource, Mode, RenderOptions, Shading};
 use envmap_render::{EnvImage, Representation, RgbImage};
 

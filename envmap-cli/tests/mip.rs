@@ -4,18 +4,18 @@
 //! reference than plain bilinear lookups do.
 //!
 //! ```text
-//! cargo test --release -p envmap-render --test mip -- --nocapture
+//! cargo test --release -p envmap-cli --test mip -- --nocapture
 //! ```
 
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
-use envmap_render::environments::Builtin;
+use envmap_render::image::io::linear_to_srgb;
 use envmap_render::image::{EnvImage, Representation};
-use envmap_render::io::linear_to_srgb;
-use envmap_render::mesh::Mesh;
-use envmap_render::procedural::{fill, psnr, smooth};
-use envmap_render::render::{render, Camera, EnvSource, RenderOptions, Shading};
+use envmap_render::scene::environments::Builtin;
 use envmap_render::scene::material::Material;
+use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::procedural::{fill, psnr, smooth};
+use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions, Shading};
 use envmap_render::RgbImage;
 
 mod common;
@@ -287,7 +287,7 @@ fn every_lookup_on_a_shrinking_mirror_reads_the_levels() {
 /// set made from another map's size is not used (the render builds its own).
 #[test]
 fn prebuilt_mip_levels_render_the_same() {
-    use envmap_render::render::MipLevels;
+    use envmap_render::scene::render::MipLevels;
     let env = cube(Builtin::Sky, 64);
     let other = cube(Builtin::Sky, 32);
     let (own, wrong) = (
@@ -301,7 +301,10 @@ fn prebuilt_mip_levels_render_the_same() {
 }
 
 /// A small mip-aware render of the teapot in `env`, from `levels` if given.
-fn draw_mip(env: &EnvImage, levels: Option<&envmap_render::render::MipLevels>) -> Vec<[f32; 3]> {
+fn draw_mip(
+    env: &EnvImage,
+    levels: Option<&envmap_render::scene::render::MipLevels>,
+) -> Vec<[f32; 3]> {
     render(
         &Mesh::teapot(6),
         EnvSource::Map(env),
@@ -325,7 +328,7 @@ fn draw_mip(env: &EnvImage, levels: Option<&envmap_render::render::MipLevels>) -
 /// released).
 #[test]
 fn rebuilt_mip_levels_render_as_levels_made_anew() {
-    use envmap_render::render::MipLevels;
+    use envmap_render::scene::render::MipLevels;
     let (sky, room) = (cube(Builtin::Sky, 64), cube(Builtin::Room, 64));
     let small = cube(Builtin::Room, 32);
     // 48² faces: 24, 12, 6, 3, 1: levels that cannot be made in place.
@@ -341,7 +344,7 @@ fn rebuilt_mip_levels_render_as_levels_made_anew() {
         assert!(again == anew, "rebuilt levels render otherwise");
         assert!(again == draw(env, None));
         if std::ptr::eq(env, &small) {
-            envmap_render::render::release_kept_levels();
+            envmap_render::scene::render::release_kept_levels();
             assert!(again == draw(env, None));
         }
     }

@@ -6,7 +6,7 @@
 //!
 //! ```sh
 //! apt-get install libfilament-tools && pip install py360convert numpy scipy "opencv-python-headless<4.11"
-//! ENVMAP_PEERS=1 cargo test --release -p envmap-render --test peers -- --nocapture
+//! ENVMAP_PEERS=1 cargo test --release -p envmap-cli --test peers -- --nocapture
 //! ```
 //!
 //! A smooth latlong goes through `envmap convert --to cube` and through each
@@ -22,8 +22,8 @@ use std::process::Command;
 
 use envmap_core::AnyMapping;
 use envmap_render::image::face_ops::FaceTurn;
-use envmap_render::io::{load, save, LoadOptions, SaveOptions};
-use envmap_render::procedural::{fill, smooth};
+use envmap_render::image::io::{load, save, LoadOptions, SaveOptions};
+use envmap_render::scene::procedural::{fill, smooth};
 use envmap_render::{EnvImage, Representation, RgbImage};
 
 mod common;

@@ -27,11 +27,12 @@
 //! within the bounds at every roughness.
 //!
 //! ```text
-//! cargo test --release -p envmap-render --test split_sum -- --nocapture
-//! ENVMAP_SPLIT_SUM_SWEEP=1 cargo test --release -p envmap-render --test split_sum sweep -- --nocapture
+//! cargo test --release -p envmap-cli --test split_sum -- --nocapture
+//! ENVMAP_SPLIT_SUM_SWEEP=1 cargo test --release -p envmap-cli --test split_sum sweep -- --nocapture
 //! ```
 
 mod common;
+#[path = "../../envmap-render/tests/sphere_scene/mod.rs"]
 mod sphere_scene;
 
 use std::time::Instant;
@@ -43,8 +44,8 @@ use envmap_render::filter::dfg::DfgGrid;
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::specular::RoughnessRule;
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::procedural::fill;
 use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
+use envmap_render::scene::procedural::fill;
 use envmap_render::RgbImage;
 use sphere_scene::{builtin_sky, committed, exact, mask, measure, split};
 

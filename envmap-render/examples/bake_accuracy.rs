@@ -27,13 +27,13 @@
 use std::time::Instant;
 
 use envmap_core::{AnyMapping, Atlas, Mapping};
-use envmap_render::environments::Builtin;
 use envmap_render::filter::bake::{bake, measure_irradiance, measure_level, BakeOptions};
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
+use envmap_render::image::io::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::io::{load, LoadOptions, NonFinite};
-use envmap_render::procedural::{fill, small_sun, smooth, sunny};
+use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::procedural::{fill, small_sun, smooth, sunny};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

@@ -14,10 +14,10 @@ use std::path::Path;
 
 use envmap_core::AnyMapping;
 use envmap_render::bakedir::{self, Preset, Provenance, Target};
-use envmap_render::environments::Builtin;
 use envmap_render::filter::bake::{bake, BakeOptions};
+use envmap_render::image::io::{load_from_memory, LoadOptions, Outputs, SaveOptions};
 use envmap_render::image::{FileAxes, Representation};
-use envmap_render::io::{load_from_memory, LoadOptions, Outputs, SaveOptions};
+use envmap_render::scene::environments::Builtin;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

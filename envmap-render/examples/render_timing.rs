@@ -7,10 +7,10 @@
 use std::time::Instant;
 
 use envmap_core::AnyMapping;
-use envmap_render::environments::Builtin;
 use envmap_render::image::Representation;
-use envmap_render::mesh::Mesh;
-use envmap_render::render::{render, Camera, EnvSource, RenderOptions};
+use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions};
 
 fn main() {
     let repr = Representation::default_for(AnyMapping::Cube);
@@ -24,7 +24,7 @@ fn main() {
     // PREBUILT=1: the mip levels made once, their time printed apart.
     let levels = std::env::var("PREBUILT").is_ok().then(|| {
         let t = Instant::now();
-        let l = envmap_render::render::MipLevels::new(&env).expect("levels");
+        let l = envmap_render::scene::render::MipLevels::new(&env).expect("levels");
         println!("levels made in {} ms", t.elapsed().as_secs_f64() * 1e3);
         l
     });
@@ -33,7 +33,7 @@ fn main() {
         .is_ok()
         .then(|| envmap_render::scene::lit::LitEnvironment::bake(&env, 512, None).expect("bake"));
     let shading = match &lit {
-        Some(env) => envmap_render::render::Shading::SplitSum {
+        Some(env) => envmap_render::scene::render::Shading::SplitSum {
             env,
             material: envmap_render::scene::material::Material {
                 roughness: 0.5,
@@ -42,7 +42,7 @@ fn main() {
             multiscatter: false,
             dominant: true,
         },
-        None => envmap_render::render::Shading::Mirror,
+        None => envmap_render::scene::render::Shading::Mirror,
     };
     let opts = RenderOptions {
         shading,
@@ -58,7 +58,7 @@ fn main() {
     // the memory of the last (`MipLevels::rebuild`).
     let mut again = std::env::var("REBUILD")
         .is_ok()
-        .then(|| envmap_render::render::MipLevels::new(&env).expect("levels"));
+        .then(|| envmap_render::scene::render::MipLevels::new(&env).expect("levels"));
     for _ in 0..std::env::var("ITERS")
         .ok()
         .and_then(|v| v.parse().ok())

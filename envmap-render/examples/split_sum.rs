@@ -26,14 +26,14 @@
 use std::path::Path;
 use std::time::Instant;
 
-use envmap_render::environments::Builtin;
 use envmap_render::filter::bake::{bake, lobe_chain, BakeOptions};
 use envmap_render::filter::dfg::{DfgGrid, DfgTable};
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::filter::specular::RoughnessRule;
+use envmap_render::image::io::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes};
-use envmap_render::io::{load, LoadOptions, NonFinite};
+use envmap_render::scene::environments::Builtin;
 use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
 use envmap_render::RgbImage;
 

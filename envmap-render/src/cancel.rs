@@ -13,7 +13,7 @@
 //! ```
 //! use std::sync::atomic::{AtomicBool, Ordering};
 //! use envmap_render::{convert, ConvertOptions, Error, Representation};
-//! use envmap_render::environments::Builtin;
+//! use envmap_render::scene::environments::Builtin;
 //! use envmap_core::AnyMapping;
 //!
 //! let src = Builtin::Sky.image(Representation::default_for(AnyMapping::LatLong), 64, 32).unwrap();

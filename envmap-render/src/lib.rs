@@ -1,7 +1,8 @@
 //! Environment-map images and their files, filtering and conversion, the
-//! renderer, and the `envmap` command.
+//! lighting bake and the renderer. The `envmap` command is the crate
+//! `envmap-cli`, a thin shell over this one.
 //!
-//! The crate is five folders by concern, each using only the ones above it:
+//! The crate is four folders by concern, each using only the ones above it:
 //!
 //! | folder | what lives there | may use |
 //! | --- | --- | --- |
@@ -9,18 +10,11 @@
 //! | [`filter`] | sampling with each representation's edge rule ([`filter::sample`]), the one conversion loop ([`filter::convert`]) | `image`, `envmap-simd` |
 //! | [`scene`] | built-in environments, procedural environments, meshes, the renderer, the demo | `image`, `filter` |
 //! | [`bakedir`] | the bake directory: the engines' presets, its files written to a directory or into memory, and read back | `image`, `filter`, `scene` |
-//! | `cli` | the `envmap` command, one file per subcommand (feature `cli`, on by default) | everything |
 //!
 //! [`Error`] (in `error.rs`) is shared by all of them: every message names
 //! the file it concerns.
 //!
-//! The paths of the first release keep working: [`io`], [`layout`],
-//! [`sample`], [`convert`](mod@convert), [`procedural`], [`environments`],
-//! [`mesh`], [`render`](mod@render), [`demo`] and `text` (with `cli`) are
-//! the modules above under their old names.
-//!
-//! Features, all on by default: `cli` (the command line: clap, indicatif,
-//! signal-hook), the file formats `exr`, `image` (PNG, JPEG, Radiance),
+//! Features, all on by default: the file formats `exr`, `image` (PNG, JPEG, Radiance),
 //! `ktx2`, `zstd` (KTX2 supercompression; a C compiler), `dds`, `ktx1`, and
 //! `parallel` (rayon; without it the same results on the calling thread).
 //! An engine sets `default-features = false` and adds what it reads and
@@ -38,8 +32,6 @@
 
 pub mod bakedir;
 pub mod cancel;
-#[cfg(feature = "cli")]
-pub mod cli;
 pub mod error;
 pub mod filter;
 pub mod image;
@@ -51,14 +43,3 @@ pub use crate::filter::convert::{convert, convert_into, ConvertOptions};
 pub use crate::image::io::{load, save, LoadOptions, NonFinite, SaveOptions};
 pub use crate::image::{EnvImage, Layout, Representation, RgbImage, Stats};
 pub use crate::scene::render::render;
-
-// The module paths of the first release.
-#[cfg(feature = "cli")]
-#[doc(no_inline)]
-pub use crate::cli::text;
-#[doc(no_inline)]
-pub use crate::filter::{convert, sample};
-#[doc(no_inline)]
-pub use crate::image::{io, layout};
-#[doc(no_inline)]
-pub use crate::scene::{demo, environments, mesh, procedural, render};

@@ -5,8 +5,8 @@
 //! outside every chart gives black; lanes of `sample8` equal `sample`.
 
 use envmap_core::{AnyMapping, ChartUv, Mapping};
-use envmap_render::procedural::{fill, smooth};
-use envmap_render::sample::{Filter, Sampler};
+use envmap_render::filter::sample::{Filter, Sampler};
+use envmap_render::scene::procedural::{fill, smooth};
 use envmap_render::Representation;
 use envmap_simd::{Uv8, INVALID_CHART};
 

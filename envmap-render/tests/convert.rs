@@ -5,10 +5,10 @@ use envmap_core::cube::{face_direction, CubeFace};
 use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Atlas, Frame, Mapping};
-use envmap_render::convert::{convert, ConvertOptions};
+use envmap_render::filter::convert::{convert, ConvertOptions};
+use envmap_render::filter::sample::Filter;
 use envmap_render::image::{EnvImage, Representation};
-use envmap_render::procedural::{fill, psnr, smooth};
-use envmap_render::sample::Filter;
+use envmap_render::scene::procedural::{fill, psnr, smooth};
 
 /// Image size for a representation with cells `cell` texels wide (the
 /// tennisball needs a multiple of 3).
@@ -281,7 +281,7 @@ fn frames_put_up_where_each_convention_has_it() {
 fn reference(src: &EnvImage, repr: Representation, w: u32, h: u32, n: u32) -> Vec<[f32; 3]> {
     use envmap_core::atlas::Turn;
     use envmap_core::ChartUv;
-    use envmap_render::sample::Sampler;
+    use envmap_render::filter::sample::Sampler;
     let shape = EnvImage::new(w, h, repr).unwrap();
     let (cw, ch) = shape.cell_size();
     let sampler = Sampler::new(src);

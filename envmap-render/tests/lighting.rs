@@ -8,7 +8,6 @@
 use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Atlas, ChartUv, Mapping};
-use envmap_render::environments::Builtin;
 use envmap_render::filter::bake::{measure_level, specular_chain, BakeOptions};
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::pyramid::{Pyramid, Trilinear};
@@ -17,7 +16,8 @@ use envmap_render::filter::specular::{
 };
 use envmap_render::filter::weights::TexelWeights;
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::procedural::{fill, smooth};
+use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::procedural::{fill, smooth};
 use envmap_simd::Uv8;
 use wide::{f32x8, u32x8};
 

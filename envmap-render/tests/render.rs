@@ -4,9 +4,9 @@
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, Atlas, Frame};
 use envmap_render::image::Representation;
-use envmap_render::mesh::Mesh;
-use envmap_render::procedural::{fill, psnr, smooth};
-use envmap_render::render::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::procedural::{fill, psnr, smooth};
+use envmap_render::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
 
 /// The colour is the direction itself, so a pixel says which direction it reflects.
 fn direction_colour(d: Vec3) -> [f32; 3] {
@@ -196,7 +196,7 @@ fn progress_counts_every_band() {
         EnvSource::Analytic(&sky),
         &cam,
         &RenderOptions {
-            progress: Some(envmap_render::render::Progress(&tick)),
+            progress: Some(envmap_render::scene::render::Progress(&tick)),
             ..opts
         },
     )

@@ -3,8 +3,8 @@
 //! of range and NaN.
 
 use envmap_core::{AnyMapping, Atlas, Frame, Mapping};
+use envmap_render::filter::sample::{Filter, Sampler};
 use envmap_render::image::{EnvImage, Representation};
-use envmap_render::sample::{Filter, Sampler};
 use envmap_simd::Uv8;
 use envmap_tests::SplitMix64;
 use wide::{f32x8, u32x8};

@@ -17,12 +17,12 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
 use envmap_core::{AnyMapping, Atlas, Frame};
+use envmap_render::image::io::{load_detailed, FileFormat};
 use envmap_render::image::texture::{full_chain, level_size};
 use envmap_render::image::{
     dds, ktx2 as envktx2, RgbImage, TexelFormat, Texture, TextureKind, TextureOptions,
     DEFAULT_MAX_TEXELS,
 };
-use envmap_render::io::{load_detailed, FileFormat};
 use envmap_render::{save, EnvImage, Error, LoadOptions, Representation, SaveOptions};
 
 // ---------------------------------------------------------------------------

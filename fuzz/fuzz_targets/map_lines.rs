@@ -1,11 +1,11 @@
 //! Arbitrary text through the `envmap map` and `envmap unmap` line parser
-//! (`envmap_render::text`), for every mapping, with and without an image
+//! (`envmap_cli::text`), for every mapping, with and without an image
 //! size. Each line gives a row or an error; nothing may panic, and a row of
 //! `map` read back by `unmap` must be accepted.
 #![no_main]
 
 use envmap_core::{AnyMapping, Frame, Mapping};
-use envmap_render::text::{MapLines, UnmapLines};
+use envmap_cli::text::{MapLines, UnmapLines};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

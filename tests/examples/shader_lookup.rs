@@ -40,17 +40,17 @@ use std::path::{Path, PathBuf};
 
 use envmap_core::shaders::ALL_WGSL;
 use envmap_core::AnyMapping;
+use envmap_render::bakedir::read;
 use envmap_render::bakedir::{self, Preset, Provenance};
-use envmap_render::environments::Builtin;
 use envmap_render::filter::bake::{bake, BakeOptions};
 use envmap_render::filter::dfg::{DfgGrid, DfgTable};
+use envmap_render::image::io::{write_rgb, SaveOptions};
 use envmap_render::image::FileAxes;
-use envmap_render::io::{write_rgb, SaveOptions};
-use envmap_render::mesh::Mesh;
-use envmap_render::render::{render, Camera, EnvSource, RenderOptions, Shading};
+use envmap_render::scene::environments::Builtin;
 use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
-use envmap_render::scene::lit_files;
 use envmap_render::scene::material::Material;
+use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions, Shading};
 use envmap_render::{EnvImage, Representation, RgbImage};
 use glam::Vec3;
 
@@ -73,7 +73,7 @@ fn main() -> Result<(), Error> {
     let material_name = args.get(1).map_or("gold", String::as_str);
     let material = Material::preset(material_name)?;
     // The baked chain, read as `envmap render --env DIR` reads it.
-    let lit = lit_files::open(&dir, None, u64::MAX, None)?
+    let lit = read::open(&dir, None, u64::MAX, None)?
         .ok_or_else(|| format!("{}: not a bake directory", dir.display()))?;
     println!("{}", lit.description);
     // Read as an engine reads the files, which is what the WGSL does: the

@@ -27,23 +27,25 @@ use std::time::Instant;
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
 
-use crate::error::Result;
-use crate::filter::convert::{convert, ConvertOptions};
-use crate::image::io::Outputs;
-use crate::image::{FileAxes, Representation, RgbImage};
-use crate::scene::demo::{displayed, heat_map, psnr_displayed, save_png, DemoOptions};
-use crate::scene::environments::Builtin;
-use crate::scene::lit::LitEnvironment;
-use crate::scene::material::Material;
-use crate::scene::mesh::Mesh;
-use crate::scene::render::{light_table, render, Camera, EnvSource, Mode, RenderOptions, Shading};
+use crate::demo::scene::{displayed, heat_map, psnr_displayed, save_png, DemoOptions};
+use envmap_render::error::Result;
+use envmap_render::filter::convert::{convert, ConvertOptions};
+use envmap_render::image::io::Outputs;
+use envmap_render::image::{FileAxes, Representation, RgbImage};
+use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::lit::LitEnvironment;
+use envmap_render::scene::material::Material;
+use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::render::{
+    light_table, render, Camera, EnvSource, Mode, RenderOptions, Shading,
+};
 
 /// The roughness of the sphere grid's columns.
-pub const GRID_ROUGHNESS: [f32; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
+pub(crate) const GRID_ROUGHNESS: [f32; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
 
 /// One lit render's row of the report.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LitRow {
+pub(crate) struct LitRow {
     /// What was rendered and where (`"sphere, sky"`, `"teapot, sky"`).
     pub scene: &'static str,
     /// The material's name.
@@ -96,7 +98,7 @@ struct Scene<'a> {
     name: &'static str,
     analytic: &'a (dyn Fn(Vec3) -> [f32; 3] + Sync),
     lit: LitEnvironment,
-    light: crate::scene::lit::EnvSampling,
+    light: envmap_render::scene::lit::EnvSampling,
 }
 
 /// A split-sum render, its reference (two halves) and the row comparing them.
@@ -200,8 +202,8 @@ fn compare(
 /// representation of envmap's default axes.
 fn resampled(lit: &LitEnvironment, mapping: AnyMapping) -> Result<LitEnvironment> {
     let repr = Representation::for_file(mapping, FileAxes::default());
-    let to = |img: &crate::image::EnvImage| {
-        let (w, h) = crate::scene::demo::size_for_budget(
+    let to = |img: &envmap_render::image::EnvImage| {
+        let (w, h) = crate::demo::scene::size_for_budget(
             mapping,
             u64::from(img.width()) * u64::from(img.height()),
         );
@@ -399,7 +401,7 @@ pub(crate) fn run(
 
 /// The lit section's table as Markdown.
 #[must_use]
-pub fn lit_table(rows: &[LitRow]) -> String {
+pub(crate) fn lit_table(rows: &[LitRow]) -> String {
     use std::fmt::Write as _;
     let mut s = String::from(
         "| scene | material | roughness | PSNR split sum vs reference (dB) | reference noise (dB) | split sum (ms) | reference (ms) |\n| --- | --- | ---: | ---: | ---: | ---: | ---: |\n",

@@ -1,5 +1,8 @@
 //! `envmap demo`: every representation of the built-in sky side by side.
 
+mod lit;
+mod scene;
+
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -8,7 +11,7 @@ use std::time::Instant;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::cli::args::CliResult;
+use crate::args::CliResult;
 
 #[derive(Args)]
 pub(crate) struct DemoArgs {
@@ -50,7 +53,7 @@ pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
                 .into(),
         );
     }
-    let opts = crate::scene::demo::DemoOptions {
+    let opts = crate::demo::scene::DemoOptions {
         out: a.out.clone(),
         texels: a.ktexels * 1000,
         width: a.width,
@@ -58,7 +61,7 @@ pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
         lit: !a.no_lit,
         reference_samples: a.reference_samples,
         cancel: Some(stop),
-        ..crate::scene::demo::DemoOptions::default()
+        ..crate::demo::scene::DemoOptions::default()
     };
     let bar = if a.quiet {
         ProgressBar::hidden()
@@ -72,7 +75,7 @@ pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
         b
     };
     let t = Instant::now();
-    let report = crate::scene::demo::run(&opts, &|done, total, what| {
+    let report = crate::demo::scene::run(&opts, &|done, total, what| {
         bar.set_length(u64::from(total));
         bar.set_position(u64::from(done));
         bar.set_message(what.to_owned());
@@ -85,12 +88,12 @@ pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
     let lit = if report.lit.is_empty() {
         String::new()
     } else {
-        format!("\n{}", crate::scene::demo_lit::lit_table(&report.lit))
+        format!("\n{}", crate::demo::lit::lit_table(&report.lit))
     };
     write!(
         out,
         "{}{lit}\nwrote {} ({} images and report.md) in {:.1} s\n",
-        crate::scene::demo::report_table(&report.rows),
+        crate::demo::scene::report_table(&report.rows),
         a.out.display(),
         report.images,
         t.elapsed().as_secs_f64()

@@ -11,16 +11,16 @@ use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Mapping};
 
-use crate::error::{Error, Result};
-use crate::image::io::{linear_to_srgb, Outputs, SaveOptions};
-use crate::image::{FileAxes, Representation, RgbImage};
-use crate::scene::environments::Builtin;
-use crate::scene::mesh::Mesh;
-use crate::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::error::{Error, Result};
+use envmap_render::image::io::{linear_to_srgb, Outputs, SaveOptions};
+use envmap_render::image::{FileAxes, Representation, RgbImage};
+use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::mesh::Mesh;
+use envmap_render::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
 
 /// What the demo makes.
 #[derive(Clone, Debug)]
-pub struct DemoOptions<'a> {
+pub(crate) struct DemoOptions<'a> {
     /// Output directory (created if missing).
     pub out: PathBuf,
     /// Texel budget per representation (all charts together).
@@ -31,7 +31,7 @@ pub struct DemoOptions<'a> {
     pub samples: u32,
     /// Exposure in stops of the PNGs.
     pub exposure: f32,
-    /// Render the lit section ([`crate::scene::demo_lit`]).
+    /// Render the lit section ([`crate::demo::lit`]).
     pub lit: bool,
     /// Samples per pixel and per strategy of the lit section's references.
     pub reference_samples: u32,
@@ -40,7 +40,7 @@ pub struct DemoOptions<'a> {
     /// Face size of the lit section's specular chains.
     pub lit_bake_size: u32,
     /// Stops the demo once set ([`Error::Cancelled`]): nothing of this run
-    /// is written; see [`crate::cancel`].
+    /// is written; see [`envmap_render::cancel`].
     pub cancel: Option<&'a AtomicBool>,
 }
 
@@ -63,7 +63,7 @@ impl Default for DemoOptions<'_> {
 
 /// One representation's row of the report.
 #[derive(Clone, Debug, PartialEq)]
-pub struct DemoRow {
+pub(crate) struct DemoRow {
     /// The representation.
     pub mapping: AnyMapping,
     /// Image size of the atlas.
@@ -145,7 +145,7 @@ pub(crate) fn displayed(img: &RgbImage, exposure: f32) -> Vec<[f32; 3]> {
 }
 
 pub(crate) fn psnr_displayed(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool]) -> f64 {
-    crate::scene::procedural::psnr(a, b, |k| mask[k], 1.0)
+    envmap_render::scene::procedural::psnr(a, b, |k| mask[k], 1.0)
 }
 
 /// A heat map of |a − b| on displayed values: black (0) to red, yellow, white (≥ 0.25).
@@ -166,7 +166,7 @@ pub(crate) fn heat_map(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool], w: u32, h:
                 (3.0 * t - 1.0).clamp(0.0, 1.0),
                 (3.0 * t - 2.0).clamp(0.0, 1.0),
             ];
-            ramp.map(crate::image::io::srgb_to_linear)
+            ramp.map(envmap_render::image::io::srgb_to_linear)
         })
         .collect();
     RgbImage {
@@ -191,11 +191,11 @@ pub(crate) fn save_png(
 
 /// What the demo measured: the report's tables.
 #[derive(Clone, Debug, PartialEq)]
-pub struct DemoReport {
+pub(crate) struct DemoReport {
     /// One row per representation.
     pub rows: Vec<DemoRow>,
     /// The lit section's rows (empty without [`DemoOptions::lit`]).
-    pub lit: Vec<crate::scene::demo_lit::LitRow>,
+    pub lit: Vec<crate::demo::lit::LitRow>,
     /// The number of images written.
     pub images: usize,
 }
@@ -205,7 +205,7 @@ pub struct DemoReport {
 /// `opts.out` (created if missing), all of them renamed into place together
 /// at the end ([`Outputs`]): after an error or a cancellation none of them
 /// is, and a directory the run created is removed again.
-pub fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoReport> {
+pub(crate) fn run(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoReport> {
     let created = !opts.out.exists();
     std::fs::create_dir_all(&opts.out).map_err(|source| Error::Write {
         path: opts.out.clone(),
@@ -326,7 +326,7 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
     }
     let lit = if opts.lit {
         let step = std::cell::Cell::new(AnyMapping::ALL.len() as u32 + 1);
-        crate::scene::demo_lit::run(opts, &mut run, &|what| {
+        crate::demo::lit::run(opts, &mut run, &|what| {
             progress(step.get(), total, what);
             step.set(step.get() + 1);
         })?
@@ -336,7 +336,7 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
     progress(total, total, "report");
     let mut report = report_markdown(opts, &rows, w, h);
     if opts.lit {
-        report.push_str(&crate::scene::demo_lit::lit_markdown(opts, &lit));
+        report.push_str(&crate::demo::lit::lit_markdown(opts, &lit));
     }
     run.stage_bytes(opts.out.join("report.md"), report.as_bytes())?;
     let images = run.targets().count().saturating_sub(1);
@@ -346,7 +346,7 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
 
 /// The report table as Markdown.
 #[must_use]
-pub fn report_table(rows: &[DemoRow]) -> String {
+pub(crate) fn report_table(rows: &[DemoRow]) -> String {
     let mut s = String::from(
         "| representation | atlas | texels (owned) | max/min texel solid angle | PSNR per pixel (dB) | PSNR per vertex (dB) | time (s) |\n| --- | --- | ---: | ---: | ---: | ---: | ---: |\n",
     );

@@ -37,7 +37,7 @@
 //! use envmap_render::bakedir::{self, Preset, Provenance, Target};
 //! use envmap_render::filter::bake::{bake, BakeOptions};
 //! use envmap_render::image::{FileAxes, Representation};
-//! use envmap_render::procedural::{fill, smooth};
+//! use envmap_render::scene::procedural::{fill, smooth};
 //! use envmap_core::AnyMapping;
 //!
 //! let src = fill(Representation::default_for(AnyMapping::LatLong), 128, 64, smooth)?;

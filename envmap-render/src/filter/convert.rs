@@ -244,7 +244,7 @@ pub fn convert_into(
 ///
 /// ```
 /// use envmap_core::AnyMapping;
-/// use envmap_render::convert::{convert, ConvertOptions, Streamed};
+/// use envmap_render::filter::convert::{convert, ConvertOptions, Streamed};
 /// use envmap_render::image::{EnvImage, Representation};
 /// let src = EnvImage::new(64, 32, Representation::default_for(AnyMapping::LatLong)).unwrap();
 /// let cube = Representation::default_for(AnyMapping::Cube);

@@ -77,7 +77,7 @@
 //!
 //! ```no_run
 //! use envmap_render::filter::dfg::{DfgTable, DEFAULT_SIZE};
-//! use envmap_render::io::{write_rgb, ExrPrecision, SaveOptions};
+//! use envmap_render::image::io::{write_rgb, ExrPrecision, SaveOptions};
 //!
 //! let table = DfgTable::new(DEFAULT_SIZE)?;
 //! let half = SaveOptions {

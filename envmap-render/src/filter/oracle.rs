@@ -869,7 +869,7 @@ mod tests {
     use super::*;
     use crate::filter::specular::{ggx_d, lobe_normalizer};
     use crate::image::Representation;
-    use crate::procedural::fill;
+    use crate::scene::procedural::fill;
     use envmap_core::AnyMapping;
 
     fn latlong(w: u32, h: u32, f: impl Fn(Vec3) -> [f32; 3] + Sync) -> EnvImage {

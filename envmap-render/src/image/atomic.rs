@@ -287,7 +287,7 @@ pub(crate) fn persist(temp: TempFile, path: &Path) -> Result<()> {
 /// does.
 ///
 /// ```
-/// use envmap_render::io::{Outputs, SaveOptions};
+/// use envmap_render::image::io::{Outputs, SaveOptions};
 /// let dir = tempfile::tempdir().unwrap();
 /// let mut run = Outputs::new(&SaveOptions::default());
 /// run.stage_bytes(dir.path().join("a.txt"), b"one").unwrap();
@@ -356,7 +356,7 @@ impl<'a> Outputs<'a> {
     /// with [`Error::Cancelled`] once `cancel` is set.
     ///
     /// ```
-    /// use envmap_render::io::Outputs;
+    /// use envmap_render::image::io::Outputs;
     /// let mut run = Outputs::in_memory(None);
     /// run.stage_bytes("out/a.txt", b"one").unwrap();
     /// let files = run.into_memory().unwrap();

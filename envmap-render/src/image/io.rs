@@ -696,7 +696,7 @@ fn decode_rgb(
 /// read this way (load each face and assemble them, or use files).
 ///
 /// ```
-/// use envmap_render::io::{load_from_memory, LoadOptions};
+/// use envmap_render::image::io::{load_from_memory, LoadOptions};
 /// // A 2 × 1 Radiance file: a latlong of two texels.
 /// let mut hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n".to_vec();
 /// hdr.extend_from_slice(&[128, 128, 128, 129, 128, 128, 128, 129]);

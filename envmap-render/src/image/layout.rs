@@ -344,7 +344,7 @@ fn size_text(width: u32, height: u32) -> String {
 ///
 /// ```
 /// use envmap_core::{AnyMapping, Atlas};
-/// use envmap_render::layout::detect;
+/// use envmap_render::image::layout::detect;
 /// assert_eq!(detect(4096, 3072).unwrap(), (AnyMapping::Cube, Atlas::CUBE_HORIZONTAL_CROSS));
 /// assert!(detect(512, 512).unwrap_err().to_string().contains("octahedral"));
 /// ```

@@ -80,7 +80,7 @@ pub const SUN_RADIANCE: [f32; 3] = [5000.0, 4700.0, 4200.0];
 /// from +x towards +y (z up).
 ///
 /// ```
-/// use envmap_render::environments::direction_from_angles;
+/// use envmap_render::scene::environments::direction_from_angles;
 /// let d = direction_from_angles(90.0, 0.0);
 /// assert!((d.z - 1.0).abs() < 1e-6);
 /// ```

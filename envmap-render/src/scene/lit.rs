@@ -1301,7 +1301,7 @@ mod tests {
     #[test]
     fn the_near_field_reads_the_source_below_the_first_level() {
         use crate::image::Representation;
-        use crate::procedural::fill;
+        use crate::scene::procedural::fill;
         let repr = Representation::default_for(AnyMapping::LatLong);
         let constant = fill(repr, 128, 64, |_| [0.7; 3]).unwrap();
         let lit = LitEnvironment::bake(&constant, 32, None).unwrap();
@@ -1374,7 +1374,7 @@ mod tests {
     #[test]
     fn the_chain_reads_through_its_copies_as_in_place() {
         use crate::image::Representation;
-        use crate::procedural::{fill, smooth};
+        use crate::scene::procedural::{fill, smooth};
         use envmap_core::Mapping;
         use envmap_simd::Uv8;
         for m in [AnyMapping::Cube, AnyMapping::LatLong, AnyMapping::SphereMap] {

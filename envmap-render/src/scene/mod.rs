@@ -11,14 +11,10 @@
 //!   reader of [`crate::bakedir`], kept here under its first name).
 //! * [`render`]: the rasterizer, per pixel (seed `000`) and per vertex
 //!   (seed `002`).
-//! * [`demo`]: `envmap demo`, every representation side by side; [`demo_lit`]:
-//!   its lit section (materials by the split sum against the reference).
 //!
 //! This folder uses [`crate::image`] and [`crate::filter`]; nothing from
 //! `cli`.
 
-pub mod demo;
-pub mod demo_lit;
 pub mod environments;
 pub mod lit;
 pub use crate::bakedir::read as lit_files;

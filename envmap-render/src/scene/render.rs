@@ -59,7 +59,7 @@
 //!    bilinear tap already spreads over two of its texels, so the pixel's
 //!    half-footprint is the size to match.
 //!
-//! Measured (`cargo test --release -p envmap-render --test mip --
+//! Measured (`cargo test --release -p envmap-cli --test mip --
 //! --nocapture`; PSNR of displayed values over the teapot's pixels, 1
 //! sample per pixel against 4 × 4 supersampling of plain bilinear lookups
 //! in the same map): the sky as a 512² cube from 26.5 to 31.7 dB, as a

@@ -12,10 +12,10 @@ use std::path::Path;
 
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
-use envmap_render::environments::Builtin;
 use envmap_render::filter::oracle::Oracle;
+use envmap_render::image::io::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::io::{load, LoadOptions, NonFinite};
+use envmap_render::scene::environments::Builtin;
 use envmap_render::scene::lit::LitEnvironment;
 use envmap_render::scene::material::Material;
 use envmap_render::scene::mesh::Mesh;

@@ -95,9 +95,9 @@ impl Args {
                 .map_err(|e| format!("{}: {e}", f.display())),
             None => {
                 use envmap_render::image::Representation;
-                use envmap_render::io::{Outputs, SaveOptions};
+                use envmap_render::image::io::{Outputs, SaveOptions};
                 let repr = Representation::default_for(envmap_core::AnyMapping::LatLong);
-                let sky = envmap_render::environments::Builtin::Sky
+                let sky = envmap_render::scene::environments::Builtin::Sky
                     .image(repr, 2048, 1024)
                     .map_err(|e| e.to_string())?;
                 let mut run = Outputs::in_memory(None);
@@ -204,7 +204,7 @@ fn screenshot(args: &Args, out: &Path) -> Result<(), String> {
         height: frame.height,
         pixels: frame.rgb(),
     };
-    envmap_render::io::write_rgb(&img, out, &envmap_render::io::SaveOptions::default())
+    envmap_render::image::io::write_rgb(&img, out, &envmap_render::image::io::SaveOptions::default())
         .map_err(|e| e.to_string())?;
     eprintln!("{} ({}×{})", out.display(), frame.width, frame.height);
     Ok(())

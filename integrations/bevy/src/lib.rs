@@ -58,7 +58,7 @@ pub use envmap_render;
 use envmap_render::bakedir::{Preset, Target};
 use envmap_render::filter::bake::{bake, Bake, BakeOptions};
 use envmap_render::image::{FileAxes, TexelFormat, Texture};
-use envmap_render::io::{load_from_memory, LoadOptions};
+use envmap_render::image::io::{load_from_memory, LoadOptions};
 use envmap_render::EnvImage;
 
 /// The camera exposure (EV100) under which Bevy writes a map's values

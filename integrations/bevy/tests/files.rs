@@ -8,7 +8,7 @@ use bevy::render::render_resource::{TextureDataOrder, TextureFormat, TextureView
 use envmap_bevy::{bake_image, bevy_preset, EnvironmentImages};
 use envmap_core::AnyMapping;
 use envmap_render::bakedir::{self, Provenance};
-use envmap_render::environments::Builtin;
+use envmap_render::scene::environments::Builtin;
 use envmap_render::filter::bake::BakeOptions;
 use envmap_render::image::{Representation, TexelFormat};
 

@@ -15,9 +15,9 @@ use envmap_bevy::headless::{self, Frame, View};
 use envmap_bevy::{bake_image, EnvironmentImages};
 use envmap_core::AnyMapping;
 use envmap_render::image::{Representation, TexelFormat};
-use envmap_render::mesh::Mesh as EnvMesh;
-use envmap_render::procedural::fill;
-use envmap_render::render::{render, Camera, EnvSource, RenderOptions};
+use envmap_render::scene::mesh::Mesh as EnvMesh;
+use envmap_render::scene::procedural::fill;
+use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions};
 use envmap_render::{EnvImage, RgbImage};
 
 fn skip() -> bool {
@@ -120,10 +120,10 @@ fn keep(name: &str, size: u32, pixels: &[[f32; 3]]) {
         height: size,
         pixels: pixels.to_vec(),
     };
-    let _ = envmap_render::io::write_rgb(
+    let _ = envmap_render::image::io::write_rgb(
         &img,
         dir.join(name),
-        &envmap_render::io::SaveOptions::default(),
+        &envmap_render::image::io::SaveOptions::default(),
     );
 }
 
@@ -247,8 +247,8 @@ fn the_plugin_bakes_off_the_main_thread_while_the_app_runs() {
         return;
     }
     use envmap_bevy::{BakeEnvironment, BakedEnvironment, EnvmapPlugin};
-    use envmap_render::io::{Outputs, SaveOptions};
-    let sky = envmap_render::environments::Builtin::Sky
+    use envmap_render::image::io::{Outputs, SaveOptions};
+    let sky = envmap_render::scene::environments::Builtin::Sky
         .image(Representation::default_for(AnyMapping::LatLong), 2048, 1024)
         .expect("sky");
     let mut run = Outputs::in_memory(None);
@@ -393,7 +393,7 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
     }
     use envmap_render::filter::dfg::DfgTable;
     use envmap_render::filter::sh::IrradianceScale;
-    use envmap_render::render::Shading;
+    use envmap_render::scene::render::Shading;
     use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
     use envmap_render::scene::material::Material;
     const S: u32 = 128;
@@ -472,10 +472,10 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
     }
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/headless");
     let _ = std::fs::create_dir_all(&dir);
-    let _ = envmap_render::io::write_rgb(
+    let _ = envmap_render::image::io::write_rgb(
         &strip,
         dir.join("lit-strip.png"),
-        &envmap_render::io::SaveOptions::default(),
+        &envmap_render::image::io::SaveOptions::default(),
     );
     // Measured on lavapipe (2026-12-02): metal 63.7 dB at roughness 0, then
     // 32.1–41.4 dB, Bevy 0.8–3.4 % darker; plastic 34.6–42.8 dB, 1.3–4.8 %
@@ -520,7 +520,7 @@ fn the_asset_server_loads_the_preset_files_as_the_images_made_in_memory() {
             &opts,
             &preset,
             &Provenance::new("pattern"),
-            &envmap_render::io::SaveOptions::default(),
+            &envmap_render::image::io::SaveOptions::default(),
         )
         .expect("write");
     }
@@ -636,7 +636,7 @@ impl ModelReference {
     const SAMPLES: u32 = 256;
 
     fn new(src: &EnvImage, s: u32) -> Self {
-        use envmap_render::render::light_table;
+        use envmap_render::scene::render::light_table;
         use envmap_render::scene::material::Material;
         let light = light_table(EnvSource::Map(src), Default::default());
         let mut this = Self {
@@ -663,7 +663,7 @@ impl ModelReference {
         s: u32,
         seed: u64,
     ) -> Vec<[f32; 3]> {
-        use envmap_render::render::Shading;
+        use envmap_render::scene::render::Shading;
         let opts = RenderOptions {
             width: s,
             height: s,
@@ -913,7 +913,7 @@ fn envmaps_maps_are_closer_to_the_ground_truth_than_bevys_generated_ones() {
     if skip() {
         return;
     }
-    let sky = envmap_render::environments::Builtin::Sky
+    let sky = envmap_render::scene::environments::Builtin::Sky
         .image(Representation::default_for(AnyMapping::LatLong), 1024, 512)
         .expect("sky");
     let pattern_rows = maps_against_reference(&environment(pattern), "pattern");
@@ -936,7 +936,7 @@ fn on_real_hdris_envmaps_maps_are_closer_to_the_ground_truth_than_bevys() {
     }
     for name in ["park.exr", "sky.exr", "sunrise.exr"] {
         let path = PathBuf::from(&dir).join(name);
-        let src = envmap_render::io::load(&path, &envmap_render::io::LoadOptions::default())
+        let src = envmap_render::image::io::load(&path, &envmap_render::image::io::LoadOptions::default())
             .unwrap_or_else(|e| panic!("{e}"));
         let rows = maps_against_reference(&src, name);
         assert_envmaps_maps_are_closer(name, &rows, true);
