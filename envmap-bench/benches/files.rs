@@ -17,9 +17,9 @@
 //!   of the EXR file in memory (`in-memory`: the map already loaded, no
 //!   file written) and as `envmap bake FILE --out DIR` runs it (`with-files`:
 //!   load, the loaded map given to the bake, each level's file written
-//!   while the next level is made, then the rest: `bakedir::bake_into`);
+//!   while the next level is made, then the rest: `bake::bake_into`);
 //!   `then-files` writes every file after the bake instead (`bake_owned`
-//!   then `bakedir::write`).
+//!   then `bake::write`).
 //!
 //! On jemalloc, as the `envmap` command runs.
 //!
@@ -39,8 +39,7 @@ use std::path::{Path, PathBuf};
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use envmap_core::AnyMapping;
-use envmap_render::bakedir::{self, Preset, Provenance};
-use envmap_render::filter::bake::{bake_owned, BakeOptions};
+use envmap_render::bake::Baker;
 use envmap_render::filter::convert::{convert, ConvertOptions, Streamed};
 use envmap_render::image::io::{load, save, ExrCompression, LoadOptions, Outputs, SaveOptions};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
@@ -197,8 +196,7 @@ fn bench(c: &mut Criterion) {
     });
     g.finish();
 
-    let preset = Preset::default();
-    let opts = preset.bake_options(BakeOptions::default());
+    let baker = Baker::new().input_name("smooth4096.exr");
     let dir = scratch.path("ibl");
     let mut g = c.benchmark_group("files/bake");
     g.sample_size(10);
@@ -207,7 +205,7 @@ fn bench(c: &mut Criterion) {
     g.bench_function("in-memory/2-threads", |b| {
         b.iter_batched(
             || loaded.clone(),
-            |m| pool.install(|| bake_owned(m, &opts, &|_, _| {}).expect("bake")),
+            |m| pool.install(|| baker.bake(m).expect("bake")),
             BatchSize::PerIteration,
         )
     });
@@ -227,15 +225,11 @@ fn bench(c: &mut Criterion) {
             )
         });
     };
-    let provenance = Provenance::new("smooth4096.exr");
-    let save = SaveOptions::default();
     with_load("with-files/2-threads", &|m| {
-        bakedir::bake_into(&dir, m, &opts, &preset, &provenance, &save, &|_, _| {})
-            .expect("bake into");
+        baker.bake_into(m, &dir).expect("bake into");
     });
     with_load("then-files/2-threads", &|m| {
-        let baked = bake_owned(m, &opts, &|_, _| {}).expect("bake");
-        bakedir::write(&dir, &baked, &opts, &preset, &provenance, &save).expect("write");
+        baker.bake(m).expect("bake").write(&dir).expect("write");
     });
     g.finish();
 }

@@ -13,7 +13,7 @@ use crate::args::{
     load_error, parse_convention, parse_layout, parse_mapping, parse_world, set_threads,
     warn_clamped, warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
-use envmap_render::bakedir::{self, Container, Preset, Provenance, Target};
+use envmap_render::bake::{self, Baker, Container, Preset, Target};
 use envmap_render::filter::bake::{chain_sizes, Bake, BakeOptions, Quality};
 use envmap_render::filter::dfg::DfgGrid;
 use envmap_render::filter::sh::{IrradianceScale, ShWindow};
@@ -286,9 +286,9 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
     over.bright_max = a.split;
     over.check = a.check;
     over.cancel = Some(stop);
-    let opts = plan.bake_options(over);
+    let baker = Baker::with_preset(plan.clone()).options(over);
     // Bad sizes and levels before any loading.
-    let sizes = chain_sizes(&opts).map_err(|e| e.to_string())?;
+    let sizes = chain_sizes(&baker.bake_options()).map_err(|e| e.to_string())?;
     let t0 = Instant::now();
     let (src, name, inputs) = source(a, stop)?;
     let t_load = t0.elapsed();
@@ -314,8 +314,6 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             ));
         }
     };
-    let mut provenance = Provenance::new(&name);
-    provenance.load_seconds = t_load.as_secs_f64();
     let save = SaveOptions {
         inputs: inputs.clone(),
         cancel: Some(stop),
@@ -323,13 +321,21 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
     };
     // The bake takes the input (its working copy is the input itself) and
     // writes each level of an OpenEXR chain while it makes the next.
-    let done = bakedir::bake_into(&a.out, src, &opts, &plan, &provenance, &save, &progress)
+    let done = baker
+        .input_name(&name)
+        .load_seconds(t_load.as_secs_f64())
+        .save_options(save)
+        .progress(&progress)
+        .bake_into(src, &a.out)
         .map_err(|e| e.to_string());
     if let Ok(b) = bar.lock() {
         b.finish_and_clear();
     }
     let done = done?;
-    for (path, c) in &done.written.clamped {
+    let Some((written, write_seconds)) = done.written() else {
+        return Err("the bake wrote no files".into());
+    };
+    for (path, c) in &written.clamped {
         warn_clamped(path, plan.texture.format, *c);
     }
     if !a.quiet {
@@ -337,9 +343,9 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             a,
             &plan,
             &name,
-            &done.bake,
-            done.written.files.len(),
-            [t_load.as_secs_f64(), done.bake_seconds, done.write_seconds],
+            done.bake(),
+            written.files.len(),
+            [t_load.as_secs_f64(), done.bake_seconds(), write_seconds],
         );
     }
     Ok(())
@@ -372,7 +378,7 @@ fn summary(a: &BakeArgs, plan: &Preset, name: &str, b: &Bake, files: usize, time
         );
         note!("| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: |");
         for (k, r) in chain.reports.iter().enumerate() {
-            let expected = bakedir::write::estimated_error(r)
+            let expected = bake::write::estimated_error(r)
                 .map(|e| format!("{:.2} %", 100.0 * e))
                 .unwrap_or_else(|| "not sampled".to_owned());
             let measured = r

@@ -12,8 +12,8 @@ use crate::args::{
     load_error, output_size, parse_convention, parse_mapping, parse_mode, parse_vec3, parse_world,
     warn_replaced, CliResult, WriteFlags,
 };
-use envmap_render::bakedir::read;
-use envmap_render::bakedir::{Preset, Target};
+use envmap_render::bake::read;
+use envmap_render::bake::{Preset, Target};
 use envmap_render::filter::bake::BakeOptions;
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sample::Filter;

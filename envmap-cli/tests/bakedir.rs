@@ -1,4 +1,4 @@
-//! The bake directory from the library: the files `bakedir::in_memory`
+//! The bake directory from the library: the files `Baked::files`
 //! makes equal, byte for byte, those `envmap bake --target …` writes, for
 //! every preset; the engine upload data equals the KTX2 file's levels.
 
@@ -8,8 +8,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use envmap_core::AnyMapping;
-use envmap_render::bakedir::{self, Container, Preset, Provenance, Target};
-use envmap_render::filter::bake::{bake, BakeOptions};
+use envmap_render::bake::{Baker, Container, Preset, Target};
 use envmap_render::image::{FileAxes, Representation, TexelFormat};
 use envmap_render::scene::environments::Builtin;
 
@@ -123,11 +122,11 @@ fn in_memory_files_equal_what_the_command_writes_for_every_preset() {
         preset.size = 16;
         preset.irradiance_size = 4;
         preset.dfg_size = 8;
-        let opts = preset.bake_options(BakeOptions::default());
-        let baked = bake(&src, &opts, &|_, _| {}).expect("bake");
-        let files =
-            bakedir::in_memory(&out, &baked, &opts, &preset, &Provenance::new(name.clone()))
-                .expect("in memory");
+        let baked = Baker::with_preset(preset)
+            .input_name(name.clone())
+            .bake(&src)
+            .expect("bake");
+        let files = baked.files(&out).expect("in memory");
         let mut on_disk: Vec<String> = std::fs::read_dir(&out)
             .expect("out")
             .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
@@ -158,24 +157,19 @@ fn engine_upload_data_is_the_ktx2_files_levels() {
     preset.irradiance_size = 4;
     preset.dfg_size = 0;
     assert_eq!(preset.container, Container::Ktx2);
-    let opts = preset.bake_options(BakeOptions::default());
-    let baked = bake(&src, &opts, &|_, _| {}).expect("bake");
-    let up = bakedir::engine_textures(&baked, &preset).expect("upload");
+    let baked = Baker::with_preset(preset)
+        .input_name("sky")
+        .bake(&src)
+        .expect("bake");
+    let up = baked.textures().expect("upload");
     let spec = up.specular.expect("chain");
     assert_eq!(spec.format, TexelFormat::Rgba16f);
     assert_eq!(spec.format.wgpu_name(), Some("Rgba16Float"));
     assert_eq!(
         spec.levels.len(),
-        baked.chain.as_ref().expect("chain").levels.len()
+        baked.bake().chain.as_ref().expect("chain").levels.len()
     );
-    let files = bakedir::in_memory(
-        Path::new("ibl"),
-        &baked,
-        &opts,
-        &preset,
-        &Provenance::new("sky"),
-    )
-    .expect("files");
+    let files = baked.files("ibl").expect("files");
     let bytes = files.get("specular.ktx2").expect("specular.ktx2");
     let reader = ktx2::Reader::new(bytes).expect("a KTX2 file");
     let header = reader.header();
@@ -208,18 +202,13 @@ fn exr_levels_read_back_face_for_face_in_every_layout() {
         preset.irradiance_size = 4;
         preset.dfg_size = 0;
         preset.layout = layout;
-        let opts = preset.bake_options(BakeOptions::default());
-        let baked = bake(&src, &opts, &|_, _| {}).expect("bake");
+        let baked = Baker::with_preset(preset)
+            .input_name("sky")
+            .bake(&src)
+            .expect("bake");
         let out = dir.path().join(layout.name());
-        bakedir::write(
-            &out,
-            &baked,
-            &opts,
-            &preset,
-            &Provenance::new("sky"),
-            &Default::default(),
-        )
-        .expect("write");
+        baked.write(&out).expect("write");
+        let baked = baked.bake();
         let atlas = layout.atlas();
         let chain = baked.chain.as_ref().expect("chain");
         let images = chain
@@ -267,13 +256,12 @@ fn files_of(dir: &Path) -> BTreeMap<String, Vec<u8>> {
         .collect()
 }
 
-/// `bake_into` (each OpenEXR level written while the next is made) writes
-/// the files `bake_owned` then `write` write, in every layout and
-/// container; cancelled while it bakes, it leaves no file and no directory.
+/// `Baker::bake_into` (each OpenEXR level written while the next is made)
+/// writes the files `Baker::bake` then `Baked::write` write, in every layout
+/// and container; cancelled while it bakes, it leaves no file and no
+/// directory.
 #[test]
 fn bake_into_writes_what_a_bake_then_write_writes_and_nothing_when_cancelled() {
-    use envmap_render::filter::bake::bake_owned;
-    use envmap_render::image::io::SaveOptions;
     use envmap_render::Layout;
     use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
     let dir = tempfile::tempdir().expect("tempdir");
@@ -295,32 +283,23 @@ fn bake_into_writes_what_a_bake_then_write_writes_and_nothing_when_cancelled() {
         preset.size = 32;
         preset.irradiance_size = 4;
         preset.dfg_size = 8;
-        let opts = preset.bake_options(BakeOptions::default());
-        let provenance = Provenance::new("sky");
-        let save = SaveOptions::default();
+        let baker = Baker::with_preset(preset).input_name("sky");
         // The same name (KTX 1 files are named after their directory).
         let a = dir.path().join("a").join(&label);
         let b = dir.path().join("b").join(&label);
-        let baked = bake_owned(src.clone(), &opts, &|_, _| {}).expect("bake");
-        bakedir::write(&a, &baked, &opts, &preset, &provenance, &save).expect("write");
-        let bake_into =
-            |dir: &Path, opts: &BakeOptions, progress: &(dyn Fn(usize, usize) + Sync)| {
-                bakedir::bake_into(
-                    dir,
-                    src.clone(),
-                    opts,
-                    &preset,
-                    &provenance,
-                    &save,
-                    progress,
-                )
-            };
+        let baked = baker.bake(src.clone()).expect("bake");
+        baked.write(&a).expect("write");
+        let baked = baked.bake();
         let levels = AtomicUsize::new(0);
-        let into = bake_into(&b, &opts, &|k, _| {
+        let progress = |k: usize, _: usize| {
             levels.fetch_max(k, Ordering::Relaxed);
-        })
-        .expect("bake into");
-        let chain = into.bake.chain.as_ref().expect("chain");
+        };
+        let into = baker
+            .clone()
+            .progress(&progress)
+            .bake_into(src.clone(), &b)
+            .expect("bake into");
+        let chain = into.bake().chain.as_ref().expect("chain");
         assert_eq!(
             levels.load(Ordering::Relaxed) + 1,
             chain.levels.len(),
@@ -343,7 +322,9 @@ fn bake_into_writes_what_a_bake_then_write_writes_and_nothing_when_cancelled() {
             same(&format!("{label}/{name}"), bytes, &fb[name]);
         }
         let mut written: Vec<String> = into
-            .written
+            .written()
+            .expect("written")
+            .0
             .files
             .iter()
             .map(|p| p.file_name().expect("name").to_string_lossy().into_owned())
@@ -353,14 +334,17 @@ fn bake_into_writes_what_a_bake_then_write_writes_and_nothing_when_cancelled() {
 
         // Stopped as level 1 starts: level 0 may be staged already.
         let stop = AtomicBool::new(false);
-        let mut stopping = opts.clone();
-        stopping.cancel = Some(&stop);
         let c = dir.path().join(format!("{label}-cancelled"));
-        let e = bake_into(&c, &stopping, &|k, _| {
+        let stopping = |k: usize, _: usize| {
             if k == 1 {
                 stop.store(true, Ordering::Relaxed);
             }
-        });
+        };
+        let e = baker
+            .clone()
+            .cancel(&stop)
+            .progress(&stopping)
+            .bake_into(src.clone(), &c);
         let Err(e) = e else {
             panic!("{label}: not cancelled");
         };

@@ -38,7 +38,7 @@ mod sphere_scene;
 use std::time::Instant;
 
 use envmap_core::AnyMapping;
-use envmap_render::bakedir::{Preset, Target};
+use envmap_render::bake::{Preset, Target};
 use envmap_render::filter::bake::BakeOptions;
 use envmap_render::filter::dfg::DfgGrid;
 use envmap_render::filter::oracle::Oracle;

@@ -10,14 +10,10 @@
 //! built-in sky (so the example runs anywhere); SIZE is the chain's level 0
 //! (default 64: Bevy's own preset says 512).
 
-use std::path::Path;
-
 use envmap_core::AnyMapping;
-use envmap_render::bakedir::{self, Preset, Provenance, Target};
-use envmap_render::filter::bake::{bake, BakeOptions};
-use envmap_render::image::io::{load_from_memory, LoadOptions, Outputs, SaveOptions};
-use envmap_render::image::{FileAxes, Representation};
+use envmap_render::bake::{Baker, Target};
 use envmap_render::scene::environments::Builtin;
+use envmap_render::{load_from_memory, save_to_memory, LoadOptions, Representation, SaveOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -32,19 +28,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let src = load_from_memory(&bytes, &name, &LoadOptions::default())?.image;
     // 3. Bevy's preset (E5B9G9R9 + zstd KTX2, linear roughness rule), at
     //    the size asked.
-    let mut preset = Preset::for_target(Target::Bevy, FileAxes::default());
-    preset.size = size;
-    let opts = preset.bake_options(BakeOptions::default());
-    let baked = bake(&src, &opts, &|_, _| {})?;
+    let baked = Baker::for_target(Target::Bevy)
+        .size(size)
+        .input_name(name.as_str())
+        .bake(&src)?;
     // 4. The files' bytes, exactly as `envmap bake --target bevy` writes
     //    them, and the raw texels for an engine's own upload.
-    let files = bakedir::in_memory(
-        Path::new("ibl"),
-        &baked,
-        &opts,
-        &preset,
-        &Provenance::new(name.as_str()),
-    )?;
+    let files = baked.files("ibl")?;
     println!(
         "{name}: {}×{} → {} files in memory:",
         src.width(),
@@ -56,7 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let ktx2 = files.get("specular.ktx2").ok_or("no specular.ktx2")?;
     assert_eq!(&ktx2[..12], b"\xABKTX 20\xBB\r\n\x1A\n", "a KTX2 file");
-    let up = bakedir::engine_textures(&baked, &preset)?;
+    let up = baked.textures()?;
     if let Some(s) = &up.specular {
         println!(
             "specular upload: {} levels × 6 faces, {} (Vulkan {}, wgpu {}), level 0 {} bytes per face",
@@ -73,10 +63,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// The built-in sky as a 256 × 128 Radiance file, encoded in memory.
 fn sky_hdr_bytes() -> envmap_render::Result<Vec<u8>> {
     let sky = Builtin::Sky.image(Representation::default_for(AnyMapping::LatLong), 256, 128)?;
-    let mut run = Outputs::in_memory(None);
-    run.stage_image(&sky, "sky.hdr", &SaveOptions::default())?;
-    Ok(run
-        .into_memory()?
+    Ok(save_to_memory(&sky, "sky.hdr", &SaveOptions::default())?
         .into_iter()
         .next()
         .map(|f| f.bytes)

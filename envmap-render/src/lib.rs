@@ -30,7 +30,7 @@
     deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)
 )]
 
-pub mod bakedir;
+pub mod bake;
 pub mod cancel;
 pub mod error;
 pub mod filter;
@@ -40,6 +40,8 @@ pub mod scene;
 
 pub use crate::error::{Error, Result};
 pub use crate::filter::convert::{convert, convert_into, ConvertOptions};
-pub use crate::image::io::{load, save, LoadOptions, NonFinite, SaveOptions};
+pub use crate::image::io::{
+    load, load_from_memory, save, save_to_memory, LoadOptions, NonFinite, SaveOptions,
+};
 pub use crate::image::{EnvImage, Layout, Representation, RgbImage, Stats};
 pub use crate::scene::render::render;

@@ -40,9 +40,7 @@ use std::path::{Path, PathBuf};
 
 use envmap_core::shaders::ALL_WGSL;
 use envmap_core::AnyMapping;
-use envmap_render::bakedir::read;
-use envmap_render::bakedir::{self, Preset, Provenance};
-use envmap_render::filter::bake::{bake, BakeOptions};
+use envmap_render::bake::{read, Baker};
 use envmap_render::filter::dfg::{DfgGrid, DfgTable};
 use envmap_render::image::io::{write_rgb, SaveOptions};
 use envmap_render::image::FileAxes;
@@ -139,18 +137,11 @@ fn bake_sky(dir: &Path) -> Result<PathBuf, Error> {
         4 * 128,
         3 * 128,
     )?;
-    let mut preset = Preset::default();
-    preset.size = 128;
-    let opts = preset.bake_options(BakeOptions::default());
-    let baked = bake(&src, &opts, &|_, _| {})?;
-    bakedir::write(
-        dir,
-        &baked,
-        &opts,
-        &preset,
-        &Provenance::new("sky"),
-        &SaveOptions::default(),
-    )?;
+    Baker::new()
+        .size(128)
+        .input_name("sky")
+        .bake(&src)?
+        .write(dir)?;
     println!("baked the built-in sky into {}", dir.display());
     Ok(dir.to_path_buf())
 }

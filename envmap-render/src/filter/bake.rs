@@ -147,7 +147,7 @@ pub const SAMPLE_BUDGET: u64 = 1 << 23;
 
 /// What to bake. `#[non_exhaustive]`, so that options can be added without
 /// breaking callers: start from [`BakeOptions::default`] (or
-/// [`crate::bakedir::Preset::bake_options`]) and set the fields wanted.
+/// [`crate::bake::Preset::bake_options`]) and set the fields wanted.
 #[derive(Clone, Debug)]
 #[non_exhaustive]
 pub struct BakeOptions<'a> {
@@ -1196,7 +1196,7 @@ pub type LevelSink<'s> = dyn Fn(usize, &EnvImage, &LevelReport) -> Result<()> + 
 /// [`bake_owned`], handing each level of the specular chain to `sink` as
 /// soon as it is final, while the bake goes on: a caller writes (or
 /// uploads) level k while level k + 1 is filtered
-/// ([`crate::bakedir::bake_into`] writes a bake directory so).
+/// ([`crate::bake::bake_into`] writes a bake directory so).
 ///
 /// The levels come in order, each once: level 0 before the base cube and
 /// the pyramid are made, level k − 1 beside the making of level k
@@ -1217,7 +1217,7 @@ pub fn bake_owned_streaming(
     bake_input(Cow::Owned(src), opts, progress, Some(sink))
 }
 
-fn bake_input(
+pub(crate) fn bake_input(
     input: Cow<'_, EnvImage>,
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),

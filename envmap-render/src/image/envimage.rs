@@ -130,6 +130,22 @@ struct ChartRect {
     turn: Turn,
 }
 
+/// An image given away, for functions that take an image by value or by
+/// reference ([`crate::bake::Baker::bake`]).
+impl From<EnvImage> for std::borrow::Cow<'_, EnvImage> {
+    fn from(image: EnvImage) -> Self {
+        std::borrow::Cow::Owned(image)
+    }
+}
+
+/// An image lent, for functions that take an image by value or by
+/// reference ([`crate::bake::Baker::bake`]).
+impl<'a> From<&'a EnvImage> for std::borrow::Cow<'a, EnvImage> {
+    fn from(image: &'a EnvImage) -> Self {
+        std::borrow::Cow::Borrowed(image)
+    }
+}
+
 impl EnvImage {
     /// A black image, checked against [`DEFAULT_MAX_TEXELS`].
     pub fn new(width: u32, height: u32, repr: Representation) -> Result<Self> {

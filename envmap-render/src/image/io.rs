@@ -938,6 +938,23 @@ pub fn save(image: &EnvImage, path: impl AsRef<Path>, opts: &SaveOptions) -> Res
     run.commit()
 }
 
+/// The files [`save`] would write to `path`, made in memory: nothing on
+/// disk is read or written. `path` names them and chooses the format by its
+/// extension; a cube as six files gives six, in GL order.
+///
+/// # Errors
+///
+/// As [`save`], but for the file system's.
+pub fn save_to_memory(
+    image: &EnvImage,
+    path: impl AsRef<Path>,
+    opts: &SaveOptions,
+) -> Result<Vec<MemoryFile>> {
+    let mut run = Outputs::in_memory(opts.cancel);
+    run.stage_image(image, path, opts)?;
+    run.into_memory()
+}
+
 /// Writes a plain RGB image (atomically, refusing to replace an input, as
 /// [`save`] does).
 pub fn write_rgb(image: &RgbImage, path: impl AsRef<Path>, opts: &SaveOptions) -> Result<()> {

@@ -8,7 +8,7 @@
 //! * [`lit`]: shading with baked maps (the split sum) and the Monte Carlo
 //!   reference it approximates.
 //! * [`lit_files`]: those maps from the files `envmap bake` wrote (the
-//!   reader of [`crate::bakedir`], kept here under its first name).
+//!   reader of [`crate::bake`], kept here under its first name).
 //! * [`render`]: the rasterizer, per pixel (seed `000`) and per vertex
 //!   (seed `002`).
 //!
@@ -17,7 +17,7 @@
 
 pub mod environments;
 pub mod lit;
-pub use crate::bakedir::read as lit_files;
+pub use crate::bake::read as lit_files;
 pub mod material;
 pub mod mesh;
 pub mod procedural;

@@ -55,10 +55,10 @@ use bevy::tasks::{block_on, poll_once, AsyncComputeTaskPool, Task};
 pub mod headless;
 
 pub use envmap_render;
-use envmap_render::bakedir::{Preset, Target};
-use envmap_render::filter::bake::{bake, Bake, BakeOptions};
-use envmap_render::image::{FileAxes, TexelFormat, Texture};
+use envmap_render::bake::{Baker, Preset, Target};
+use envmap_render::filter::bake::Bake;
 use envmap_render::image::io::{load_from_memory, LoadOptions};
+use envmap_render::image::{FileAxes, TexelFormat, Texture};
 use envmap_render::EnvImage;
 
 /// The camera exposure (EV100) under which Bevy writes a map's values
@@ -100,11 +100,9 @@ pub fn bake_hdri(bytes: &[u8], name: &str, size: u32) -> envmap_render::Result<B
 ///
 /// # Errors
 ///
-/// As [`bake`].
+/// As [`Baker::bake`].
 pub fn bake_image(src: &EnvImage, size: u32) -> envmap_render::Result<Bake> {
-    let preset = bevy_preset(size);
-    let opts = preset.bake_options(BakeOptions::default());
-    bake(src, &opts, &|_, _| {})
+    Ok(Baker::with_preset(bevy_preset(size)).bake(src)?.into_bake())
 }
 
 /// The wgpu format of a texel format envmap writes.

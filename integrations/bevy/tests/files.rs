@@ -7,10 +7,9 @@ use bevy::image::{ktx2_buffer_to_image, CompressedImageFormats, Image};
 use bevy::render::render_resource::{TextureDataOrder, TextureFormat, TextureViewDimension};
 use envmap_bevy::{bake_image, bevy_preset, EnvironmentImages};
 use envmap_core::AnyMapping;
-use envmap_render::bakedir::{self, Provenance};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::filter::bake::BakeOptions;
+use envmap_render::bake::Baker;
 use envmap_render::image::{Representation, TexelFormat};
+use envmap_render::scene::environments::Builtin;
 
 fn same(ours: &Image, bevys: &Image, what: &str) {
     let (a, b) = (&ours.texture_descriptor, &bevys.texture_descriptor);
@@ -43,15 +42,12 @@ fn bevys_loader_reads_the_preset_files_as_the_images_made_in_memory() {
         let mut preset = bevy_preset(64);
         preset.texture.format = format;
         preset.texture.zstd = zstd;
-        let opts = preset.bake_options(BakeOptions::default());
-        let files = bakedir::in_memory(
-            "ibl".as_ref(),
-            &baked,
-            &opts,
-            &preset,
-            &Provenance::new("sky"),
-        )
-        .expect("files");
+        let files = Baker::with_preset(preset)
+            .input_name("sky")
+            .bake(&sky)
+            .expect("bake")
+            .files("ibl")
+            .expect("files");
         let ours = EnvironmentImages::from_bake(&baked, format).expect("images");
         for (name, mine, levels) in [
             ("specular.ktx2", &ours.specular, 6),

@@ -393,9 +393,9 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
     }
     use envmap_render::filter::dfg::DfgTable;
     use envmap_render::filter::sh::IrradianceScale;
-    use envmap_render::scene::render::Shading;
     use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
     use envmap_render::scene::material::Material;
+    use envmap_render::scene::render::Shading;
     const S: u32 = 128;
     let env = environment(pattern);
     let baked = bake_image(&env, 128).expect("bake");
@@ -499,8 +499,7 @@ fn the_asset_server_loads_the_preset_files_as_the_images_made_in_memory() {
         return;
     }
     use bevy::asset::LoadState;
-    use envmap_render::bakedir::{self, Provenance};
-    use envmap_render::filter::bake::BakeOptions;
+    use envmap_render::bake::Baker;
     let dir = std::env::temp_dir().join(format!("envmap-bevy-assets-{}", std::process::id()));
     let env = environment(pattern);
     let baked = bake_image(&env, 64).expect("bake");
@@ -513,16 +512,12 @@ fn the_asset_server_loads_the_preset_files_as_the_images_made_in_memory() {
         let mut preset = envmap_bevy::bevy_preset(64);
         preset.texture.format = format;
         preset.texture.zstd = zstd;
-        let opts = preset.bake_options(BakeOptions::default());
-        bakedir::write(
-            &dir.join(sub),
-            &baked,
-            &opts,
-            &preset,
-            &Provenance::new("pattern"),
-            &envmap_render::image::io::SaveOptions::default(),
-        )
-        .expect("write");
+        Baker::with_preset(preset)
+            .input_name("pattern")
+            .bake(&env)
+            .expect("bake")
+            .write(dir.join(sub))
+            .expect("write");
     }
     let mut app = headless::app_with_assets(dir.to_string_lossy());
     let server = app.world().resource::<AssetServer>().clone();
@@ -636,8 +631,8 @@ impl ModelReference {
     const SAMPLES: u32 = 256;
 
     fn new(src: &EnvImage, s: u32) -> Self {
-        use envmap_render::scene::render::light_table;
         use envmap_render::scene::material::Material;
+        use envmap_render::scene::render::light_table;
         let light = light_table(EnvSource::Map(src), Default::default());
         let mut this = Self {
             src: src.clone(),
@@ -936,8 +931,11 @@ fn on_real_hdris_envmaps_maps_are_closer_to_the_ground_truth_than_bevys() {
     }
     for name in ["park.exr", "sky.exr", "sunrise.exr"] {
         let path = PathBuf::from(&dir).join(name);
-        let src = envmap_render::image::io::load(&path, &envmap_render::image::io::LoadOptions::default())
-            .unwrap_or_else(|e| panic!("{e}"));
+        let src = envmap_render::image::io::load(
+            &path,
+            &envmap_render::image::io::LoadOptions::default(),
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
         let rows = maps_against_reference(&src, name);
         assert_envmaps_maps_are_closer(name, &rows, true);
     }

@@ -85,7 +85,7 @@ impl BakeFiles {
 /// The preset's [`Preset::check`]; the directory cannot be made; any
 /// encoding or write error (nothing is left half-written);
 /// [`Error::Cancelled`].
-pub fn write(
+pub(crate) fn write(
     dir: &Path,
     bake: &Bake,
     opts: &BakeOptions,
@@ -105,7 +105,7 @@ pub fn write(
 /// What [`bake_into`] made and how long it took.
 #[derive(Clone, Debug)]
 #[non_exhaustive]
-pub struct BakedInto {
+pub(crate) struct BakedInto {
     /// The bake.
     pub bake: Bake,
     /// The files written.
@@ -135,7 +135,7 @@ pub struct BakedInto {
 /// # Errors
 ///
 /// As [`bake_owned`] and [`write()`].
-pub fn bake_into(
+pub(crate) fn bake_into(
     dir: &Path,
     src: EnvImage,
     opts: &BakeOptions,
@@ -202,7 +202,7 @@ fn in_new_dir<T>(
 /// # Errors
 ///
 /// As [`write()`], but for the file system's.
-pub fn in_memory(
+pub(crate) fn in_memory(
     dir: &Path,
     bake: &Bake,
     opts: &BakeOptions,
@@ -247,7 +247,7 @@ pub struct EngineTextures {
 /// # Errors
 ///
 /// Levels that do not make a texture (a chain that does not halve).
-pub fn engine_textures(bake: &Bake, preset: &Preset) -> Result<EngineTextures> {
+pub(crate) fn engine_textures(bake: &Bake, preset: &Preset) -> Result<EngineTextures> {
     let format = preset.texture.format;
     let upload = |levels: &[EnvImage]| Texture::from_env(levels).map(|t| t.upload(format));
     Ok(EngineTextures {

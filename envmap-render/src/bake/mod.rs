@@ -34,7 +34,7 @@
 //! * [`read::open`]: the maps back as a [`crate::scene::lit::LitEnvironment`].
 //!
 //! ```
-//! use envmap_render::bakedir::{self, Preset, Provenance, Target};
+//! use envmap_render::bake::{self, Preset, Provenance, Target};
 //! use envmap_render::filter::bake::{bake, BakeOptions};
 //! use envmap_render::image::{FileAxes, Representation};
 //! use envmap_render::scene::procedural::{fill, smooth};
@@ -46,7 +46,7 @@
 //! preset.irradiance_size = 8;
 //! let opts = preset.bake_options(BakeOptions::default());
 //! let baked = bake(&src, &opts, &|_, _| {})?;
-//! let files = bakedir::in_memory("ibl".as_ref(), &baked, &opts, &preset, &Provenance::new("smooth"))?;
+//! let files = bake::in_memory("ibl".as_ref(), &baked, &opts, &preset, &Provenance::new("smooth"))?;
 //! let ktx2 = files.get("specular.ktx2").expect("the chain");
 //! assert_eq!(&ktx2[..12], b"\xABKTX 20\xBB\r\n\x1A\n");
 //! # Ok::<(), envmap_render::Error>(())
@@ -54,12 +54,11 @@
 //!
 //! [`Bake`]: crate::filter::bake::Bake
 
+mod builder;
 pub mod preset;
 pub mod read;
 pub mod write;
 
+pub use builder::{Baked, Baker, Progress};
 pub use preset::{Container, Preset, Target, DEFAULT_ZSTD};
-pub use write::{
-    bake_into, engine_textures, in_memory, write, BakeFiles, BakedInto, EngineTextures, Provenance,
-    Written,
-};
+pub use write::{BakeFiles, EngineTextures, Provenance, Written};

@@ -105,7 +105,7 @@ pub const DEFAULT_ZSTD: i32 = 3;
 /// choices ([`Preset::for_target`]) or envmap's own default
 /// ([`Preset::default`]), any field of which a caller may change.
 /// [`Preset::bake_options`] turns it into the bake's options;
-/// [`crate::bakedir::write()`] and [`crate::bakedir::in_memory`] write the
+/// [`crate::bake::write()`] and [`crate::bake::in_memory`] write the
 /// files it names.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
