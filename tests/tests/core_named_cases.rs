@@ -27,7 +27,7 @@ fn v(x: f32, y: f32, z: f32) -> Vec3 {
 // Cube
 // ---------------------------------------------------------------------------------------------
 
-/// The face table of design.md, written out independently of envmap-core:
+/// The cube face table (`docs/conventions.md`), written out independently of envmap-core:
 /// (face, sc, tc, |ma|) for a direction, with the z-over-y-over-x tie rule
 /// and the major component's sign bit picking the face.
 fn table_face(d: Vec3) -> (u32, f32, f32, f32) {
