@@ -796,8 +796,8 @@ fn tennisball_seed_erratum() {
     );
 
     // Over 20000 deterministic pseudo-random directions, the printed
-    // formulas leave a sizeable fraction outside the printed ranges (the
-    // design measured about 18 %); the corrected ones leave none.
+    // formulas leave a sizeable fraction outside the printed ranges; the
+    // corrected ones leave none.
     let mut rng = SplitMix64::new(0x7e55_15ba);
     let n = 20_000;
     let (mut seed_out, mut fixed_out) = (0u32, 0u32);
