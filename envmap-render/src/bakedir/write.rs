@@ -122,8 +122,8 @@ pub struct BakedInto {
 /// `dir` as [`write()`] writes them, an OpenEXR chain's levels each while
 /// the next is made ([`bake_owned_streaming`]): the levels' files are
 /// written beside the bake instead of after it, so that writing them adds
-/// little to the bake's time (`docs/performance.md`). Returns the bake and what was written
-/// ([`BakedInto`]); the manifest's bake time (`provenance.bake_seconds`) is
+/// little to the bake's time (`docs/performance.md`). Returns the bake and
+/// what was written ([`BakedInto`]); the manifest's bake time (`provenance.bake_seconds`) is
 /// measured here, the levels' files written beside it included. The bake
 /// is [`bake_owned`]'s, bit for bit, and the files are [`write()`]'s (an
 /// OpenEXR file's header attributes in the order the `exr` crate writes
