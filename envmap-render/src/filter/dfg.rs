@@ -107,25 +107,10 @@
 //! every φ counts (the *full* region), between them φ runs over [0, φₘ]
 //! with φₘ = acos(sinh τ / k) (the *partial* region), above τ₂ none does.
 //!
-//! * **Full region.** 8 Gauss points in ξ below min(τ₁, ln α) (the
-//!   φ-average is smooth in ξ there), then τ panels of width at most 2; the
-//!   one next to τ₁ has its nodes gathered towards it (τ = τ₁ − h·u²)
-//!   because the pole and branch points of V_HC come within about α/μ of
-//!   the real τ axis there. In φ, the midpoint rule over the whole period,
-//!   which converges geometrically for a periodic integrand analytic in
-//!   cos φ.
-//! * **Partial region.** At least two τ panels of width at most 2; φₘ has a
-//!   square-root singularity at τ₁ and τ₂, which τ = τ₁ + h·u²
-//!   (τ = τ₂ − h·u²) on the end panels removes. In φ, Gauss panels graded
-//!   geometrically towards φₘ, because the same singularities lie just
-//!   beyond it.
-//! * **Skipping.** A τ panel, or a φ layer, is skipped when a bound on its
-//!   contribution is below 10⁻¹⁰: the largest density on it times
-//!   V' ≤ 2√(1 + t²)/√(μ²(1 − α²) + α²) times its width.
-//!
-//! A texel's nodes are gathered first and evaluated four at a time
-//! (`wide::f64x4`), what depends on μ only once per column, and rows run in
-//! parallel; the result does not depend on the number of threads.
+//! The rule on each region ([`dfg_integral`] evaluates it at one point)
+//! puts its panels where the integrand's singularities are; a texel's nodes
+//! are evaluated four at a time, and the result does not depend on the
+//! number of threads.
 //!
 //! # Accuracy
 //!
@@ -468,7 +453,28 @@ struct Column {
     partial: Vec<TauPanel>,
 }
 
-/// A quadrature rule: its parameters and tables.
+/// A quadrature rule: its parameters and tables. On each region of the
+/// module docs' τ axis:
+///
+/// * **Full region.** 8 Gauss points in ξ below min(τ₁, ln α) (the
+///   φ-average is smooth in ξ there), then τ panels of width at most 2; the
+///   one next to τ₁ has its nodes gathered towards it (τ = τ₁ − h·u²)
+///   because the pole and branch points of V_HC come within about α/μ of
+///   the real τ axis there. In φ, the midpoint rule over the whole period,
+///   which converges geometrically for a periodic integrand analytic in
+///   cos φ.
+/// * **Partial region.** At least two τ panels of width at most 2; φₘ has a
+///   square-root singularity at τ₁ and τ₂, which τ = τ₁ + h·u²
+///   (τ = τ₂ − h·u²) on the end panels removes. In φ, Gauss panels graded
+///   geometrically towards φₘ, because the same singularities lie just
+///   beyond it.
+/// * **Skipping.** A τ panel, or a φ layer, is skipped when a bound on its
+///   contribution is below 10⁻¹⁰: the largest density on it times
+///   V' ≤ 2√(1 + t²)/√(μ²(1 − α²) + α²) times its width.
+///
+/// A texel's nodes are gathered first and evaluated four at a time
+/// (`wide::f64x4`), what depends on μ only once per column, and rows run in
+/// parallel.
 #[derive(Clone, Debug)]
 struct Rule {
     p: Params,
