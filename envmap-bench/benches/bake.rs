@@ -4,7 +4,8 @@
 //! cube and the 128² DFG table, on two threads; and the chain alone; the
 //! same bake of that map with a 0.5° sun of 100 000 ([`small_sun`]); and
 //! the exact mode of a 64² chain from a 256² cube; and what `envmap render
-//! --material` bakes from the smooth map on the fly, before and now.
+//! --material` bakes from the smooth map on the fly, beside a plain mip
+//! chain of the same size.
 //!
 //! ```text
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench bake
@@ -44,11 +45,10 @@ fn bench(c: &mut Criterion) {
     g.finish();
 
     // What `envmap render --material` bakes on the fly at its default
-    // `--bake-size 256`: the chain it baked before (a mip chain by the
-    // linear rule down to 2², a 64² DFG table at texel centres) and
-    // envmap's own now (`LitEnvironment::bake`: levels spaced by their
-    // lobes, a 128² DFG table on the edges grid), both with a 32²
-    // irradiance map.
+    // `--bake-size 256` (`LitEnvironment::bake`: levels spaced by their
+    // lobes, a 128² DFG table on the edges grid), beside a plain mip chain
+    // (the linear rule down to 2², a 64² DFG table at texel centres), both
+    // with a 32² irradiance map.
     let mut g = c.benchmark_group("bake/render-latlong4096");
     g.sample_size(10);
     let before = {

@@ -7,8 +7,7 @@
 //! map, and the 512 × 256 level alone), on two threads.
 //!
 //! ```text
-//! RUSTFLAGS="-C target-cpu=native" CARGO_TARGET_DIR=/work/target-native \
-//!     cargo bench -p envmap-bench --bench sh
+//! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench sh
 //! ```
 
 mod common;

@@ -28,9 +28,9 @@ use glam::Vec3;
 
 /// Face size of level 0.
 const SIZE: u32 = 512;
-/// The Zstandard level of the RGB9E5 file: the default of `--zstd` and the presets. the CLI's default
-/// (`DEFAULT_ZSTD` of `envmap bake`). Level 19 takes seconds per chain
-/// for files about a third smaller.
+/// The Zstandard level of the RGB9E5 file: the default of `--zstd` and of
+/// the presets (`DEFAULT_ZSTD` of `envmap bake`); higher levels make
+/// smaller files far more slowly.
 const ZSTD_LEVEL: i32 = 3;
 
 /// The direction through the centre of texel (`x`, `y`) of cube face

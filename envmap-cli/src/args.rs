@@ -143,7 +143,7 @@ pub(crate) struct TextureFlags {
     /// Texel format of .ktx2, .dds and .ktx outputs: rgba16f (the default), rgba32f, rg11b10f (B10G11R11), rgb9e5 (E5B9G9R9).
     #[arg(long, value_parser = parse_texel_format)]
     pub(crate) format: Option<envmap_render::image::TexelFormat>,
-    /// Zstandard supercompression of .ktx2 outputs, each level its own frame; an optional level 1 (fastest) to 22 (smallest), default 3 (19: about 36 % smaller files, seconds instead of milliseconds for a 512² chain).
+    /// Zstandard supercompression of .ktx2 outputs, each level its own frame; an optional level 1 (fastest) to 22 (smallest), default 3 (higher levels make smaller files far more slowly: docs/performance.md).
     #[arg(long, num_args = 0..=1, default_missing_value = "3", require_equals = false)]
     pub(crate) zstd: Option<i32>,
     /// No Zstandard supercompression, even where a --target would use it.
@@ -172,7 +172,7 @@ impl TextureFlags {
 /// How files are written, shared by `convert`, `bake` and `render`.
 #[derive(clap::Args, Clone, Copy, Debug)]
 pub(crate) struct WriteFlags {
-    /// Compression of .exr outputs: auto (the default: f32 uncompressed but for the lines through a cube cross's empty cells, which rle takes to a few bytes; rle for f16), none, rle, zips, zip, piz, pxr24 (lossy for f32), b44, b44a (lossy, f16 only). auto writes a cube cross at half the size of none for 1.4–1.5 times its write time with a warm page cache; rle on every line costs about twice the write time; the other lossless codecs save 25–55 % of a real f32 photograph at 10–20 times the write time (docs/performance.md).
+    /// Compression of .exr outputs: auto (the default: f32 uncompressed but for the lines through a cube cross's empty cells, which rle takes to a few bytes; rle for f16), none, rle, zips, zip, piz, pxr24 (lossy for f32), b44, b44a (lossy, f16 only). auto writes a cube cross at half the size of none for a little more write time; rle on every line costs more; the other lossless codecs shrink a real f32 photograph by a part at many times the write time (docs/performance.md).
     #[arg(long, value_parser = parse_exr_compression)]
     pub(crate) exr_compression: Option<envmap_render::image::io::ExrCompression>,
     /// When outputs are flushed to the disk before they are renamed into place: replacing (the default: when an existing file is replaced, so that a power loss cannot leave neither), always, never. Every output is written to a temporary file and renamed either way.

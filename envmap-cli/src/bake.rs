@@ -65,7 +65,7 @@ pub(crate) struct BakeArgs {
     /// Every level by the exact sum over a fine enough source level (slow at large sizes).
     #[arg(long)]
     pub(crate) exact: bool,
-    /// The irradiance cube by the exact cosine convolution of the input instead of from the SH9, which cannot hold a sun or a window (3–8 % on real HDRIs; exact: under 0.01 %).
+    /// The irradiance cube by the exact cosine convolution of the input instead of from the SH9, which cannot hold a sun or a window (docs/lighting.md).
     #[arg(long)]
     pub(crate) exact_irradiance: bool,
     /// Face size of the irradiance cube (0: none; default 32, none for --target filament, which uses the SH).
@@ -81,7 +81,7 @@ pub(crate) struct BakeArgs {
     /// Default none; cmgen for --target filament.
     #[arg(long, value_parser = parse_window)]
     pub(crate) sh_window: Option<Window>,
-    /// Measure each level, the irradiance map and the SH9 against the exact integrals of the input itself (piecewise constant over its own texels, by adaptive quadrature) on this many texels of each, and report the error (about a second per 1000 texels of a level for a 512×256 input).
+    /// Measure each level, the irradiance map and the SH9 against the exact integrals of the input itself (piecewise constant over its own texels, by adaptive quadrature) on this many texels of each, and report the error (slow: docs/lighting.md gives the cost).
     #[arg(long, default_value_t = 0)]
     pub(crate) check: u32,
     /// Size of the DFG table (0: none; default 128, none for --target bevy and filament, whose engines ship their own).

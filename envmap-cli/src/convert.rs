@@ -49,7 +49,7 @@ pub(crate) struct ConvertArgs {
     /// Input layout, when the aspect ratio does not say.
     #[arg(long, value_parser = parse_layout)]
     pub(crate) from_layout: Option<Layout>,
-    /// The world the input file's conventions are in: y-up (the GL world), y-up-lh, or z-up (envmap's canonical frame: the mapping's formula on the directions as given, the behaviour before file conventions).
+    /// The world the input file's conventions are in: y-up (the GL world), y-up-lh, or z-up (envmap's canonical frame: the mapping's formula on the directions as given).
     /// Default: what the input file says of itself (files envmap wrote), else y-up.
     #[arg(long, value_parser = parse_world)]
     pub(crate) from_frame: Option<World>,

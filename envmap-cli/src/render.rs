@@ -86,7 +86,7 @@ pub(crate) struct RenderArgs {
     /// Schlick Fresnel reflectance at normal incidence (e.g. 0.04 glass, 0.9 metal); default: perfect mirror.
     #[arg(long)]
     pub(crate) fresnel: Option<f32>,
-    /// The material: mirror (the default: today's reflection, with --fresnel), chrome, gold, plastic, rubber, diffuse (glTF metallic-roughness presets); shaded by the split sum from maps baked on the fly.
+    /// The material: mirror (the default: the plain reflection, with --fresnel), chrome, gold, plastic, rubber, diffuse (glTF metallic-roughness presets); shaded by the split sum from maps baked on the fly.
     #[arg(long)]
     pub(crate) material: Option<String>,
     /// Base colour r,g,b (linear), over the material's.
@@ -107,7 +107,7 @@ pub(crate) struct RenderArgs {
     /// Render the ground truth instead: the rendering integral of the full GGX + Lambert BRDF by Monte Carlo per pixel (--reference-samples per lobe), the environment looked up exactly (--analytic built-ins) or in the full-resolution map.
     #[arg(long)]
     pub(crate) reference: bool,
-    /// Render the exact split sum instead: per pixel, the prefiltered integral at the material's own roughness by brute force over every texel of the environment (not a baked chain), the DFG integral at the pixel's own N·V and roughness, and the exact irradiance; what the split sum's maps are measured against. Slow (about a millisecond per pixel for a 512 × 256 map).
+    /// Render the exact split sum instead: per pixel, the prefiltered integral at the material's own roughness by brute force over every texel of the environment (not a baked chain), the DFG integral at the pixel's own N·V and roughness, and the exact irradiance; what the split sum's maps are measured against. Slow (an integral over the whole map per pixel).
     #[arg(long, conflicts_with = "reference")]
     pub(crate) exact_split_sum: bool,
     /// Samples per pixel and per lobe of --reference.
@@ -408,7 +408,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     Ok(())
 }
 
-/// The material the flags ask for; `None` for today's mirror.
+/// The material the flags ask for; `None` for the plain mirror.
 fn material(a: &RenderArgs) -> Result<Option<Material>, String> {
     let named = a.material.as_deref().unwrap_or("mirror");
     let mirror = named.eq_ignore_ascii_case("mirror")

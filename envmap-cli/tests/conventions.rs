@@ -1,5 +1,5 @@
 //! File conventions as a user meets them: cube files in the GL world by
-//! default, one world for the whole command, the old z-up behaviour by name,
+//! default, one world for the whole command, the seed's z-up frame by name,
 //! every face naming scheme and face transform round-tripping, and files
 //! that say what they hold.
 
@@ -53,7 +53,7 @@ fn a_bright_sky_lands_on_the_plus_y_face_by_default_and_on_plus_z_in_the_seeds_f
     for f in [0, 1, 4, 5] {
         assert!((means[f] - 5.0).abs() < 0.5, "{means:?}");
     }
-    // The old behaviour by name: the seed's z-up frame puts the sky on +z.
+    // The seed's z-up frame, by name, puts the sky on +z.
     let o = envmap(
         &[
             "convert",

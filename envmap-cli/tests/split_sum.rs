@@ -14,12 +14,12 @@
 //! By default (quick, in CI: a level 0 of 128², 32² pixels): envmap's own
 //! chain ([`LitEnvironment::bake`]) within 2 % RMS and 0.5 % bias at 0, below
 //! its first level and between its levels on a real HDRI with a sun and one with soft
-//! boxes (committed in `test-data/hdri`) and the built-in sky, where the
-//! chain `envmap render` baked before (linear rule down to 2², blended
-//! linearly) misses; the DFG table's edges exact at roughness 1.
+//! boxes (committed in `test-data/hdri`) and the built-in sky, where a
+//! plain mip chain (linear rule down to 2², blended linearly) misses; the
+//! DFG table's edges exact at roughness 1.
 //!
-//! `ENVMAP_SPLIT_SUM_SWEEP=1` runs the whole sweep instead (about an hour
-//! on two cores): every roughness from 0 to 1 in steps of 0.05, on the
+//! `ENVMAP_SPLIT_SUM_SWEEP=1` runs the whole sweep instead (slow: an exact
+//! split sum per roughness and map): every roughness from 0 to 1 in steps of 0.05, on the
 //! built-in sky and the four committed HDRIs, for envmap's chain and each
 //! engine's (`--target bevy`, `gltf`, `filament`, and the unity rule) as
 //! the engine reads it, with the chain shapes that lower their error;
@@ -58,9 +58,9 @@ const MAX_BIAS: f64 = 0.005;
 /// through the near field, and 0 (the mirror).
 const BELOW_FIRST: [f32; 5] = [0.0, 0.03, 0.07, 0.11, 0.16];
 
-/// The maps `envmap render` baked on the fly before: the linear rule from
-/// `size`² down to 2², blended linearly in roughness, a 64² DFG table at
-/// texel centres.
+/// A plain mip chain, the baseline envmap's own chain is compared with:
+/// the linear rule from `size`² down to 2², blended linearly in roughness,
+/// a 64² DFG table at texel centres.
 fn old_chain(src: &EnvImage, size: u32) -> LitEnvironment {
     let mut o = BakeOptions::default();
     o.size = size;
@@ -90,7 +90,7 @@ fn between_levels(lit: &LitEnvironment, near: &[f32]) -> Vec<f32> {
 
 /// envmap's chain against the exact split sum (the input read bilinearly)
 /// below its first level and at 0, between its levels, and at roughness 1,
-/// on three maps; the chain baked before misses there.
+/// on three maps; the plain mip chain misses there.
 #[test]
 fn the_split_sum_is_within_its_bounds_between_levels() {
     // Smaller than `envmap render`'s default of 256 (the sweep's) to keep
@@ -139,8 +139,8 @@ fn the_split_sum_is_within_its_bounds_between_levels() {
         100.0 * worst.1,
         100.0 * old_worst
     );
-    // The measure tells the chains apart: the old one's between-level blend
-    // near a sun is far outside the bounds.
+    // The measure tells the chains apart: the plain chain's between-level
+    // blend near a sun is far outside the bounds.
     assert!(old_worst > 5.0 * MAX_RMS, "{old_worst}");
 }
 
@@ -148,7 +148,7 @@ fn the_split_sum_is_within_its_bounds_between_levels() {
 /// at roughness 1, 1 − μ·ln(1 + 1/μ). With the table's last row at
 /// roughness 1 (the edges grid) the render is within 0.2 % of that closed
 /// form over the whole sphere; at texel centres (64²) it reads the row at
-/// 0.992 and is about 1.9 % too bright.
+/// 0.992 and is more than 1 % too bright.
 #[test]
 fn roughness_one_reads_the_dfg_table_at_its_edge() {
     let px = 64;
@@ -214,11 +214,11 @@ fn sweep() {
         ("studio.exr", committed("studio")),
         ("venice.exr", committed("venice")),
     ];
-    // The chains: envmap's before and now, and each engine's as the engine
-    // reads it (its preset's chain, blended linearly in its lod), with
-    // others of the same rule. Every chain but the one before reads the
-    // same 128² edges table, so that their tables show the chain's cost
-    // alone.
+    // The chains: envmap's own and the plain mip chain, and each engine's
+    // as the engine reads it (its preset's chain, blended linearly in its
+    // lod), with others of the same rule. Every chain but the plain one
+    // reads the same 128² edges table, so that their tables show the
+    // chain's cost alone.
     type Make = Box<dyn Fn(&EnvImage) -> LitEnvironment>;
     let engine = |rule: RoughnessRule, size: u32, min: Option<u32>| -> Make {
         Box::new(move |env: &EnvImage| {

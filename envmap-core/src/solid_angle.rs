@@ -29,25 +29,19 @@
 //! small `t`, differences of arctangents are taken with a single `atan2`, and widths come from
 //! `u1 − u0` and `v1 − v0` directly. So the error is relative to the rectangle's *own* solid
 //! angle, not to the sphere's: a texel of a 4096-wide map is as accurate as a whole chart.
-//! Measured against 30-digit references on 255- and 4096-wide grids:
 //!
-//! - latlong, cube face, both octahedral maps, and disk or tennisball texels that no boundary
-//!   crosses: at most 4.6e-16 relative (a few units in the last place);
-//! - texels crossed by a disk rim or by the tennisball's ownership boundary: at most 3e-14
-//!   relative at 255 wide and 5.2e-13 at 4096 wide. The crossing points are located to about
-//!   1e-16 (in angle), which is relative to the texel's width, so this error grows in
-//!   proportion to the resolution;
-//! - when the owned part of a texel is only a thin sliver, the same absolute error (at most
-//!   2.3e-13 of an average texel's solid angle at 4096 wide) is large relative to the sliver;
-//! - the angular map, whose density vanishes on the rim (samples of 856 texels at 64 wide,
-//!   1 620 at 255 and 1 204 at 4096: every texel the rim crosses at 64 and 255, and at random
-//!   600 of them at 4096, 300 within three texels of the rim, 300 further inside, the four at
-//!   the centre): texels further inside at most 2.1e-15 relative (at the centre 3.5e-16);
-//!   within three texels of the rim at most 6.9e-14 (next to the rim the density is small and
-//!   the rounding of the quadrature nodes is relative to their distance from the rim); texels
-//!   the rim crosses, with their centre inside, at most 6.1e-15 at 64 wide, 5.0e-14 at 255 and
-//!   4.1e-13 at 4096; the rest, slivers, within 2.5e-16 of an average texel's solid angle (the
-//!   worst relative error, 1.2e-11, on a sliver of 1.5e-17 sr at 4096 wide).
+//! - texels that no boundary crosses (every texel of the latlong, a cube face and both
+//!   octahedral maps) are within a few units in the last place, relative;
+//! - texels crossed by a disk rim or by the tennisball's ownership boundary are less accurate
+//!   in proportion to the resolution: the crossing points are located to about 1e-16 in angle,
+//!   which is relative to the texel's width;
+//! - when the owned part of a texel is only a thin sliver, the same absolute error is large
+//!   relative to the sliver, and small relative to an average texel's solid angle;
+//! - the angular map's density vanishes on the rim, so next to it the rounding of the
+//!   quadrature nodes, relative to their distance from the rim, dominates.
+//!
+//! The angular map's errors against 30-digit references are in `docs/accuracy.md` (round
+//! trips).
 //!
 //! Where no convenient closed form exists (the dual paraboloid, the tennisball's wings) the
 //! solid angle is reduced to 1-D integrals (for the angular map, which has no antiderivative
@@ -186,8 +180,7 @@ pub fn paraboloid(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
 /// 1 − ρ² = z(2 cos t − z) keeps its relative precision, and the density there is evaluated as
 /// π sin(π(1 − ρ))/ρ with 1 − ρ = (1 − ρ²)/(1 + ρ): no cancellation next to the rim.
 ///
-/// Accuracy against 30-digit references (module documentation): 2.1e-15 relative inside,
-/// 6.9e-14 within three texels of the rim, 4.1e-13 on texels the rim crosses at 4096 wide.
+/// Accuracy: see the [module documentation](self) and `docs/accuracy.md`.
 /// Orientation, clipping and NaN as in the [module documentation](self).
 #[must_use]
 #[inline]
@@ -1824,9 +1817,8 @@ mod tests {
 
     /// Every texel of odd and even grids against the polar reference: relative to the texel's
     /// own solid angle, and for the slivers the rim cuts off, relative to an average texel's.
-    /// Measured: 1.1e-14 and 9.4e-15 at 33 wide, mostly the reference's own error (its Simpson
-    /// rule stops at steps of 1e-12 relative); against 30-digit references the function is
-    /// within 2.1e-15 and 2.5e-16 (module documentation). Bounds about 5–10× above.
+    /// The difference is mostly the reference's own error (its Simpson rule stops at steps of
+    /// 1e-12 relative), which the bounds leave room for.
     #[test]
     fn angular_texels_match_polar_reference() {
         for n in [16usize, 33] {
@@ -1875,7 +1867,7 @@ mod tests {
                 }
             }
         }
-        // Measured: 9.8e-16, the density's rounding 0.05 from the rim.
+        // What remains is the density's own rounding near the rim.
         std::println!("short Gauss–Legendre rules vs 16-point panels: {worst:.1e}");
         assert!(worst <= 4e-15, "{worst:e}");
     }

@@ -21,7 +21,7 @@
 //!   The exact split sum reads the input bilinearly ([`Oracle::bilinear`]).
 //!
 //! Environment: `PX` (image size, 96), `SIZE`, `ENV_SIZE`, `CACHE=DIR`
-//! (keep the exact renders there: each takes 10–60 s), `VERBOSE=1` (each
+//! (keep the exact renders there: each is slow), `VERBOSE=1` (each
 //! level's method and time).
 use std::path::Path;
 use std::time::Instant;

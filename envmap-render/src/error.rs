@@ -102,7 +102,7 @@ pub enum Error {
     Layout(String),
 
     /// A line of text input (a direction for `map`, a chart point for
-    /// `unmap`; see [`crate::text`]) is malformed or has no mapping. The
+    /// `unmap`; see `envmap_cli::text`) is malformed or has no mapping. The
     /// message names no file: the caller adds the file and line number.
     #[error("{0}")]
     Input(String),

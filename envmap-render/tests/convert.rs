@@ -35,26 +35,26 @@ fn covered(img: &EnvImage) -> impl Fn(usize) -> bool + '_ {
 
 /// The PSNR bound every pair must reach at these sizes (input cells 192
 /// texels wide, output 96, bilinear, automatic supersampling); the smooth
-/// environment spans about 1, so 50 dB is an RMS error of 0.3 % of it.
-/// Measured: at least 52.5 dB for every pair whose input is not a sphere map.
+/// environment spans about 1, so 50 dB is an RMS error of 0.3 % of it
+/// (the measured PSNR of each pair: `docs/accuracy.md`).
 const MIN_PSNR_DB: f64 = 50.0;
 
 /// From a sphere map the bound is lower: the neighbourhood of its singular
 /// direction is squeezed into the outermost ring, so any output that samples
 /// that neighbourhood finely (a latlong's top rows, for the class
-/// convention's +z) sees the rim's lack of resolution. Measured: 39.8 dB
-/// into latlong, 46.8 dB or more into everything else but the angular map
-/// with the GL sphere map ([`MIN_PSNR_SPHERE_GL_TO_ANGULAR_DB`]).
+/// convention's +z) sees the rim's lack of resolution: a latlong output
+/// most, everything else less, but the angular map with the GL sphere map
+/// ([`MIN_PSNR_SPHERE_GL_TO_ANGULAR_DB`]).
 const MIN_PSNR_FROM_SPHERE_DB: f64 = 38.0;
 
 /// From the GL sphere map into the angular map, both singular at −z: the
 /// angular map gives −z's neighbourhood the most texels of any output (the
 /// 0.31 rad around −z are its outer tenth of radius, 19 % of its texels,
 /// against 10 % of a latlong's rows), and the sphere map squeezes those
-/// 0.31 rad into the outer 1.2 texels of its 96-texel radius. Measured: 36.8 dB, 3.0 dB below
-/// sphere-gl -> latlong, as the ratio of those texel shares predicts
-/// (10·log10(0.19/0.10) = 2.8 dB). (The class sphere map's singular
-/// direction, +z, is the angular map's centre: 53.5 dB.)
+/// 0.31 rad into the outer 1.2 texels of its 96-texel radius. The ratio of
+/// those texel shares puts it 10·log10(0.19/0.10) = 2.8 dB below
+/// sphere-gl -> latlong. (The class sphere map's singular direction, +z, is
+/// the angular map's centre, and meets the general bound.)
 const MIN_PSNR_SPHERE_GL_TO_ANGULAR_DB: f64 = 35.0;
 
 #[test]

@@ -53,9 +53,9 @@ fn latlong() -> Representation {
 /// The default 32² GL irradiance cube's size.
 const CUBE: (u32, u32) = (128, 96);
 
-/// The latlong the convolution tests start from: 512 × 256 (the numbers in
-/// the module docs), or 128 × 64 in an unoptimised build, where the exact
-/// convolution over every texel would take minutes.
+/// The latlong the convolution tests start from: 512 × 256 (the size of
+/// the figures in `docs/lighting.md`), or 128 × 64 in an unoptimised
+/// build, where the exact convolution over every texel would take minutes.
 const SRC: (u32, u32) = if cfg!(debug_assertions) {
     (128, 64)
 } else {
@@ -136,7 +136,7 @@ fn irradiance_maps_match_the_exact_convolution_where_sh9_allows() {
     // The oracle: the exact convolution over every texel (level 0) of a
     // 512 × 256 latlong. Truncation is what SH9 leaves out: zero for the
     // band-limited map and the step (whose higher bands all have Â_l = 0
-    // or vanish), 0.14 % for smooth() (measured here), 8.7 % for the sun,
+    // or vanish), small for smooth() (under 0.5 %), large for the sun,
     // which SH9 cannot represent (printed, not required). Where truncation
     // is zero, what is left is the two sums' quadrature, of the order of
     // the texel's angle squared: allowed as (π/h)².
@@ -175,8 +175,8 @@ fn irradiance_maps_match_the_exact_convolution_where_sh9_allows() {
 fn the_exact_modes_level_rule_stays_within_its_tolerance() {
     // Each automatic choice against the full-resolution convolution (a
     // 512 × 256 latlong's level 0): the accepted difference between two
-    // successive levels bounds the finer one's error (measured: its error
-    // is a quarter to a third of it on smooth maps).
+    // successive levels bounds the finer one's error (on smooth maps its
+    // error is a fraction of it).
     for (name, f) in [
         ("smooth", smooth as fn(Vec3) -> [f32; 3]),
         ("sun", sunny),

@@ -1,4 +1,4 @@
-//! The mapping contract (design.md, "The contract every mapping keeps"),
+//! The mapping contract (`docs/conventions.md`, "The mapping contract"),
 //! proven by property tests over every mapping of [`AnyMapping::ALL`].
 //!
 //! One proptest per property; each case checks every mapping. The default
@@ -129,39 +129,35 @@ fn beta(m: AnyMapping, d: DVec3) -> f64 {
 
 // Bounds on the angle (rad) between normalize(d) and inverse(forward(d)),
 // measured in f64, for any finite non-zero f32 direction d. Each is 1.5–2×
-// the worst error seen in a run with PROPTEST_CASES=200000; that worst input
-// is recorded beside the bound.
+// the worst error of a long run (PROPTEST_CASES=200000; the worst errors are
+// in docs/accuracy.md, "Round trips"), so that a rarer input stays inside.
 
-/// Latlong. Worst 8.96e-7 at d = (-4.7605035e-1, -8.7494224e-1, -8.8612385e-2)
-/// (u = 0.6707): u and v are f32 near 1 (one step is 6e-8, i.e. 3.8e-7 rad
-/// of longitude), and 2πu and πv are rounded again before sin/cos.
+/// Latlong. The worst inputs have u and v near 1 (one f32 step is 6e-8,
+/// i.e. 3.8e-7 rad of longitude), and 2πu and πv are rounded again before
+/// sin/cos.
 const LATLONG_RT: f64 = 1.5e-6;
-/// Cube. Worst 1.14e-7 at d = (5.597308e-1, -3.9954367e-1, 7.259933e-1).
+/// Cube.
 const CUBE_RT: f64 = 2e-7;
 /// Sphere maps, the constant part of `a + b/β`. Far from the singular
-/// direction the worst errors are 3–6e-7, all below b/β.
+/// direction the errors stay below b/β.
 const SPHERE_RT_A: f64 = 1e-7;
-/// Sphere maps, the 1/β part: the worst err·β is 9.52e-7, at β = 9.76e-4
-/// (GL, d = (4.0309146e-4, 8.883293e-4, -9.999995e-1), error 9.76e-4 rad);
-/// err·β stays about that size for every β (e.g. 1.35e-6 rad at β = 0.50).
+/// Sphere maps, the 1/β part: err·β stays about the same size for every β,
+/// from next to the singular direction to far from it.
 const SPHERE_RT_B: f64 = 1.8e-6;
-/// Dual paraboloid. Worst 2.58e-7 at d = (6.450943e2, 6.450943e2, 9.291506e-1),
-/// at the rim.
+/// Dual paraboloid; the worst inputs are at the rim.
 const PARABOLOID_RT: f64 = 5e-7;
-/// Tennisball. Worst 4.81e-7 at d = (7.075761e-2, 8.589461e-1, 5.0715387e-1).
+/// Tennisball.
 const TENNISBALL_RT: f64 = 9e-7;
-/// Octahedral. Worst 3.88e-7 at d = (5.24921e-1, 6.5636414e-1, -5.4188937e-1).
+/// Octahedral.
 const OCTAHEDRAL_RT: f64 = 7e-7;
-/// Equal-area octahedral. Worst 5.52e-7 at
-/// d = (5.0040562e23, 3.334291e24, 7.534412e-39), on the equator.
+/// Equal-area octahedral; the worst inputs are on the equator.
 const EQUAL_AREA_OCTAHEDRAL_RT: f64 = 1e-6;
 /// Angular map: no 1/β growth at its singular direction (an angle β from
 /// −z sits β/π inside the rim, so one f32 step of (u, v) costs the same
-/// angle there as elsewhere in the outer half). Worst 9.11e-7 at
-/// d = (4.8614523e-1, 7.629366e-1, -4.261344e-1) (u = 0.672, v = 0.770):
-/// as for the latlong, u and v are f32 above ½ (one step is 6e-8, i.e.
-/// 1.9e-7 rad along the radius, which is π rad per unit of u' = 2u − 1),
-/// and θ, θ/π and the inverse's ρ and πρ are rounded on the way.
+/// angle there as elsewhere in the outer half). As for the latlong, the
+/// worst inputs have u and v f32 above ½ (one step is 6e-8, i.e. 1.9e-7
+/// rad along the radius, which is π rad per unit of u' = 2u − 1), and θ,
+/// θ/π and the inverse's ρ and πρ are rounded on the way.
 const ANGULAR_RT: f64 = 1.5e-6;
 
 /// The bound on the direction round-trip error of `m` at the unit direction
@@ -368,23 +364,23 @@ fn forward_is_scale_invariant() {
 
 // Bounds on |forward(inverse(c)) − c| in (u, v) where the chart owns
 // inverse(c) (latlong: max(|Δv|, |Δu|·sin πv)), about 2× the worst of a
-// PROPTEST_CASES=200000 run, recorded beside each.
+// long run (PROPTEST_CASES=200000), a few f32 steps of (u, v).
 
-/// Latlong. Worst 1.19e-7 at (0, 0.2842482, 0.74189365).
+/// Latlong.
 const LATLONG_CRT: f64 = 2.4e-7;
-/// Cube. Worst 8.97e-8 at (5, 0.03179311, 1.2207031e-4).
+/// Cube.
 const CUBE_CRT: f64 = 1.6e-7;
-/// Sphere maps. Worst 8.69e-8 at (0, 0.092067376, 0.23142333).
+/// Sphere maps.
 const SPHERE_CRT: f64 = 1.6e-7;
-/// Dual paraboloid. Worst 1.23e-7 at (0, 0.37727568, 0.9787655).
+/// Dual paraboloid.
 const PARABOLOID_CRT: f64 = 2.4e-7;
-/// Tennisball. Worst 1.33e-7 at (1, 0.92943066, 0.87344563).
+/// Tennisball.
 const TENNISBALL_CRT: f64 = 2.4e-7;
-/// Octahedral. Worst 7.26e-8 at (0, 0.4872258, 0.012970371).
+/// Octahedral.
 const OCTAHEDRAL_CRT: f64 = 1.4e-7;
-/// Equal-area octahedral. Worst 1.49e-7 at (0, 0.66329646, 0.14368573).
+/// Equal-area octahedral.
 const EQUAL_AREA_OCTAHEDRAL_CRT: f64 = 2.8e-7;
-/// Angular map. Worst 1.33e-7 at (0, 0.8706286, 0.647839).
+/// Angular map.
 const ANGULAR_CRT: f64 = 2.4e-7;
 
 /// Sphere-map points this close to the rim (in r = |(u', v')|) are left out
@@ -573,9 +569,8 @@ fn tennisball_owned_fraction_is_large() {
 
 /// The rounding noise allowed on top of the stretch bound: each forward call
 /// rounds (u, v) by a few f32 ulps of 1, and the perturbed direction is
-/// itself rounded to f32. Worst excess |Δ(u, v)| − K·α in a
-/// PROPTEST_CASES=200000 run: 1.85e-7 (tennisball, near
-/// d = (-6.788411e-1, -7.3127234e-1, 6.644938e-2), α = 8.5e-8).
+/// itself rounded to f32. About 1.5× the worst excess |Δ(u, v)| − K·α of a
+/// long run (PROPTEST_CASES=200000).
 const CONTINUITY_NOISE: f64 = 3e-7;
 
 /// Property 4: a change of direction by an angle α ≤ 1e-4 rad moves (u, v)
@@ -960,9 +955,8 @@ fn texel_index_stays_in_range() {
 
 /// Extra round-trip error allowed through a [`Frame`]: the rotation is
 /// applied in f32 both ways, and a matrix from a quaternion is orthogonal
-/// only to ~1e-7. The worst excess over the bare bound in a
-/// PROPTEST_CASES=200000 run was 4.08e-7 (cube, d = (9.580804e-1,
-/// -1.2368182e-1, 2.5842738e-1), a random rotation; total error 6.08e-7).
+/// only to ~1e-7. About 2× the worst excess over the bare bound in a long
+/// run (PROPTEST_CASES=200000).
 const FRAME_EXTRA: f64 = 8e-7;
 
 /// Property 8: through every preset and random rotations, `Framed` round

@@ -27,7 +27,7 @@ fn v(x: f32, y: f32, z: f32) -> Vec3 {
 // Cube
 // ---------------------------------------------------------------------------------------------
 
-/// The face table of design.md, written out independently of envmap-core:
+/// The cube face table (`docs/conventions.md`), written out independently of envmap-core:
 /// (face, sc, tc, |ma|) for a direction, with the z-over-y-over-x tie rule
 /// and the major component's sign bit picking the face.
 fn table_face(d: Vec3) -> (u32, f32, f32, f32) {
@@ -539,7 +539,7 @@ fn angular_centre_ring_and_singular_direction() {
         let d = v(az.cos() as f32, az.sin() as f32, 0.0);
         let c = Angular::forward(d).unwrap();
         let r = (2.0 * f64::from(c.u) - 1.0).hypot(2.0 * f64::from(c.v) - 1.0);
-        // Measured: 6.7e-8 (f32 steps of u and v are 6e-8 above ½).
+        // Two f32 steps of u and v, which are 6e-8 above ½.
         assert!((r - 0.5).abs() < 1.2e-7, "{d}: r = {r}");
     }
     // Every rim point inverts to −z: exactly where the point is exact in
@@ -552,7 +552,6 @@ fn angular_centre_ring_and_singular_direction() {
         let t = f64::from(j) * std::f64::consts::TAU / 64.0;
         let (u, vv) = ((0.5 + 0.5 * t.cos()) as f32, (0.5 + 0.5 * t.sin()) as f32);
         if let Some(d) = Angular::inverse(ChartUv::new(0, u, vv)) {
-            // Measured: 1.9e-7.
             assert!(angle_f32(d, Vec3::NEG_Z) < 4e-7, "({u}, {vv}): {d}");
         }
     }
@@ -572,8 +571,8 @@ fn angular_centre_ring_and_singular_direction() {
             assert!(m.in_chart(0, c.u, c.v), "β = {beta:e}: {c:?}");
             let (x, y) = (2.0 * f64::from(c.u) - 1.0, 2.0 * f64::from(c.v) - 1.0);
             let r = x.hypot(y);
-            // Measured: |Δr| up to 1.5e-7, the azimuth within 8.5e-8, the
-            // round trip within 5.0e-7 rad (at β = 1e-6).
+            // A few f32 steps of u and v in the radius, the azimuth and the
+            // round trip.
             let want = 1.0 - beta / std::f64::consts::PI;
             assert!(
                 (r - want).abs() < 2.5e-7,
@@ -607,7 +606,7 @@ fn angular_centre_ring_and_singular_direction() {
         let c = Angular::forward(d).unwrap();
         let (u, vv) = angular_closed_form(d);
         let e = (f64::from(c.u) - u).abs().max((f64::from(c.v) - vv).abs());
-        // Measured: 3.2e-8 (at (−1, 1, 1)); the bound is two f32 steps.
+        // The bound is two f32 steps.
         assert!(e < 1.2e-7, "{d}: {c:?} vs ({u}, {vv})");
     }
     // The SIMD tiers agree with the core on every named input, forward and
@@ -796,8 +795,8 @@ fn tennisball_seed_erratum() {
     );
 
     // Over 20000 deterministic pseudo-random directions, the printed
-    // formulas leave a sizeable fraction outside the printed ranges (the
-    // design measured about 18 %); the corrected ones leave none.
+    // formulas leave a sizeable fraction outside the printed ranges; the
+    // corrected ones leave none.
     let mut rng = SplitMix64::new(0x7e55_15ba);
     let n = 20_000;
     let (mut seed_out, mut fixed_out) = (0u32, 0u32);

@@ -14,10 +14,9 @@ fn simd_agrees<T: Tier>(m: AnyMapping, d: Vec3) {
 }
 
 /// `simd_vs_scalar`: a direction 2⁻¹⁰⁰ from the −z pole with a denormal x.
-/// Both the core and the kernels normalised (or scaled) before taking
-/// atan2(y, x), which flushed x and y into denormals and lost their ratio:
-/// u was off by 1.3e-3 in the core and 9e-5 in the kernels, and the two
-/// disagreed by more than the exact tier's bound.
+/// Normalising (or scaling) before taking atan2(y, x) flushes x and y into
+/// denormals and loses their ratio: u comes out wrong in the core and in
+/// the kernels, and the two disagree by more than the exact tier's bound.
 #[test]
 fn latlong_u_next_to_a_pole() {
     let d = Vec3::new(5.831_554e-39, 3.511_703_3e-38, -1_298_400.0);

@@ -261,7 +261,7 @@ fn wgsl_parses_and_validates() {
     }
 }
 
-/// The committed GLSL and HLSL are what naga writes from today's WGSL;
+/// The committed GLSL and HLSL are what naga writes from the committed WGSL;
 /// `ENVMAP_BLESS_SHADERS=1` rewrites them.
 #[test]
 fn generated_files_are_current() {

@@ -97,7 +97,7 @@ impl std::str::FromStr for Container {
 }
 
 /// The zstd level of the presets that supercompress: zstd's own default
-/// (`--zstd 19` gives files about 36 % smaller for seconds more;
+/// (higher levels give smaller files far more slowly;
 /// `docs/performance.md`).
 pub const DEFAULT_ZSTD: i32 = 3;
 
@@ -212,9 +212,9 @@ impl Preset {
             // (x, y, −z) of its world direction (`skybox.wgsl`,
             // `environment_map.wgsl`: "cube maps are left-handed"), so the
             // cube is written in its world with z negated: Bevy then shows
-            // the environment as envmap renders it (measured on lavapipe,
-            // integrations/bevy/tests/headless.rs: 78 dB; the cube in the
-            // world's own axes shows it mirrored, 18 dB).
+            // the environment as envmap renders it (checked on lavapipe by
+            // integrations/bevy/tests/headless.rs; the cube in the world's
+            // own axes shows it mirrored).
             Target::Bevy => Self {
                 axes: z_negated(axes),
                 dfg_size: 0,

@@ -121,10 +121,9 @@ pub(crate) struct BakedInto {
 /// Bakes `src` ([`bake_owned`]) and writes every file of the bake into
 /// `dir` as [`write()`] writes them, an OpenEXR chain's levels each while
 /// the next is made ([`bake_owned_streaming`]): the levels' files are
-/// written beside the bake instead of after it (on two cores the bake with
-/// its files took 1.03–1.17× the bake in memory, 1.06–1.28× with the files
-/// after it: `docs/performance.md`). Returns the bake and what was written
-/// ([`BakedInto`]); the manifest's bake time (`provenance.bake_seconds`) is
+/// written beside the bake instead of after it, so that writing them adds
+/// little to the bake's time (`docs/performance.md`). Returns the bake and
+/// what was written ([`BakedInto`]); the manifest's bake time (`provenance.bake_seconds`) is
 /// measured here, the levels' files written beside it included. The bake
 /// is [`bake_owned`]'s, bit for bit, and the files are [`write()`]'s (an
 /// OpenEXR file's header attributes in the order the `exr` crate writes

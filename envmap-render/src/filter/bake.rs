@@ -46,12 +46,9 @@ use crate::image::{luminance, EnvImage, FileAxes, Representation};
 /// How many samples the importance-sampled levels take.
 ///
 /// The default's counts grow with roughness, as the sampling's error does
-/// at a fixed count (measured against the exact integral on a 512² chain
-/// from a smooth 4096 × 2048 HDR: at 64 samples 0.30 % relative RMS at
-/// roughness 0.125, 0.53–0.59 % from 0.25 to 0.5, 2.0 % at 1; at 256,
-/// 0.12–0.18 % up to 0.625 and 0.52 % at 1; the built-in room, all sharp
-/// edges, needs 256 at 0.4 to stay within 1 %): 64 up to roughness 0.15,
-/// 128 up to 0.3, 256 up to 0.5, 1024 above. Draft takes a quarter of
+/// at a fixed count (against the exact integral; sharp edges need more than
+/// smooth maps, [`estimated_error`] and `docs/lighting.md`): 64 up to
+/// roughness 0.15, 128 up to 0.3, 256 up to 0.5, 1024 above. Draft takes a quarter of
 /// those, high four times as many. The bake doubles a level's count where
 /// its lobe is under [`SHARP_TEXELS`] of the input's texels across.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -129,14 +126,14 @@ impl std::str::FromStr for Quality {
 pub const SHARP_TEXELS: f64 = 2.0;
 
 /// A level is summed exactly when its source level has at most this many
-/// texels per sample it would otherwise take (measured: an exact sum over
-/// a source texel, eight output texels at a time, costs about a sixteenth
-/// of a sample's mapping and trilinear read).
+/// texels per sample it would otherwise take: an exact sum over a source
+/// texel, eight output texels at a time, costs about a sixteenth of a
+/// sample's mapping and trilinear read.
 pub const EXACT_PER_SAMPLE: u64 = 16;
 
 /// A level is also summed exactly when the whole sum takes at most this
-/// many (output texel, source texel) pairs (2²⁸: about 0.1 s on two
-/// cores), whatever its sample count: the rough, small levels.
+/// many (output texel, source texel) pairs (2²⁸), whatever its sample
+/// count: the rough, small levels, whose exact sum is cheap.
 pub const EXACT_BUDGET: u64 = 1 << 28;
 
 /// Samples a sampled level takes at least in all, at the default quality
@@ -176,8 +173,7 @@ pub struct BakeOptions<'a> {
     /// The irradiance map by the exact cosine convolution of the input
     /// (its pyramid at a level fine enough, [`irradiance_map_exact`])
     /// instead of from the SH9, whatever `exact` says: SH9's band limit
-    /// cannot hold a sun or a window (3–8 % RMS on real HDRIs against the
-    /// oracle; exact: under 0.01 %). Default false.
+    /// cannot hold a sun or a window. Default false.
     pub exact_irradiance: bool,
     /// Added to each sample's FIS level. Default 0 (measured best on smooth
     /// and sharp environments: `docs/lighting.md`).
@@ -410,16 +406,13 @@ pub fn measure_irradiance(
 }
 
 /// The relative RMS error a sampled level is expected to have against the
-/// exact integral on a smooth environment, from a sweep of sample counts
-/// (`examples/bake_accuracy.rs` with `SAMPLES=64,256`, 300 texels per
-/// level: a 512² chain from a smooth 4096 × 2048 HDR, 64 samples per texel
-/// at every level: 0.30 % at roughness
-/// 0.125, 0.53 % at 0.25, 0.57 % at 0.375, 0.59 % at 0.5, 0.74 % at 0.625,
-/// 1.02 % at 0.75, 1.19 % at 0.875, 2.04 % at 1), interpolated in
-/// roughness and scaled by √(64/N) for N samples (conservative: at 256
-/// samples the measured errors are 0.12–0.52 %, under the 0.15–1.02 % this
-/// gives). Sharp environments (edges, small lights) have larger errors:
-/// `envmap bake --check` measures them on the input itself.
+/// exact integral on a smooth environment: the errors at 64 samples per
+/// texel from a sweep of sample counts (`examples/bake_accuracy.rs` with
+/// `SAMPLES=64,256`, 300 texels per level, a 512² chain from a smooth
+/// 4096 × 2048 HDR), interpolated in roughness and scaled by √(64/N) for
+/// N samples, which overestimates the error at 256. Sharp environments
+/// (edges, small lights) have larger errors: `envmap bake --check`
+/// measures them on the input itself.
 #[must_use]
 pub fn estimated_error(roughness: f32, samples: u32) -> f64 {
     const AT_64: [(f64, f64); 9] = [
@@ -671,10 +664,10 @@ pub fn lobe_chain(
 /// level 0 at `size`², the others from [`RENDER_MIN_SIZE`]² up to 1.5 ×
 /// `size` (the first few, whose lobes are narrower than 4 of level 0's
 /// texels). Below the first level the renderer reads the input itself
-/// ([`crate::scene::lit::LitEnvironment::with_source`]). Measured against
-/// the exact split sum (`docs/lighting.md`, "How exact the lit renders
-/// are"): within 2 % RMS and 0.5 % bias at every roughness from 0 to 1 on
-/// the built-in sky and four real HDRIs.
+/// ([`crate::scene::lit::LitEnvironment::with_source`]). Its target against
+/// the exact split sum is 2 % RMS and 0.5 % bias at every roughness from 0
+/// to 1 (`docs/lighting.md`, "How exact the lit renders are", has the
+/// measurements).
 #[must_use]
 pub fn render_chain(size: u32) -> ChainShape {
     let first = RENDER_FIRST_ROUGHNESS * (256.0 / size.max(1) as f32).sqrt();
@@ -693,28 +686,23 @@ pub fn render_chain(size: u32) -> ChainShape {
 /// 128²). Below it the renderer reads the input itself through the near
 /// field (`scene::lit`'s `NearField`), which follows the input read
 /// bilinearly; a level lower than this, baked from the input's texels,
-/// differs from that reading near a one-texel sun (at 0.1 on `sky.exr`:
-/// −0.58 % bias against the bilinear exact split sum; at 0.13, +0.01 %).
+/// differs from that reading near a one-texel sun.
 pub const RENDER_FIRST_ROUGHNESS: f32 = 0.13;
 
 /// [`render_chain`]'s largest step in ln(lobe width) from one level to the
 /// next (the width grows by at most e^0.25 = 1.28 per level). Blended
 /// linearly in 1/α, two lobes this far apart stand for the lobe between
-/// them within about 1 % (L² over the sphere, a point light): measured at
-/// the middle of every interval on real HDRIs with suns, at most 1.2 %
-/// RMS (0.27: 1.26 %; 0.35: 1.7 %).
+/// them within about 1 % (L² over the sphere, a point light).
 pub const RENDER_WIDTH_STEP: f64 = 0.25;
 
 /// Texels of [`render_chain`]'s levels per lobe width (at a face's
 /// centre), up to 1.5 × level 0's size: a level read at its own roughness
-/// is then within 0.4 % of the exact split sum (at roughness 0.1, whose
-/// lobe wants a 620² face: 384² reads 0.20 % RMS, +0.05 % bias on sky.exr's
-/// one-texel sun, 256² 1.15 % and +0.50 %). 8 or 5 texels move the worst
-/// error between levels by under 0.03 %.
+/// is then within 0.4 % of the exact split sum, and more or fewer texels
+/// per lobe hardly change the worst error between levels.
 pub const RENDER_TEXELS_PER_LOBE: f64 = 4.0;
 
 /// [`render_chain`]'s smallest face: roughness 1's level holds its lobe
-/// (a 2² level reads 4–6 % too dark or bright there).
+/// (a 2² level reads it several per cent too dark or bright).
 pub const RENDER_MIN_SIZE: u32 = 16;
 
 /// The specular chain and what was done to make it.
@@ -841,8 +829,7 @@ fn chain_checked(
     // 2048 latlong gives 1024² faces), the power of two at or below, at
     // least twice the chain's level 0 (level 1's lobe then spans a dozen
     // base texels or more: at level 0's own size it spans about three, and
-    // the base's box filter costs 1.4 % at level 1 on real HDRIs) and at
-    // most 2048.
+    // the base's box filter shows in level 1) and at most 2048.
     let src_texels = u64::from(src.width()) * u64::from(src.height());
     let per_face = ((src_texels as f64 / 6.0).sqrt() * 1.05).max(1.0) as u32;
     let floor_pow2 = 1u32 << (31 - per_face.leading_zeros());
@@ -916,16 +903,15 @@ fn chain_checked(
         // The base cube: the footprint average of the rest, each texel the mean
         // over N × N points of its footprint of the input's bilinear
         // reconstruction (which integrates to the input's own integral), N ≥ 2
-        // making the points at most 2/3 of an input texel apart. Measured on
-        // the real HDRIs: the base's energy plus the split's is the input's
-        // within 1e-4 (a nearest-texel average at the same N misses by 1e-3:
-        // its points divide the input's texels unevenly).
+        // making the points at most 2/3 of an input texel apart, so that the
+        // base's energy plus the split's is the input's (a nearest-texel
+        // average would not be: its points divide the input's texels
+        // unevenly).
         let input_texel = (4.0 * std::f64::consts::PI / src_texels.max(1) as f64).sqrt();
         let base_texel = std::f64::consts::FRAC_PI_2 / f64::from(base_size);
         // A base between one and two times as dense as the input takes at
-        // least 3 × 3 points: 2 × 2 there fall unevenly on the input's texels
-        // (lab.exr at --size 128, base 256²: input and base + split differ by
-        // 2.8·10⁻⁴ at 2 × 2, 3.8·10⁻⁵ at 3 × 3).
+        // least 3 × 3 points: 2 × 2 there fall unevenly on the input's
+        // texels, and the base's energy drifts from the input's.
         let ratio = base_texel / input_texel;
         let least = if (0.5..1.0).contains(&ratio) { 3 } else { 2 };
         let n_foot = ((1.5 * ratio).ceil() as u32).clamp(least, 16);
@@ -983,9 +969,7 @@ fn chain_checked(
                     let n = opts.quality.samples_for(roughness, out_texels);
                     // A lobe under two of the input's texels across meets their
                     // edges as the sharpest thing in the map: twice the samples
-                    // (a 512 × 256 input at a 512² chain, level 1: 1.15° against
-                    // 0.70° texels; on the 18 real HDRIs 0.95 % → 0.53 % RMS
-                    // at the worst, night).
+                    // (level 1 of a 512² chain from a 512 × 256 input, say).
                     let alpha = f64::from(roughness) * f64::from(roughness);
                     if lobe_width(alpha) < SHARP_TEXELS * input_pitch {
                         n.saturating_mul(2).min(4096)

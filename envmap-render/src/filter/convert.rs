@@ -458,9 +458,8 @@ struct Bands<'a, D, S> {
 /// input texels, are mapped one after another.
 ///
 /// Tall bands of narrow tiles were the fastest of those tried (bands ×
-/// tiles from 16 × 64 to 256 × 48 on latlong 4096 × 2048 → cube
-/// 6 × 1024²: 128 × 32, 128 × 40 and 256 × 32 within noise of each
-/// other, about 6 % ahead of 32 × 64).
+/// tiles from 16 × 64 to 256 × 48, latlong to cube), with little between
+/// 128 × 32, 128 × 40 and 256 × 32.
 const TILE: u32 = 32;
 
 impl<'a, D, S> Bands<'a, D, S>

@@ -55,13 +55,11 @@
 //! file holds unless asked otherwise) are what an engine that samples the
 //! table at `(NoV, perceptualRoughness)` with linear filtering and
 //! clamp-to-edge expects. They leave the table's edges half a texel short:
-//! roughness 1 reads the last row, whose centre is at 1 − ½/size (0.992 for
-//! 64², 0.996 for 128²), and N·V = 1 the last column. Near roughness 1
-//! the albedo still falls steeply (head-on, 1 − ln 2 = 0.3069 at r = 1 for
-//! the height-correlated visibility): a 64² table's last texel, at
-//! μ = r = 0.992, holds 3.1 % more, and the split sum of a constant sky
-//! reads 1.7 % too bright at roughness 1 over a sphere
-//! (`tests/split_sum.rs`).
+//! roughness 1 reads the last row, whose centre is at 1 − ½/size, and
+//! N·V = 1 the last column. Near roughness 1 the albedo still falls steeply
+//! (head-on it reaches 1 − ln 2 at r = 1 for the height-correlated
+//! visibility), so a small table reads the roughest materials too bright
+//! (how much: `docs/lighting.md`, and `tests/split_sum.rs`).
 //!
 //! [`DfgGrid::Edges`] puts the first and last rows and columns at 0 and 1
 //! exactly: column `i` at μ = i/(size − 1), row `j` at r = j/(size − 1)
@@ -93,76 +91,40 @@
 //!
 //! # How it is computed
 //!
-//! The expectation is not sampled. It is written as an exact integral and
-//! evaluated in f64 by Gauss–Legendre quadrature, on panels where the
+//! The expectation is not sampled: it is written as an exact integral and
+//! evaluated in f64 by Gauss–Legendre quadrature on panels where the
 //! integrand is smooth, so it converges fast and without noise.
 //!
 //! Put h at polar angle θ and azimuth φ. Substituting the GGX CDF makes the
 //! density uniform: with ξ = F(θ), tan²θ = α²ξ/(1 − ξ), and
 //! `E[g] = ∫₀¹ dξ (1/π) ∫₀^π g dφ` (the integrand is even in φ because V
-//! lies in the xz-plane). The outer variable is τ = ln tan θ. In τ,
+//! lies in the xz-plane). The outer variable is τ = ln tan θ, because in τ
 //! `dξ = 2t²α²/(α² + t²)² dτ` (t = tan θ) is a logistic bump of width about
-//! 1 centred at ln α, and every feature of the integrand has a width of
-//! order 1, whatever μ and α are. The horizon also has a closed form in τ:
-//! `NoL = √(1 − μ²)·(cos φ − sinh τ / k) / cosh τ` with k = √(1 − μ²)/μ.
-//! So
+//! 1 centred at ln α: every feature of the integrand has a width of order
+//! 1, whatever μ and α are. The horizon has a closed form in τ,
+//! `NoL = √(1 − μ²)·(cos φ − sinh τ / k) / cosh τ` with k = √(1 − μ²)/μ,
+//! which splits the τ axis at τ₁ = −asinh k and τ₂ = asinh k: below τ₁
+//! every φ counts (the *full* region), between them φ runs over [0, φₘ]
+//! with φₘ = acos(sinh τ / k) (the *partial* region), above τ₂ none does.
 //!
-//! * for τ < τ₁ = −asinh k, every φ counts (the *full* region);
-//! * for τ₁ ≤ τ ≤ τ₂ = asinh k, φ runs over [0, φₘ] with
-//!   φₘ = acos(sinh τ / k) (the *partial* region);
-//! * for τ > τ₂, no φ counts.
-//!
-//! The rule ([`dfg_integral`] evaluates it at one point):
-//!
-//! * **Full region.** Below min(τ₁, ln α), 8 Gauss points in ξ itself (the
-//!   φ-average is smooth in sin²θ, hence in ξ). From there to τ₁, panels of
-//!   width at most 2 in τ with 8 points each. On the panel next to τ₁ the
-//!   nodes gather towards it (τ = τ₁ − h·u²): V_HC has a pole at NoL = −μ
-//!   and branch points at NoL = ±iα/√(1 − α²), and at τ₁ they come within
-//!   about α/μ of the real τ axis. The φ integral over the whole period is
-//!   the midpoint rule with 8 points. It converges geometrically for a
-//!   periodic integrand that is analytic in cos φ.
-//! * **Partial region.** At least two panels of width at most 2 in τ, 8
-//!   points each. φₘ has a square-root singularity at τ₁ and at τ₂ (it
-//!   reaches π and 0 there). On the first and last panel the substitution
-//!   τ = τ₁ + h·u² (τ = τ₂ − h·u²) removes it. The φ integral over
-//!   [0, φₘ] uses 4-point Gauss panels graded geometrically (ratio 6)
-//!   towards φₘ, because the same singularities lie just beyond φₘ. The
-//!   smallest panel is the distance from φₘ to where NoL reaches
-//!   min(μ, α/√(1 − α²)). The grading stops sooner when a bound on that
-//!   layer's contribution is below 10⁻¹⁰.
-//! * **Skipping.** A τ panel is skipped when a bound on its contribution is
-//!   below 10⁻¹⁰. The bound is the largest density on the panel, times
-//!   V' ≤ 2√(1 + t²)/√(μ²(1 − α²) + α²), times the panel's width.
+//! The rule on each region ([`dfg_integral`] evaluates it at one point)
+//! puts its panels where the integrand's singularities are; a texel's nodes
+//! are evaluated four at a time, and the result does not depend on the
+//! number of threads.
 //!
 //! # Accuracy
 //!
-//! The check is against the same rule with four times the points on every
-//! panel (the grading and skipping thresholds lowered to 10⁻¹⁴), a run that
-//! agrees with one at eight times the points to 9.2·10⁻¹¹. Over every texel
-//! of the 128² table, and over both scale and bias, the worst difference is
-//! **6.1·10⁻⁶**, at texel (0, 127) (μ = 1/256, r = 255/256). A test asserts
-//! that it stays below 10⁻⁴. Other tests check the rule against the closed
-//! forms at α → 0 and at α = 1, against adaptive quadrature (QUADPACK over
-//! the hemisphere of L, and over the one of H) at the table's corners and
-//! edges, and against a commonly quoted table of Filament's DFG (11 points
-//! to 4 decimals, made with Filament's own estimator at 2¹⁶ Hammersley
-//! samples). Where that table and the integral differ in the 4th decimal
-//! (three entries, by up to 4.5·10⁻⁴), the table's numbers are the
-//! estimator's sampling error: the estimator reproduces them, and both
-//! adaptive quadratures agree with the integral.
-//!
-//! The corners are as accurate as the rest. At texel (0, 0) (μ = r = 1/256)
-//! the error is 2.8·10⁻⁹. At (0, 127) it is the 6.1·10⁻⁶ above. Off the
-//! table's centres, over 40 000 points spread over [2⁻¹⁴, 1]² (half of them
-//! log-spaced towards [`MIN_ARGUMENT`]), the worst difference from the finer
-//! run is 8.5·10⁻⁶ (μ = 1.9·10⁻⁴, r = 0.99): the rule is within 10⁻⁵ of the
-//! integral everywhere it accepts.
-//!
-//! Stored as f32, the values keep that accuracy. As f16 (the EXR writer's
-//! [`ExrPrecision::F16`](crate::image::io::ExrPrecision::F16), or
-//! [`DfgTable::multiscatter_f16_bits`]) they are rounded to 11 significant
-//! bits, a relative 2⁻¹¹ ≈ 4.9·10⁻⁴.
+//! Every texel of the 128² table is within 10⁻⁴ of the same rule run with
+//! four times the points on every panel (a test holds it). Tests also check
+//! the rule against the closed forms at α → 0 and α = 1, against adaptive
+//! quadrature over the hemispheres of L and of H, and against a commonly
+//! quoted 4-decimal table of Filament's DFG; where that table differs from
+//! the integral in its 4th decimal, the difference is the sampling error
+//! of the Hammersley estimator it was made with. Stored as f16
+//! ([`ExrPrecision::F16`](crate::image::io::ExrPrecision::F16),
+//! [`DfgTable::multiscatter_f16_bits`]) the values are rounded to a
+//! relative 2⁻¹¹. The measured errors are in `docs/lighting.md`; the
+//! criterion bench `dfg` in `envmap-bench` times the table.
 //!
 //! # Sizes and arguments
 //!
@@ -172,16 +134,6 @@
 //! argument. The bilinear lookups clamp to the table's outermost texels
 //! (on [`DfgGrid::Edges`], 0 and 1). An edges table needs at least 2 × 2
 //! texels.
-//!
-//! # Speed
-//!
-//! About 300 integrand evaluations per texel on average. A texel's nodes are
-//! gathered first and then evaluated in one loop, four at a time
-//! (`wide::f64x4`); the cosines of the partial region's φ nodes come from a
-//! polynomial, not the library. What depends on μ only is computed once per
-//! column, and rows run in parallel (rayon). The criterion bench `dfg` in
-//! `envmap-bench` times the 128² table. The result does not depend on the
-//! number of threads.
 
 use std::sync::atomic::AtomicBool;
 
@@ -501,7 +453,28 @@ struct Column {
     partial: Vec<TauPanel>,
 }
 
-/// A quadrature rule: its parameters and tables.
+/// A quadrature rule: its parameters and tables. On each region of the
+/// module docs' τ axis:
+///
+/// * **Full region.** 8 Gauss points in ξ below min(τ₁, ln α) (the
+///   φ-average is smooth in ξ there), then τ panels of width at most 2; the
+///   one next to τ₁ has its nodes gathered towards it (τ = τ₁ − h·u²)
+///   because the pole and branch points of V_HC come within about α/μ of
+///   the real τ axis there. In φ, the midpoint rule over the whole period,
+///   which converges geometrically for a periodic integrand analytic in
+///   cos φ.
+/// * **Partial region.** At least two τ panels of width at most 2; φₘ has a
+///   square-root singularity at τ₁ and τ₂, which τ = τ₁ + h·u²
+///   (τ = τ₂ − h·u²) on the end panels removes. In φ, Gauss panels graded
+///   geometrically towards φₘ, because the same singularities lie just
+///   beyond it.
+/// * **Skipping.** A τ panel, or a φ layer, is skipped when a bound on its
+///   contribution is below 10⁻¹⁰: the largest density on it times
+///   V' ≤ 2√(1 + t²)/√(μ²(1 − α²) + α²) times its width.
+///
+/// A texel's nodes are gathered first and evaluated four at a time
+/// (`wide::f64x4`), what depends on μ only once per column, and rows run in
+/// parallel.
 #[derive(Clone, Debug)]
 struct Rule {
     p: Params,
@@ -785,8 +758,7 @@ impl Rule {
 /// The split-sum `(scale, bias)` at μ = N·V and perceptual roughness `r`,
 /// in f64: `scale = E[(1 − Fc)·V']`, `bias = E[Fc·V']` with the
 /// height-correlated Smith visibility. The [module docs](self) give the
-/// integral, the quadrature and its accuracy (6.1·10⁻⁶ at worst over the
-/// 128² table's texel centres).
+/// integral, the quadrature and its accuracy.
 ///
 /// μ and `r` are clamped into [[`MIN_ARGUMENT`], 1]. A NaN argument gives
 /// `(NaN, NaN)`. The multiscatter pair is `(bias, scale + bias)`.
@@ -1238,8 +1210,7 @@ mod tests {
 
     /// α = 1 (r = 1): the height-correlated albedo has the closed form
     /// scale + bias = 1 − μ·ln(1 + 1/μ). Asserted to the stated accuracy
-    /// (10⁻⁵) at every texel centre of a 128² and of a 1024² table's row;
-    /// measured: within 1.2·10⁻⁶.
+    /// (10⁻⁵) at every texel centre of a 128² and of a 1024² table's row.
     #[test]
     fn rough_limit_is_the_closed_form() {
         for size in [128u32, 1024] {
@@ -1262,11 +1233,9 @@ mod tests {
     }
 
     /// α → 0: scale + bias → 1 and bias → (1 − μ)⁵. At r = 2⁻¹⁴ (α = 2⁻²⁸)
-    /// both hold to 10⁻⁸ at every texel centre of the 128² table's row
-    /// (measured: 5.3·10⁻⁹). The table's own top row (r = 1/256,
-    /// α = 1.5·10⁻⁵) is within 2·10⁻⁵ of the limit (measured: 9.9·10⁻⁶, at
-    /// μ = 1/256, which is the integral's own distance from the limit there:
-    /// the adaptive reference agrees with the rule to 2.9·10⁻⁹).
+    /// both hold to 10⁻⁸ at every texel centre of the 128² table's row. The
+    /// table's own top row (r = 1/256, α = 1.5·10⁻⁵) is within 2·10⁻⁵ of the
+    /// limit: the integral itself is that far from it there, not the rule.
     #[test]
     fn smooth_limit_is_the_closed_form() {
         for i in 0..128 {
@@ -1283,9 +1252,7 @@ mod tests {
 
     /// The rule against adaptive quadrature of the exact integral, at the
     /// reference table's points and at the 128² table's corners and edges,
-    /// to the stated accuracy (10⁻⁵). Measured: at worst 6.1·10⁻⁶, at
-    /// (μ, r) = (1/256, 255/256); 2.9·10⁻⁹ at (1/256, 1/256); 1.4·10⁻⁶ or
-    /// less at the reference table's points.
+    /// to the stated accuracy (10⁻⁵).
     #[test]
     fn matches_adaptive_quadrature() {
         for &(mu, r, rs, rb) in HEMISPHERE_OF_L.iter().chain(&HEMISPHERE_OF_H) {
@@ -1329,11 +1296,9 @@ mod tests {
 
     /// The convergence check: the 128² table against the same rule with
     /// four times the points on every panel (and the skipping and grading
-    /// thresholds at 10⁻¹⁴). Measured: worst 6.1·10⁻⁶, at texel (0, 127)
-    /// (μ = 1/256, r = 255/256); the finer run itself agrees with one at
-    /// eight times the points to 9.2·10⁻¹¹. Asserted: below 10⁻⁴ at every
-    /// texel (a debug build checks every 8th row and column and the last
-    /// ones, the release build all of them).
+    /// thresholds at 10⁻¹⁴): below 10⁻⁴ at every texel (a debug build checks
+    /// every 8th row and column and the last ones, the release build all of
+    /// them).
     #[test]
     fn finer_run_agrees_within_1e_4() {
         let size = 128;
@@ -1361,8 +1326,7 @@ mod tests {
     }
 
     /// Corners beyond the 128² table, down to [`MIN_ARGUMENT`] (the
-    /// centres of a 4096² table are at 2⁻¹³ and above). Measured: worst
-    /// 7.8·10⁻⁶, at μ = 2⁻¹³, r = 1.
+    /// centres of a 4096² table are at 2⁻¹³ and above), to the same 10⁻⁴.
     #[test]
     fn small_arguments_converge() {
         let coarse = Rule::new(Params::STANDARD);
@@ -1407,7 +1371,7 @@ mod tests {
     /// On the edges grid the first and last rows and columns are at 0 and
     /// 1: roughness 1 and N·V = 1 read the integral there (α = 1:
     /// scale + bias = 1 − μ·ln(1 + 1/μ), 1 − ln 2 head-on), where the texel
-    /// centres of the same size read it at 1 − ½/size, 3.1 % too high
+    /// centres of the same size read it at 1 − ½/size, 2 to 4 % too high
     /// head-on for 64².
     #[test]
     fn the_edges_grid_reads_exactly_at_its_edges() {

@@ -256,8 +256,8 @@ fn ask_for_both(r0: &[f32], r1: &[f32], at: usize) {
 /// Both rows are asked for [`HALVING_AHEAD`] floats ahead of the texels
 /// being made (the first that far at once): rows of a cube face are short
 /// streams (12 KiB for 1024 texels) that the processor's own prefetching
-/// is slow to pick up, and without this, halving a 6 × 1024² cube waits
-/// on memory for most of its time (a fifth of it saved, two threads).
+/// is slow to pick up, and without this, halving a cube waits on memory
+/// for most of its time.
 /// Near the end of the rows, the asking goes on into `next`, the two rows
 /// (flattened) that the row made after this one reads, so that its start
 /// does not wait either (empty where there is none).
@@ -748,10 +748,10 @@ impl Bordered {
             | q.u.simd_ne(q.u).to_bitmask()
             | q.v.simd_ne(q.v).to_bitmask()
             | !lanes;
-        // A plain loop, not `array::from_fn`: the compiler has been seen to
-        // leave from_fn's per-lane closure out of line here (a call per
-        // lane, the sampled levels 40–60 % slower) when the code around
-        // the caller changed.
+        // A plain loop, not `array::from_fn`: the compiler may leave
+        // from_fn's per-lane closure out of line here (a call per lane, the
+        // sampled levels much slower) when the code around the caller
+        // changes.
         let mut out = [f32x4::ZERO; 8];
         for (k, o) in out.iter_mut().enumerate() {
             if bad >> k & 1 == 0 {

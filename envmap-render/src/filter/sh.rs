@@ -60,20 +60,12 @@
 //! ([`Sh9::project_detailed`]); nothing NaN comes out. (A bake replaces
 //! them by black before this step already.)
 //!
-//! Measured (unit tests): against the plain f64 sum over every texel (the
-//! scalar core's direction taken to canonical axes in f64, the basis there),
-//! over 13 representations and frames (latlong z-up, y-up and 18 wide;
-//! cross, vertical cross with its turned face, 17-texel strip; both
-//! octahedral maps, both sphere maps, paraboloid, angular, tennisball) and a
-//! smooth map with and without a sun 50 000 times as bright: worst
-//! **3.4·10⁻⁷ × |L00|** (sphere map 100², the sun, L2−1), against the
-//! 10⁻⁵ required. The sum itself is a midpoint rule over texels: a constant
-//! map gives L00 = 2√π·L to 10⁻⁷ and the other coefficients 0 to 4·10⁻⁹ on
-//! the cube (by its symmetry), to 1.4·10⁻⁵ × L00 on a 512 × 256 latlong
-//! (Y20); the upper-hemisphere step (L = 1 for z > 0, on a row boundary)
-//! gives L00 = √π exactly and L10 = √(3π)/2 low by the midpoint rule's
-//! relative Δθ²/8 (7.5·10⁻⁵ at 128 rows; the others ≤ 10⁻⁴), so
-//! E(θ) = π(1 + cos θ)/2 within 1.7·10⁻⁴.
+//! Tests hold the sum within 10⁻⁵ × |L00| of the plain f64 sum over every
+//! texel (the scalar core's direction taken to canonical axes in f64), over
+//! 13 representations and frames and a smooth map with and without a sun.
+//! The sum itself is a midpoint rule over texels: on the upper-hemisphere
+//! step, L10 = √(3π)/2 comes out low by the rule's relative Δθ²/8. The
+//! measured errors are in `docs/lighting.md`.
 //!
 //! # Frames
 //!
@@ -82,8 +74,8 @@
 //! reflections): band 0 is kept; band 1 is the vector a = (L11, L1−1, L10)
 //! of f₁ = Y1·a·d, and becomes Mᵀa; band 2 is the traceless symmetric
 //! matrix Q of f₂ = dᵀQd (on the sphere 3z² − 1 = 2z² − x² − y²), and
-//! becomes MᵀQM. No fitting, no sampling; measured against f(M·d) at 500
-//! directions: 7.8·10⁻¹⁶.
+//! becomes MᵀQM. No fitting, no sampling: a test holds it against f(M·d)
+//! to rounding.
 //!
 //! **The y-up frame.** [`Sh9::to_y_up`] = `in_frame(Frame::Y_UP_RH)`: the
 //! GL world (y up, right-handed; envmap's `World::YUp`, the axes of every
@@ -106,18 +98,13 @@
 //! ```
 //!
 //! (Filament `libs/ibl/src/CubemapSH.cpp`, `preprocessSHForShader`.) The
-//! axes are those of envmap's cube files, which are `cmgen --no-mirror`'s
-//! (measured, peers notes §1); cmgen's default mirroring negates x, which
-//! flips sh3, sh4 and sh7. Measured against cmgen 1.9.25 itself
-//! (`tests/irradiance.rs`, `ENVMAP_PEERS=1`; `cmgen --no-mirror
-//! --sh-window=no --sh-shader` on a 2048 × 1024 float EXR envmap wrote):
-//! every one of the 9 × 3 values agrees within **1.4·10⁻³ × sh0** at
-//! `--size=256` and 1.0·10⁻³ at `--size=64`, on a smooth map and on a
-//! band-limited one, signs and axes included. cmgen projects its own cube,
-//! filled from nearest input texels shifted by up to one texel (a turn of
-//! up to 2π/2048 = 3.1·10⁻³ rad), which is what the difference is. On an
-//! `.hdr` file cmgen reads every value up to half an RGBE step (≤ 1/256)
-//! brighter than envmap does (Radiance decodes (m + ½)·2^(e − 136)): 4.5·10⁻³.
+//! axes are those of envmap's cube files, which are `cmgen --no-mirror`'s;
+//! cmgen's default mirroring negates x, which flips sh3, sh4 and sh7.
+//! `tests/irradiance.rs` (`ENVMAP_PEERS=1`) compares it with cmgen's own
+//! output. The two differ slightly because cmgen projects its own cube,
+//! filled from nearest input texels shifted by up to one texel, and because
+//! it decodes an `.hdr` value up to half an RGBE step brighter than envmap
+//! does (Radiance's (m + ½)·2^(e − 136)).
 //!
 //! # Deringing
 //!
@@ -133,21 +120,14 @@
 //! still non-negative), to 10⁻⁶ relative. The minimum over the sphere
 //! ([`Sh9::irradiance_minimum`]) is searched over 1024 Fibonacci points
 //! (≈ 0.11 rad apart), the 8 lowest refined by Newton's method on the sphere
-//! (E is a quadratic there: E(n) = c + b·n + nᵀQn). Measured: on 120 random
-//! coefficient sets never above the minimum of 2·10⁵ Fibonacci points and
-//! at most 3.5·10⁻⁵ below it (the dense grid's own error); a zonal closed
-//! form to 10⁻¹². On a sun 50 000 times the sky the SH9 minimum is −3.0
-//! (the mean 27.7): the window found has cutoff 3.58, and its minimum over
-//! 10⁵ directions is ≥ 0.
+//! (E is a quadratic there: E(n) = c + b·n + nᵀQn); tests check it against
+//! a dense Fibonacci grid and a zonal closed form.
 //!
 //! cmgen 1.9.25 windows by default (`--sh-window=auto`) and windows every
-//! map, needed or not: its bisection runs between 3 and 13 in 16 steps of
-//! at most 0.1, per channel, keeping the smallest. Measured on smooth and
-//! band-limited maps that need no window: the ratios of its windowed to its
-//! plain coefficients are band 1 × 0.96036 and band 2 × 0.84978, a sinc⁴
-//! window of cutoff 12.7675 (the second factor is the window's at the
-//! cutoff the first gives, to 10⁻⁵). `ShWindow::Sinc4 { cutoff: 12.7675 }`
-//! reproduces cmgen's default on such maps.
+//! map, needed or not: its bisection runs between 3 and 13, per channel,
+//! keeping the smallest. On maps that need no window its windowed and plain
+//! coefficients give a sinc⁴ window of cutoff [`CMGEN_SMOOTH_CUTOFF`], so
+//! `ShWindow::Sinc4 { cutoff: 12.7675 }` reproduces cmgen's default there.
 //!
 //! # Irradiance maps
 //!
@@ -164,39 +144,25 @@
 //! black and non-finite source texels skipped (the latter counted). Level 0
 //! is the definition itself; a coarser level replaces each texel's
 //! radiance by its mean over a larger texel, an error that shrinks as the
-//! texel's angle squared (measured: ×¼ per level). [`ExactLevel::Auto`]
-//! decides by convergence: starting at the coarsest level with at least
-//! [`AUTO_START_TEXELS`] texels, it convolves each next finer level until
-//! two successive ones differ by at most the tolerance (relative RMS over
-//! the map, [`relative_rms`]; default [`DEFAULT_EXACT_TOLERANCE`] = 10⁻³,
-//! under half-float precision, 4.9·10⁻⁴, once the finer level's error is
-//! the quarter to third of that difference measured), or reaches level 0.
-//! The finer of the two is returned, with the difference. Each finer level
-//! costs four times the last, so the search costs about 4/3 of its result.
-//! Measured against the full-resolution convolution (32² cube): for
-//! smooth() on a 4096 × 2048 latlong it takes 128 × 64 (level 5): error
-//! 7.2·10⁻⁵, 12.6 ms, against 28 s for level 0 (levels 6…1: 2.9·10⁻⁴,
-//! 7.2·10⁻⁵, 1.8·10⁻⁵, 4.3·10⁻⁶, 1.0·10⁻⁶, 2.1·10⁻⁷); on a 512 × 256
-//! latlong, 6.7·10⁻⁵ for smooth(), 1.5·10⁻⁴ for the hemisphere step, and
-//! level 0 itself for a map with a sun (which converges more slowly).
+//! texel's angle squared. [`ExactLevel::Auto`] decides by convergence:
+//! starting at the coarsest level with at least [`AUTO_START_TEXELS`]
+//! texels, it convolves each next finer level until two successive ones
+//! differ by at most the tolerance (relative RMS over the map,
+//! [`relative_rms`]; default [`DEFAULT_EXACT_TOLERANCE`] = 10⁻³, under
+//! half-float precision, 4.9·10⁻⁴, once the finer level's error is a
+//! fraction of that difference), or reaches level 0. The finer of the two
+//! is returned, with the difference. Each finer level costs four times the
+//! last, so the search costs about 4/3 of its result.
 //!
-//! Measured (`tests/irradiance.rs`), the irradiance cube from SH9 against the
-//! exact convolution over a 512 × 256 latlong's every texel, relative RMS:
-//! **0.000 %** for a band-limited map (quadratic in the direction: no
-//! truncation) and for the hemisphere step (truncation exactly zero:
-//! E = π(1 + cos θ)/2 is SH9); **0.139 %** for smooth(), which is its SH9
-//! truncation error (< 0.5 %, as required); 8.7 % for the map with a sun,
-//! which SH9 cannot represent (use the exact mode there).
+//! The irradiance cube from SH9 is within 0.5 % (relative RMS) of the exact
+//! convolution for a smooth map, and exact for a band-limited one or the
+//! hemisphere step (E = π(1 + cos θ)/2 is SH9); SH9 cannot hold a sun, for
+//! which the exact mode is there (`tests/irradiance.rs`).
 //!
 //! # Speed
 //!
-//! `envmap-bench/benches/sh.rs`, criterion medians, native build
-//! (`-C target-cpu=native`), one run on an otherwise idle 2-core machine
-//! (2026-12-01): SH9 of a 4096 × 2048 latlong (100 MB of f32 RGB)
-//! **13.9 ms** on 2 threads, 21.1 ms on 1, beside 22.0 ms for a plain copy
-//! of its bytes in the same run; of a 6 × 1024² cube 37.2 ms (2 threads);
-//! the 32² irradiance cube from the SH 115 µs; by exact convolution with
-//! the automatic level 6.9 ms. See `docs/lighting.md`.
+//! `envmap-bench/benches/sh.rs` times the projection and both irradiance
+//! maps; the figures are in `docs/lighting.md`.
 
 use std::f64::consts::PI;
 
@@ -1851,7 +1817,7 @@ mod tests {
         assert!((Y2 - (15.0 / (4.0 * PI)).sqrt()).abs() < 1e-15);
         assert!((Y20 - (5.0 / (16.0 * PI)).sqrt()).abs() < 1e-16);
         assert!((Y22 - (15.0 / (16.0 * PI)).sqrt()).abs() < 1e-16);
-        // R&H's irradiance constants (ibl.md §5) are Â_l times the basis,
+        // R&H's quadratic-form constants c1…c5 are Â_l times the basis,
         // to the six digits printed (c3 = 0.743125 is 0.7431239 rounded up
         // by one in its last digit: 1.2e-6).
         let c = [0.429043, 0.511664, 0.743125, 0.886227, 0.247708];
@@ -2319,7 +2285,7 @@ mod tests {
         assert_eq!(sinc4_window(1, f64::INFINITY), 1.0);
         assert_eq!(sinc4_window(1, f64::NAN), 0.0);
         assert_eq!(sinc4_window(1, -2.0), 0.0);
-        // cmgen 1.9.25's default window on the test maps of peers.md §2:
+        // cmgen 1.9.25's default window on two maps that need none:
         // band 1 × 0.96036 (upper hemisphere 0.480082/0.499898), band 2 ×
         // 0.84977 (1 + xy: 0.212650/0.250242). The first gives the cutoff,
         // 12.7673; the window's shape must then give the second.

@@ -512,18 +512,18 @@ pub fn exact_level(p: &Pyramid, roughness: f32) -> usize {
 
 /// [`split_bright`] takes texels above this many times the map's mean (by
 /// the largest absolute channel, solid-angle weighted) as well as above its
-/// 99th percentile. Measured on the 18 real HDRIs at a 512² chain (denser
-/// than their 512 × 256 texels, where the sampled levels meet lamps and
-/// windows texel by texel): the threshold 16 × P99 alone left 11 of them
-/// over 1 % RMS at levels 1–3 (hall 2.8 %); P99 and 4 × the mean brings all
-/// 18 within 0.95 %; the mean keeps a smooth sky, whose 99th percentile is
-/// no outlier, from being split for nothing.
+/// 99th percentile. On real HDRIs baked at a chain denser than their
+/// texels (where the sampled levels meet lamps and windows texel by
+/// texel), a threshold on the percentile alone (16 × P99) left lamps to
+/// the sampling and many maps outside the 1 % bound; the percentile and 4 ×
+/// the mean bring them within it, and the mean keeps a smooth sky, whose
+/// 99th percentile is no outlier, from being split for nothing.
 pub const SPLIT_MEAN: f64 = 4.0;
 
 /// The split texels are cut into parts at most 1/`PART` of the narrowest
-/// level's lobe across ([`split_bright`]'s `pitch`): as accurate as 1/8
-/// or 1/16 on the real HDRIs measured ([`crate::filter::bright_tree`] is
-/// what sums them, near each lobe part by part).
+/// level's lobe across ([`split_bright`]'s `pitch`): finer parts (1/8,
+/// 1/16) gain nothing on real HDRIs ([`crate::filter::bright_tree`] is what
+/// sums them, near each lobe part by part).
 pub const PART: f64 = 4.0;
 
 /// Per-sample values shared by every output texel of a sampled level.
@@ -870,7 +870,7 @@ mod tests {
             .map(|k| RoughnessRule::Linear.roughness(k, n))
             .collect();
         assert_eq!(lin, [0.0, 0.25, 0.5, 0.75, 1.0]);
-        // Filament at 5 levels: r = 0, 0.134, 0.293, 0.5, 1 (ibl.md §2).
+        // Filament at 5 levels: r = 0, 0.134, 0.293, 0.5, 1 (lod = r(2 − r)·4 inverted).
         let f: Vec<f32> = (0..n)
             .map(|k| RoughnessRule::Filament.roughness(k, n))
             .collect();

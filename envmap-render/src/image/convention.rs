@@ -11,8 +11,7 @@
 //!   engine and peer tool reads cube files in; [`World::YUpLh`] is the
 //!   left-handed y-up world of Direct3D and Unity (z negated); and
 //!   [`World::ZUp`] is envmap's canonical frame, the seed's, where every
-//!   mapping's formula is applied to the directions as given (the behaviour
-//!   before file conventions existed);
+//!   mapping's formula is applied to the directions as given;
 //! * a [`Convention`]: for each mapping, the axes its formulas are applied in
 //!   within that world. Every convention keeps the cube in the GL world (the
 //!   GL face table applied to (x, y, z) as given, +y face up); they differ in
@@ -55,7 +54,7 @@ pub enum World {
     YUpLh,
     /// envmap's canonical frame (z up, right-handed; seed `000`): every
     /// mapping's formula is applied to the directions as given, whatever the
-    /// convention (the behaviour before file conventions existed).
+    /// convention.
     ZUp,
 }
 

@@ -108,12 +108,11 @@ pub enum ExrPrecision {
     F16,
 }
 
-/// How OpenEXR output is compressed. Measured on this project's machines
-/// (`docs/performance.md`): on f32 radiance, RLE shrinks only runs of equal
-/// values (the empty half of a cube cross: half the file, at about twice
-/// the time of an uncompressed write) and the other lossless codecs save
-/// 25–55 % on a real photograph at 10–20 times the time; on f16, RLE and
-/// ZIP shrink smooth maps several times over.
+/// How OpenEXR output is compressed. On f32 radiance, RLE shrinks only
+/// runs of equal values (the empty half of a cube cross) and the other
+/// lossless codecs save a part of a real photograph at many times the time
+/// of an uncompressed write; on f16, RLE and ZIP shrink smooth maps several
+/// times over. Sizes and times: `docs/performance.md`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ExrCompression {
     /// The default: for f32 samples, uncompressed scan lines (written and
@@ -121,10 +120,10 @@ pub enum ExrCompression {
     /// empty cells (the corners of a cube cross) are RLE-compressed, which
     /// takes their empty part to a few bytes: the file is then an RLE file
     /// whose other lines are stored raw (as OpenEXR stores any block a
-    /// codec does not shrink): half the size of an uncompressed cross, for
-    /// 1.4–1.5× its save time when the page cache is warm (less time
-    /// in all when the kernel must find fresh pages for the file:
-    /// `docs/performance.md`). [`ExrCompression::Rle`] for f16 (lossless,
+    /// codec does not shrink): half the size of an uncompressed cross, for a
+    /// little more save time when the page cache is warm, and less when the
+    /// kernel must find fresh pages for the file (`docs/performance.md`).
+    /// [`ExrCompression::Rle`] for f16 (lossless,
     /// fast, and it does shrink half floats).
     #[default]
     Auto,
@@ -213,8 +212,8 @@ impl std::str::FromStr for ExrCompression {
 /// renamed into place. Every output is written to a temporary file and
 /// renamed, so an error, an interrupt or a crash of the program never
 /// leaves half a file; syncing also covers a crash of the whole machine
-/// (power loss), at the cost of waiting for the disk: about half a second
-/// for a 150 MB file on a virtual disk, more than the rest of a conversion.
+/// (power loss), at the cost of waiting for the disk, which for a large
+/// file can take longer than the rest of a conversion.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum SyncPolicy {
     /// The default: sync when the output replaces an existing file, so that

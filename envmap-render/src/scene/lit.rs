@@ -130,9 +130,9 @@ impl LevelBlend {
 }
 
 /// The DFG table's size in the maps [`LitEnvironment::bake`] makes (on the
-/// edges grid), the size of the tables engines ship: the split sum of a
-/// constant sky at roughness 1 is within 0.003 % RMS of its closed form
-/// over a sphere (64²: 0.010 %; `tests/split_sum.rs`).
+/// edges grid), the size of the tables engines ship: on the edges grid the
+/// split sum of a constant sky at roughness 1 then follows its closed form
+/// over a sphere (`tests/split_sum.rs`).
 pub const RENDER_DFG_SIZE: u32 = 128;
 
 /// The maps a split-sum render reads; see the [module docs](self).
@@ -488,8 +488,8 @@ fn split_sum(
 /// difference between a split-sum render and this one is what the chain
 /// (its levels, their sizes, the blend between them) and the DFG table
 /// cost, apart from the split sum's own approximation, which both share.
-/// Slow: an oracle integral per point (about a millisecond for a 512 × 256
-/// input); the measure the renders are held to.
+/// Slow: an oracle integral per point; the measure the renders are held
+/// to.
 #[must_use]
 pub fn exact_split_sum(
     oracle: &Oracle<'_>,
@@ -836,14 +836,13 @@ const NEAR_CAP: f64 = 12.0;
 /// each ring with one node per half texel of the source along it (8 to
 /// [`NEAR_ANGLES`]), offset by half a step from ring to ring (a
 /// one-texel sun between two nodes of a ring is what a coarser ring
-/// misses: 24 nodes per ring read 2.8 % RMS at roughness 0.07 on
-/// `sky.exr` where this reads 0.7 %). The denominator is the same
+/// misses). The denominator is the same
 /// sum for L = 1, so a constant map gives its constant; what is left out
 /// is the two tails' difference beyond the cap (under 1.3 % of a tail that
 /// holds (α/α₁)²·α₁²/(α₁² + (12α₁)²) < 0.7 % of the weight). At r → r₁,
 /// s → 1 and the cap's kernel vanishes: LD₁; at r → 0 the input at R.
 /// Costs up to NEAR_RADII × NEAR_ANGLES bilinear reads of the input per
-/// lookup (about 1 500 on a 512 × 256 map at roughness 0.1).
+/// lookup.
 #[derive(Debug)]
 struct NearField {
     /// Per node: cos θ and sin θ·(cos φ, sin φ), in R's frame.

@@ -50,21 +50,16 @@
 //!    its centre) or a latlong's poles get their own scale.
 //! 3. **Level** λ = log2(footprint / texel) − 1, at least 0 (the base),
 //!    blended trilinearly between ⌊λ⌋ and ⌊λ⌋ + 1. The −1: GL's isotropic
-//!    rule (λ = log2 of the larger footprint, no bias) over-blurs; against a
-//!    4 × 4-supersampled render of a mirror teapot (320 × 240, the sky
-//!    and the room as 512² and 1024² cubes), a bias of −1 scored best of
-//!    0, −0.5, −1 and −1.5 on every map, and beat the geometric mean of the
-//!    two chords (the footprint's area) at any bias from +0.5 to −1.5 by
-//!    0.2 to 0.7 dB. A level's
-//!    bilinear tap already spreads over two of its texels, so the pixel's
-//!    half-footprint is the size to match.
+//!    rule (λ = log2 of the larger footprint, no bias) over-blurs. Against a
+//!    4 × 4-supersampled render of a mirror teapot, a bias of −1 scored best
+//!    on every map tried, and the larger chord beat the geometric mean of
+//!    the two (the footprint's area) at every bias: a level's bilinear tap
+//!    already spreads over two of its texels, so the pixel's half-footprint
+//!    is the size to match.
 //!
-//! Measured (`cargo test --release -p envmap-cli --test mip --
-//! --nocapture`; PSNR of displayed values over the teapot's pixels, 1
-//! sample per pixel against 4 × 4 supersampling of plain bilinear lookups
-//! in the same map): the sky as a 512² cube from 26.5 to 31.7 dB, as a
-//! 1024² cube from 26.2 to 31.6 dB, the room as a 512² cube from 25.9 to
-//! 30.1 dB. What is left is mostly the silhouette's geometric aliasing,
+//! `cargo test --release -p envmap-cli --test mip -- --nocapture` measures
+//! the gain against that supersampled reference (`docs/cli.md` gives the
+//! figures). What is left is mostly the silhouette's geometric aliasing,
 //! which no texture filter touches.
 //!
 //! The pyramid is built for each render unless made beforehand
@@ -76,15 +71,15 @@
 //! parallel pass over the level above, written straight into its copy with
 //! a one-texel border (each but a disk map's; [`PreparedLevels::below`]: no
 //! level image made, none copied), which [`MipLevels`] keeps: renders from
-//! prebuilt levels copy nothing. Building them is the option's main cost, measured
+//! prebuilt levels copy nothing. Building them is the option's main cost, timed
 //! beside the plain render in the render bench (`envmap-bench`,
 //! `per-pixel-mip`, `per-pixel-mip-prebuilt`; `docs/performance.md`). The rest is
 //! kept small: eight lookups whose levels are all 0 (the background, the
 //! flatter parts) take the plain path, a level is read only on the lanes
 //! that use it, a pixel's footprint comes from its neighbours'
 //! directions on the same triangle where it has them, and the levels'
-//! logarithms are taken eight at a time (within 6·10⁻⁷ of a level of the
-//! f64 formula at worst, `lod8_levels_are_the_f64_formula`).
+//! logarithms are taken eight at a time (within 10⁻⁵ of a level of the
+//! f64 formula, `lod8_levels_are_the_f64_formula`).
 //! Per-vertex mode keeps seed `002`'s lookups (their artifacts are its
 //! point), [`Filter::Nearest`] stays nearest, and an analytic environment
 //! has no map to filter.
@@ -1087,8 +1082,8 @@ fn radiance(
 /// The light-sampling table of `env` for [`Shading::Reference`]: its
 /// luminance, as the reference sees it (through `filter` for a map), on a
 /// 1024 × 512 latitude-longitude grid ([`EnvSampling`]: cells of 0.35°, fine
-/// enough for the built-in sky's 1.2° sun). About a second for the
-/// built-in sky on two cores; make it once per environment.
+/// enough for the built-in sky's 1.2° sun). It evaluates the environment
+/// over the whole grid: make it once per environment.
 #[must_use]
 pub fn light_table(env: EnvSource<'_>, filter: Filter) -> EnvSampling {
     match env {
@@ -1619,9 +1614,9 @@ mod tests {
     /// or one, are those extrapolated on the triangle's plane at the
     /// pixel: a forward difference is the same difference made another way
     /// (to f32 rounding), a backward one differs by the surface's
-    /// curvature across one pixel (2.2 % of the footprint at worst here,
-    /// 0.03 of a level). Over a sphere's band, every pixel of each kind is
-    /// checked, and each kind occurs.
+    /// curvature across one pixel (a few per cent of the footprint here). Over a
+    /// sphere's band, every pixel of each kind is checked, and each kind
+    /// occurs.
     #[test]
     fn footprints_from_neighbours_are_the_extrapolated_ones() {
         let (w, y0) = (64, 24);

@@ -21,51 +21,29 @@
 //!
 //! Errors are measured against the `f64` function rounded to `f32`; ULP
 //! means the distance in representable `f32` values. Each function's
-//! documentation gives its reduction and the measured maximum error per
-//! tier. All functions are branch-free (masks and blends only) and work lane
-//! by lane: a NaN lane returns NaN and never changes another lane.
+//! documentation gives its reduction and its domain. All functions are
+//! branch-free (masks and blends only) and work lane by lane: a NaN lane
+//! returns NaN and never changes another lane.
 //!
 //! The polynomial coefficients are minimax fits made by the project's own
 //! Remez fitter ([`coeffs`] says how to regenerate them).
 //!
 //! # Measuring
 //!
-//! The errors quoted were printed by
+//! The worst error of every function and tier, and where it occurs, is
+//! printed by
 //!
 //! ```text
 //! ENVMAP_EXTENSIVE=1 cargo test -p envmap-tests --release --test approx_accuracy -- --nocapture
 //! ```
 //!
-//! which sweeps every `f32` of each reduced domain (about twenty minutes on
-//! two cores; without `ENVMAP_EXTENSIVE` every 1021st `f32`, a few seconds),
-//! on x86-64 both without and with `RUSTFLAGS="-C target-cpu=native"` (AVX2
-//! and FMA): the figures are the larger of the two builds, which differ by a
-//! few percent at most. The same test asserts the tier bounds.
-
-//! # Speed
-//!
-//! Median time for 4096 values (`cargo bench -p envmap-bench --bench approx
-//! -- --warm-up-time 1 --measurement-time 2`, a shared two-core x86-64
-//! machine, so a few percent of noise), in µs; `wide` is `wide`'s own
-//! `f32x8` function, `std` the scalar `f32` one in a plain loop:
-//!
-//! | build                | function | exact | fine | fast | wide | std  |
-//! |----------------------|----------|------:|-----:|-----:|-----:|-----:|
-//! | default (SSE2)       | atan     | 4.60  | 3.52 | 2.63 | 3.53 | 22.1 |
-//! |                      | atan2    | 7.17  | 5.33 | 4.39 | 6.32 | 61.8 |
-//! |                      | asin     | 4.08  | 3.12 | 2.74 | 3.71 | 23.8 |
-//! |                      | acos     | 4.41  | 3.69 | 3.36 | 4.43 | 25.1 |
-//! |                      | sin_cos  | 7.39  | 5.18 | 4.50 | 7.30 | 26.5 |
-//! | `target-cpu=native`  | atan     | 1.93  | 1.39 | 1.24 | 1.58 | 20.5 |
-//! | (AVX2, FMA)          | atan2    | 3.34  | 2.67 | 2.39 | 2.45 | 67.0 |
-//! |                      | asin     | 1.87  | 1.37 | 1.35 | 1.57 | 19.4 |
-//! |                      | acos     | 1.90  | 1.45 | 1.29 | 1.73 | 22.4 |
-//! |                      | sin_cos  | 2.57  | 1.74 | 1.89 | 2.85 | 25.8 |
-//!
-//! (`sin_cos` fine and fast are within the noise of each other in the
-//! native build; reruns gave 1.90 and 1.67.) Build with
-//! `RUSTFLAGS="-C target-cpu=native"` for AVX: `wide` picks SSE or AVX at
-//! compile time.
+//! which sweeps every `f32` of each reduced domain (without
+//! `ENVMAP_EXTENSIVE`, every 1021st `f32`), and asserts the tier bounds;
+//! both builds, with and without `RUSTFLAGS="-C target-cpu=native"` (AVX2
+//! and FMA), must meet them. The figures are in `docs/accuracy.md`, the
+//! speed of each tier (`cargo bench -p envmap-bench --bench approx`) in
+//! `docs/performance.md`. Build with `RUSTFLAGS="-C target-cpu=native"` for
+//! AVX: `wide` picks SSE or AVX at compile time.
 
 mod asin_acos;
 mod atan;
@@ -243,19 +221,9 @@ impl_tier!(Fast, "fast", ATAN_FAST, ASIN_FAST, SIN_COS_FAST);
 /// `x`): exact `x + x³·P(x²)` of degree 17, fine degree 13, fast degree 7.
 /// `atan(±0) = ±0`, `atan(±∞) = ±π/2` (exactly `f32` `π/2`), NaN stays NaN.
 ///
-/// Measured over every `f32` (both signs, every magnitude, `±∞`):
-///
-/// | tier  | max abs error (rad) | at x      | max ULP (unrounded) |
-/// |-------|---------------------|-----------|---------------------|
-/// | exact | 1.0e-7              | 1.569768  | 1 (1.46)            |
-/// | fine  | 4.0e-7              | 1.9963171 | 66                  |
-/// | fast  | 8.2e-5              | 1.3407844 | 13190               |
-///
-/// "Unrounded" is the error against the `f64` value in units of the `f32`
-/// spacing there. Printed by
-/// `ENVMAP_EXTENSIVE=1 cargo test -p envmap-tests --release --test
-/// approx_accuracy -- --nocapture atan::` (without the variable: every
-/// 1021st `f32`, a few seconds).
+/// Within the tier's bound over every `f32` (both signs, every magnitude,
+/// `±∞`); `ENVMAP_EXTENSIVE=1 cargo test -p envmap-tests --release --test
+/// approx_accuracy -- --nocapture atan::` prints the worst error per tier.
 #[inline]
 #[must_use]
 pub fn atan<T: Tier>(x: f32x8) -> f32x8 {
@@ -275,20 +243,11 @@ pub fn atan<T: Tier>(x: f32x8) -> f32x8 {
 /// `atan2(±∞, −∞) = ±3π/4`, `atan2(±∞, +∞) = ±π/4`, a NaN in either argument
 /// gives NaN.
 ///
-/// Measured over 400 000 angles × 14 radii from 10⁻⁴⁵ (denormal) to
-/// 3.4·10³⁸, every pair of binary exponents in `[−149, 127]` with random
-/// mantissas and signs, and every `f32` quotient `t` in `[0, 1]` as
-/// `(t, 1)`, `(1, t)`, `(t, −1)` and `(1, −t)` (4.3·10⁹ pairs):
-///
-/// | tier  | max abs error (rad) | at (y, x)                     | max ULP (unrounded) |
-/// |-------|---------------------|-------------------------------|---------------------|
-/// | exact | 1.7e-7              | (6.806672e-31, −7.325928e-31) | 2 (1.72)            |
-/// | fine  | 5.3e-7              | (0.9792793, −1)               | 66                  |
-/// | fast  | 8.2e-5              | (0.7458107, −1)               | 13190               |
-///
-/// Printed by `ENVMAP_EXTENSIVE=1 cargo test -p envmap-tests --release
-/// --test approx_accuracy -- --nocapture atan2::`. For comparison `wide`'s
-/// own `f32x8::atan2` reaches 3 ULP (3.09 unrounded) on random arguments.
+/// Within the tier's bound over angles × radii from 10⁻⁴⁵ (denormal) to
+/// 3.4·10³⁸, every pair of binary exponents in `[−149, 127]`, and every
+/// `f32` quotient `t` in `[0, 1]` as `(t, 1)`, `(1, t)`, `(t, −1)` and
+/// `(1, −t)`; `ENVMAP_EXTENSIVE=1 cargo test -p envmap-tests --release
+/// --test approx_accuracy -- --nocapture atan2::` prints the worst error.
 #[inline]
 #[must_use]
 pub fn atan2<T: Tier>(y: f32x8, x: f32x8) -> f32x8 {
@@ -311,18 +270,11 @@ pub fn atan2<T: Tier>(y: f32x8, x: f32x8) -> f32x8 {
 /// where `atan2(√y2, x)` takes a square root before the division. The exact
 /// tier evaluates `atan2(√y2, x)`.
 ///
-/// Measured against `f64` `atan2(√y2, x)` over 20 001 polar angles × 10
-/// radii from 2⁻⁴⁰ to 2⁴⁰ and 6 400 pairs of unrelated magnitudes, with
-/// `x2` rounded to `f32` (206 410 points):
-///
-/// | tier  | max abs error (rad) | at (y2, x)                       | max ULP (unrounded) |
-/// |-------|---------------------|----------------------------------|---------------------|
-/// | exact | 1.7e-7              | (9.019723e-25, −7.042464e-13)    | 2 (1.86)            |
-/// | fine  | 4.9e-7              | (2.8210822e-25, −1.0563271e-12)  | (absolute bound)    |
-/// | fast  | 8.2e-5              | (4.999589e-25, −9.476161e-13)    | (absolute bound)    |
-///
-/// Printed by `cargo test -p envmap-tests --release --test approx_accuracy
-/// -- --nocapture atan2_sqrt`.
+/// Within the tier's bound against `f64` `atan2(√y2, x)` over polar angles
+/// × radii from 2⁻⁴⁰ to 2⁴⁰ and pairs of unrelated magnitudes, with `x2`
+/// rounded to `f32` (the fine and fast tiers' bounds are absolute);
+/// `cargo test -p envmap-tests --release --test approx_accuracy --
+/// --nocapture atan2_sqrt` prints the worst error.
 #[inline]
 #[must_use]
 pub fn atan2_sqrt<T: Tier>(y2: f32x8, x: f32x8, x2: f32x8) -> f32x8 {
@@ -337,16 +289,9 @@ pub fn atan2_sqrt<T: Tier>(y2: f32x8, x: f32x8, x2: f32x8) -> f32x8 {
 /// degree 7, fast degree 5, all fitted on `[0, 1/2]`. `asin(±0) = ±0`,
 /// `asin(±1) = ±π/2`, `|x| > 1` and NaN give NaN.
 ///
-/// Measured over every `f32` of `[−1, 1]`:
-///
-/// | tier  | max abs error (rad) | at x      | max ULP (unrounded) |
-/// |-------|---------------------|-----------|---------------------|
-/// | exact | 9.2e-8              | 0.8591103 | 1 (1.19)            |
-/// | fine  | 9.8e-7              | 0.5002502 | 121                 |
-/// | fast  | 1.7e-5              | 0.5000038 | 1906                |
-///
-/// Printed by `ENVMAP_EXTENSIVE=1 cargo test -p envmap-tests --release
-/// --test approx_accuracy -- --nocapture asin::`.
+/// Within the tier's bound over every `f32` of `[−1, 1]`;
+/// `ENVMAP_EXTENSIVE=1 cargo test -p envmap-tests --release --test
+/// approx_accuracy -- --nocapture asin::` prints the worst error per tier.
 #[inline]
 #[must_use]
 pub fn asin<T: Tier>(x: f32x8) -> f32x8 {
@@ -361,16 +306,9 @@ pub fn asin<T: Tier>(x: f32x8) -> f32x8 {
 /// root. Same polynomials as [`asin`](fn@asin) (exact degree 11, fine 7,
 /// fast 5). `acos(1) = +0`, `acos(−1) = π`, `|x| > 1` and NaN give NaN.
 ///
-/// Measured over every `f32` of `[−1, 1]`:
-///
-/// | tier  | max abs error (rad) | at x       | max ULP (unrounded) |
-/// |-------|---------------------|------------|---------------------|
-/// | exact | 1.6e-7              | −0.5008099 | 1 (1.15)            |
-/// | fine  | 1.1e-6              | −0.5002691 | 121                 |
-/// | fast  | 1.7e-5              | −0.5000027 | 1903                |
-///
-/// Printed by `ENVMAP_EXTENSIVE=1 cargo test -p envmap-tests --release
-/// --test approx_accuracy -- --nocapture acos::`.
+/// Within the tier's bound over every `f32` of `[−1, 1]`;
+/// `ENVMAP_EXTENSIVE=1 cargo test -p envmap-tests --release --test
+/// approx_accuracy -- --nocapture acos::` prints the worst error per tier.
 #[inline]
 #[must_use]
 pub fn acos<T: Tier>(x: f32x8) -> f32x8 {
@@ -398,20 +336,11 @@ pub fn acos<T: Tier>(x: f32x8) -> f32x8 {
 /// reduced argument is clamped to `[−0.786, 0.786]`, so `(sin, cos)` always
 /// stays within the polynomials' error of the unit circle.
 ///
-/// Measured over every `f32` of `[−6433, 6433]`:
-///
-/// | tier  | function | max abs error (rad) | at x      | max ULP (unrounded) |
-/// |-------|----------|---------------------|-----------|---------------------|
-/// | exact | sin      | 6.4e-8              | 238.02072 | 2 (1.54)            |
-/// | exact | cos      | 6.5e-8              | 2666.369  | 2 (1.54)            |
-/// | fine  | sin      | 6.6e-7              | 6097.1235 | —                   |
-/// | fine  | cos      | 6.6e-7              | 3569.7112 | —                   |
-/// | fast  | sin      | 1.24e-5             | 5952.5327 | —                   |
-/// | fast  | cos      | 1.25e-5             | 5734.1924 | —                   |
-///
-/// (ULP is meaningless for the fine and fast tiers next to the zeros of
-/// `sin` and `cos`.) Printed by `ENVMAP_EXTENSIVE=1 cargo test -p
-/// envmap-tests --release --test approx_accuracy -- --nocapture sin:: cos::`.
+/// Within the tier's bound over every `f32` of `[−6433, 6433]` (ULP is
+/// meaningless for the fine and fast tiers next to the zeros of `sin` and
+/// `cos`: their bounds are absolute); `ENVMAP_EXTENSIVE=1 cargo test -p
+/// envmap-tests --release --test approx_accuracy -- --nocapture sin:: cos::`
+/// prints the worst error per tier.
 #[inline]
 #[must_use]
 pub fn sin_cos<T: Tier>(x: f32x8) -> (f32x8, f32x8) {
