@@ -12,7 +12,7 @@ use envmap_render::image::layout::Layout;
 use envmap_render::image::Representation;
 use envmap_render::scene::render::Mode;
 
-pub(crate) type CliResult = Result<(), String>;
+pub(crate) type CliResult = Result<(), crate::Failure>;
 
 pub(crate) fn parse_vec3(s: &str) -> Result<Vec3, String> {
     let v: Result<Vec<f32>, _> = s.split(',').map(|t| t.trim().parse::<f32>()).collect();

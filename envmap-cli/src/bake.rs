@@ -134,7 +134,7 @@ fn parse_container(s: &str) -> Result<Container, String> {
 }
 
 /// The preset of `a.target` with every flag given laid over it.
-fn plan(a: &BakeArgs) -> Result<Preset, String> {
+fn plan(a: &BakeArgs) -> Result<Preset, crate::Failure> {
     let convention = a.convention.unwrap_or_default();
     let gl = FileAxes::Convention(convention, a.to_frame);
     let base = match a.target {
@@ -160,7 +160,8 @@ fn plan(a: &BakeArgs) -> Result<Preset, String> {
         return Err(format!(
             "--zstd: only KTX2 has supercompression (the container is {})",
             container.extension()
-        ));
+        )
+        .into());
     }
     let mut p = base;
     p.size = a.size.unwrap_or(p.size);
@@ -208,7 +209,10 @@ fn parse_scale(s: &str) -> Result<IrradianceScale, String> {
 }
 
 /// The source: a file or a built-in.
-fn source(a: &BakeArgs, stop: &AtomicBool) -> Result<(EnvImage, String, Vec<PathBuf>), String> {
+fn source(
+    a: &BakeArgs,
+    stop: &AtomicBool,
+) -> Result<(EnvImage, String, Vec<PathBuf>), crate::Failure> {
     if let Ok(b) = a.input.parse::<Builtin>() {
         if a.env_size == 0 || a.env_size > 4096 {
             return Err("--env-size must be between 1 and 4096".into());
@@ -218,7 +222,7 @@ fn source(a: &BakeArgs, stop: &AtomicBool) -> Result<(EnvImage, String, Vec<Path
             .atlas
             .image_size_for_cell_width(a.env_size)
             .ok_or("--env-size: no such cube")?;
-        let img = b.image(repr, w, h).map_err(|e| e.to_string())?;
+        let img = b.image(repr, w, h)?;
         return Ok((
             img,
             format!("built-in {} (a cube of {}² faces)", b.name(), a.env_size),
@@ -263,7 +267,8 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         return Err(format!(
             "--dfg-size: at most {}",
             envmap_render::filter::dfg::MAX_SIZE
-        ));
+        )
+        .into());
     }
     if a.clamp.is_some_and(|c| !(c > 0.0 && c.is_finite())) {
         return Err("--clamp must be a positive luminance".into());
@@ -272,7 +277,8 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         return Err(format!(
             "--layout {}: not a cube layout (cross, vcross, strip, vstrip, faces)",
             a.layout
-        ));
+        )
+        .into());
     }
     let mut over = BakeOptions::default();
     over.levels = a.levels;
@@ -288,7 +294,7 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
     over.cancel = Some(stop);
     let baker = Baker::with_preset(plan.clone()).options(over);
     // Bad sizes and levels before any loading.
-    let sizes = chain_sizes(&baker.bake_options()).map_err(|e| e.to_string())?;
+    let sizes = chain_sizes(&baker.bake_options())?;
     let t0 = Instant::now();
     let (src, name, inputs) = source(a, stop)?;
     let t_load = t0.elapsed();
@@ -326,8 +332,7 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         .load_seconds(t_load.as_secs_f64())
         .save_options(save)
         .progress(&progress)
-        .bake_into(src, &a.out)
-        .map_err(|e| e.to_string());
+        .bake_into(src, &a.out);
     if let Ok(b) = bar.lock() {
         b.finish_and_clear();
     }

@@ -153,7 +153,7 @@ fn output_axes(a: &ConvertArgs) -> FileAxes {
     )
 }
 
-fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), String> {
+fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), crate::Failure> {
     let layout = a.layout.unwrap_or_else(|| {
         if a.output.to_string_lossy().contains("{face}") && a.to == AnyMapping::Cube {
             Layout::Faces
@@ -168,12 +168,12 @@ fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), Stri
             layout.name(),
             a.to,
             names.join(", ")
-        ));
+        )
+        .into());
     }
     let six = layout.is_six_files();
     Ok((
-        Representation::new(a.to, layout.atlas(), output_axes(a).frame(a.to))
-            .map_err(|e| e.to_string())?,
+        Representation::new(a.to, layout.atlas(), output_axes(a).frame(a.to))?,
         six,
     ))
 }
@@ -188,7 +188,8 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         return Err(format!(
             "{}: --mips, --format and --zstd are for .ktx2, .dds and .ktx outputs",
             a.output.display()
-        ));
+        )
+        .into());
     }
     let mut texture_summary = None;
     let stage = |what: String| {
@@ -229,7 +230,8 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
             f64::from(w) * f64::from(h) / 1e6,
             need as f64 / f64::from(1u32 << 30),
             a.max_megatexels
-        ));
+        )
+        .into());
     }
     let copts = ConvertOptions {
         filter: a.filter,
@@ -288,19 +290,17 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
             a.output.display()
         ));
         let t1 = Instant::now();
-        let stream =
-            Streamed::new(&src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
+        let stream = Streamed::new(&src, repr, w, h, &copts, Some(&tick))?;
         let mut run = Outputs::new(&sopts);
-        run.stage_streamed(&stream, &a.output, &sopts)
-            .map_err(|e| e.to_string())?;
+        run.stage_streamed(&stream, &a.output, &sopts)?;
         bar.finish_and_clear();
-        let written = run.commit().map_err(|e| e.to_string())?;
+        let written = run.commit()?;
         let t = t1.elapsed().as_secs_f64() * 1e3;
         (format!("convert and save {t:.0} ms"), written)
     } else {
         stage(format!("converting to {} {w}×{h}", repr.mapping));
         let t1 = Instant::now();
-        let out = convert(&src, repr, w, h, &copts, Some(&tick)).map_err(|e| e.to_string())?;
+        let out = convert(&src, repr, w, h, &copts, Some(&tick))?;
         let t_convert = t1.elapsed();
         // The input is no longer needed: free it before encoding, which may
         // need buffers of its own.
@@ -310,18 +310,13 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         let t2 = Instant::now();
         let written = if is_texture {
             let levels = if a.mips {
-                Pyramid::new(out, 1)
-                    .map_err(|e| e.to_string())?
-                    .levels()
-                    .to_vec()
+                Pyramid::new(out, 1)?.levels().to_vec()
             } else {
                 vec![out]
             };
             let tex = Texture::from_env(&levels).map_err(|e| e.in_file(&a.output).to_string())?;
             let mut run = Outputs::new(&sopts);
-            let clamped = run
-                .stage_texture(&tex, &a.output, sopts.texture)
-                .map_err(|e| e.to_string())?;
+            let clamped = run.stage_texture(&tex, &a.output, sopts.texture)?;
             warn_clamped(&a.output, sopts.texture.format, clamped);
             texture_summary = Some(format!(
                 "{} level{}, {}{}",
@@ -334,9 +329,9 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
                     .map(|l| format!(", zstd {l}"))
                     .unwrap_or_default()
             ));
-            run.commit().map_err(|e| e.to_string())?
+            run.commit()?
         } else {
-            save(&out, &a.output, &sopts).map_err(|e| e.to_string())?
+            save(&out, &a.output, &sopts)?
         };
         let (c, s) = (
             t_convert.as_secs_f64() * 1e3,

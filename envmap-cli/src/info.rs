@@ -223,7 +223,7 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
         )?;
         Ok(())
     })();
-    r.map_err(|e| format!("<stdout>: {e}"))
+    r.map_err(|e| format!("<stdout>: {e}").into())
 }
 
 /// The lines about a texture file: container, format, orientation, writer,

@@ -44,6 +44,57 @@ mod render;
 mod signals;
 pub mod text;
 
+/// Why a subcommand stopped: the library's error, or one of the command's
+/// own (a flag's value refused before any work, standard output closed).
+/// [`main`] turns each into its one line on standard error and its exit
+/// status, here and nowhere else.
+#[derive(Debug)]
+pub(crate) enum Failure {
+    /// An error of the library: a file that cannot be read, decoded or
+    /// written, a value it refuses, a bad input line (its message names the
+    /// file).
+    Library(envmap_render::Error),
+    /// The command's own: a flag's value out of range, two flags that
+    /// disagree, standard input or output that cannot be used.
+    Command(String),
+}
+
+impl Failure {
+    /// The process's exit status for this failure (see [`EXIT_STATUS`]).
+    fn exit_status(&self) -> u8 {
+        match self {
+            Failure::Library(_) | Failure::Command(_) => 1,
+        }
+    }
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::Library(e) => e.fmt(f),
+            Failure::Command(m) => f.write_str(m),
+        }
+    }
+}
+
+impl From<envmap_render::Error> for Failure {
+    fn from(e: envmap_render::Error) -> Self {
+        Failure::Library(e)
+    }
+}
+
+impl From<String> for Failure {
+    fn from(m: String) -> Self {
+        Failure::Command(m)
+    }
+}
+
+impl From<&str> for Failure {
+    fn from(m: &str) -> Self {
+        Failure::Command(m.to_owned())
+    }
+}
+
 /// The exit codes, as `--help` prints them.
 const EXIT_STATUS: &str = "Exit status: 0 success; 1 an error while running (a file that \
 cannot be read, decoded or written, an image above the size limit or fitting no layout, a bad \
@@ -122,7 +173,7 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             note!("envmap: error: {e}");
-            ExitCode::from(1)
+            ExitCode::from(e.exit_status())
         }
     }
 }

@@ -66,7 +66,10 @@ fn directions_frame(mapping: AnyMapping, convention: Convention, world: World) -
 /// Lines of the input (a file or standard input), with its display name.
 /// Standard input is read on a thread of its own, so that a signal stops
 /// the command even while it waits for input (`stop` is polled).
-fn read_lines(input: Option<&Path>, stop: &AtomicBool) -> Result<(String, Vec<String>), String> {
+fn read_lines(
+    input: Option<&Path>,
+    stop: &AtomicBool,
+) -> Result<(String, Vec<String>), crate::Failure> {
     match input {
         Some(p) => {
             let text = std::fs::read_to_string(p)
@@ -88,13 +91,13 @@ fn read_lines(input: Option<&Path>, stop: &AtomicBool) -> Result<(String, Vec<St
             });
             loop {
                 if cancel::is_set(Some(stop)) {
-                    return Err(Error::Cancelled.to_string());
+                    return Err(Error::Cancelled.into());
                 }
                 match rx.recv_timeout(Duration::from_millis(20)) {
                     Ok(lines) => return Ok(("<stdin>".to_owned(), lines?)),
                     Err(mpsc::RecvTimeoutError::Timeout) => {}
                     Err(mpsc::RecvTimeoutError::Disconnected) => {
-                        return Err("<stdin>: cannot read: the reader stopped".to_owned())
+                        return Err("<stdin>: cannot read: the reader stopped".into())
                     }
                 }
             }
@@ -110,15 +113,15 @@ pub(crate) fn run_map(a: &MapArgs, stop: &AtomicBool) -> CliResult {
                 "--layout {}: not a single-image layout of {}",
                 l.name(),
                 a.mapping
-            ));
+            )
+            .into());
         }
         Some(l) => l.atlas(),
         None => a.mapping.atlas(),
     };
     let size = match a.size {
         Some(n) => {
-            let repr = Representation::new(a.mapping, atlas, Frame::IDENTITY)
-                .map_err(|e| e.to_string())?;
+            let repr = Representation::new(a.mapping, atlas, Frame::IDENTITY)?;
             Some(output_size(&repr, n)?)
         }
         None => None,
@@ -157,7 +160,7 @@ fn write_rows(
     text.push('\n');
     for (k, line) in lines.iter().enumerate() {
         if k % 4096 == 0 && cancel::is_set(Some(stop)) {
-            return Err(Error::Cancelled.to_string());
+            return Err(Error::Cancelled.into());
         }
         match row(line) {
             Ok(Some(r)) => {
@@ -165,12 +168,12 @@ fn write_rows(
                 text.push('\n');
             }
             Ok(None) => {}
-            Err(e) => return Err(format!("{name}:{}: {e}", k + 1)),
+            Err(e) => return Err(format!("{name}:{}: {e}", k + 1).into()),
         }
     }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let io = |e: std::io::Error| format!("<stdout>: {e}");
     out.write_all(text.as_bytes()).map_err(io)?;
-    out.flush().map_err(io)
+    Ok(out.flush().map_err(io)?)
 }

@@ -134,7 +134,8 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         return Err(format!(
             "--width {} --height {}: between 1 and 64 Mpixels",
             a.width, a.height
-        ));
+        )
+        .into());
     }
     if a.samples == 0 || a.samples > 8 {
         return Err("--samples must be between 1 and 8".into());
@@ -174,7 +175,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
             let mapping = a.mapping.unwrap_or(AnyMapping::Cube);
             let repr = Representation::for_file(mapping, axes);
             let (w, h) = output_size(&repr, a.env_size)?;
-            Some(b.image(repr, w, h).map_err(|e| e.to_string())?)
+            Some(b.image(repr, w, h)?)
         }
         Some(_) => None,
         None => {
@@ -182,7 +183,8 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
                 return Err(format!(
                     "--analytic needs a built-in environment (sky, room), not '{}'",
                     a.env
-                ));
+                )
+                .into());
             }
             let opts = LoadOptions {
                 mapping: a.from,
@@ -209,9 +211,9 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         "sphere" => Mesh::sphere(1.5, 128, 64),
         "torus" => Mesh::torus(1.5, 0.55, 128, 48),
         other => {
-            return Err(format!(
-                "unknown object '{other}'; expected teapot, sphere or torus"
-            ))
+            return Err(
+                format!("unknown object '{other}'; expected teapot, sphere or torus").into(),
+            )
         }
     };
     if a.object != "teapot" {
@@ -245,14 +247,14 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     // The map the lit maps are baked from, and the exact split sum
     // integrates: the environment (the analytic built-ins through a cube of
     // --env-size).
-    let lit_source = || -> Result<envmap_render::image::EnvImage, String> {
+    let lit_source = || -> Result<envmap_render::image::EnvImage, crate::Failure> {
         match &env {
             Some(e) => Ok(e.clone()),
             None => {
                 let b = builtin.ok_or("no environment")?;
                 let repr = Representation::for_file(AnyMapping::Cube, axes);
                 let (w, h) = output_size(&repr, a.env_size)?;
-                b.image(repr, w, h).map_err(|e| e.to_string())
+                Ok(b.image(repr, w, h)?)
             }
         }
     };
@@ -382,7 +384,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         ..opts
     };
     let t = Instant::now();
-    let img = render(&mesh, source, &cam, &opts).map_err(|e| e.to_string())?;
+    let img = render(&mesh, source, &cam, &opts)?;
     bar.finish_and_clear();
     let elapsed = t.elapsed();
     let sopts = SaveOptions {
@@ -390,7 +392,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         cancel: Some(stop),
         ..a.write.over(SaveOptions::default())
     };
-    envmap_render::image::io::write_rgb(&img, &a.output, &sopts).map_err(|e| e.to_string())?;
+    envmap_render::image::io::write_rgb(&img, &a.output, &sopts)?;
     note!(
         "{} {}×{} ({} triangles, {} lookups, {}×{} samples): {:.0} ms",
         a.output.display(),
@@ -409,7 +411,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
 }
 
 /// The material the flags ask for; `None` for the plain mirror.
-fn material(a: &RenderArgs) -> Result<Option<Material>, String> {
+fn material(a: &RenderArgs) -> Result<Option<Material>, crate::Failure> {
     let named = a.material.as_deref().unwrap_or("mirror");
     let mirror = named.eq_ignore_ascii_case("mirror")
         && a.base_color.is_none()
@@ -421,7 +423,7 @@ fn material(a: &RenderArgs) -> Result<Option<Material>, String> {
         }
         return Ok(None);
     }
-    let mut m = Material::preset(named).map_err(|e| e.to_string())?;
+    let mut m = Material::preset(named)?;
     if let Some(c) = a.base_color {
         m.base_color = c.to_array();
     }
@@ -445,12 +447,12 @@ fn bake_lit(
     size: u32,
     engine: Option<Target>,
     stop: &AtomicBool,
-) -> Result<LitEnvironment, String> {
+) -> Result<LitEnvironment, crate::Failure> {
     if !(2..=2048).contains(&size) {
         return Err("--bake-size: between 2 and 2048".into());
     }
     match engine {
-        None => LitEnvironment::bake(src, size, Some(stop)),
+        None => Ok(LitEnvironment::bake(src, size, Some(stop))?),
         Some(t) => {
             let preset = Preset::for_target(t, FileAxes::default());
             let mut opts = preset.bake_options(BakeOptions::default());
@@ -458,11 +460,10 @@ fn bake_lit(
             opts.irradiance_size = 32;
             opts.dfg_size = 0;
             opts.cancel = Some(stop);
-            LitEnvironment::bake_with(src, &opts)
-                .map(|l| l.with_blend(LevelBlend::engine(&preset.rule)))
+            Ok(LitEnvironment::bake_with(src, &opts)
+                .map(|l| l.with_blend(LevelBlend::engine(&preset.rule)))?)
         }
     }
-    .map_err(|e| e.to_string())
 }
 
 fn parse_target(s: &str) -> Result<Target, String> {

@@ -149,6 +149,104 @@ pub enum Error {
         expected: String,
     },
 
+    /// An option's value is out of its range, or options disagree (a
+    /// supercompression level, zstd outside KTX2, a layout that is not a
+    /// cube's, a level count a chain cannot have).
+    #[error("{message}")]
+    Options {
+        /// What is wrong, and what would be accepted.
+        message: String,
+    },
+
+    /// Something a format, or this build, cannot do (write a read-only texel
+    /// format, a texture as six files, zstd without the `zstd` feature).
+    #[error("{message}")]
+    Unsupported {
+        /// What was asked, and what can be done instead.
+        message: String,
+    },
+
+    /// Sizes that do not fit together: a texture's levels and faces, a
+    /// chain's level sizes, a lit environment's levels and roughness values.
+    #[error("{message}")]
+    Dimensions {
+        /// Which sizes, and what they should be.
+        message: String,
+    },
+
+    /// Texels hold NaN or infinite values where finite ones are needed (the
+    /// bake's input; `LoadOptions::non_finite` replaces them on loading).
+    #[error("{texels} texels hold NaN or infinite values; replace them first (envmap bake does, as convert does)")]
+    NonFiniteTexels {
+        /// How many.
+        texels: u64,
+    },
+
+    /// An encoder or a container library failed (Zstandard, the DDS
+    /// header); the file is named by [`Error::in_file`] where known.
+    #[error("{message}")]
+    Codec {
+        /// The format (`"KTX2"`, `"DDS"`).
+        format: &'static str,
+        /// What the library reported.
+        message: String,
+    },
+
+    /// A call the API does not take in this state (an in-memory run
+    /// committed to files, a texture staged as an image).
+    #[error("{message}")]
+    Usage {
+        /// What was called, and what to call instead.
+        message: String,
+    },
+
+    /// A mesh's positions and normals differ in number.
+    #[error("mesh has {positions} positions but {normals} normals")]
+    MeshCounts {
+        /// Number of positions.
+        positions: usize,
+        /// Number of normals.
+        normals: usize,
+    },
+
+    /// A triangle refers to a vertex that does not exist.
+    #[error("triangle {triangle} refers to vertex {index}, but the mesh has {vertices} vertices")]
+    MeshIndex {
+        /// The triangle's index.
+        triangle: usize,
+        /// The offending vertex index.
+        index: u32,
+        /// Number of vertices.
+        vertices: usize,
+    },
+
+    /// A mesh position is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite position {position:?}")]
+    MeshPosition {
+        /// The vertex's index.
+        vertex: usize,
+        /// Its position.
+        position: envmap_core::glam::Vec3,
+    },
+
+    /// A mesh normal is NaN, infinite or not of unit length.
+    #[error("vertex {vertex} has normal {normal:?}, which is not a finite unit vector")]
+    MeshNormal {
+        /// The vertex's index.
+        vertex: usize,
+        /// Its normal.
+        normal: envmap_core::glam::Vec3,
+    },
+
+    /// Bézier patch data (the teapot's `.bpt` format) could not be read.
+    #[error("patch data, line {line}: {message}")]
+    PatchData {
+        /// 1-based line number.
+        line: usize,
+        /// What was expected there.
+        message: String,
+    },
+
     /// The operation was cancelled through its `cancel` flag (see
     /// [`crate::cancel`]) before it finished; nothing it was writing was
     /// left behind.
@@ -209,9 +307,51 @@ impl Error {
             Error::TooLarge { .. }
             | Error::Layout(_)
             | Error::Input(_)
+            | Error::Options { .. }
+            | Error::Unsupported { .. }
+            | Error::Dimensions { .. }
+            | Error::NonFiniteTexels { .. }
+            | Error::Codec { .. }
+            | Error::Usage { .. }
+            | Error::MeshCounts { .. }
+            | Error::MeshIndex { .. }
+            | Error::MeshPosition { .. }
+            | Error::MeshNormal { .. }
+            | Error::PatchData { .. }
             | Error::PixelCount { .. }
             | Error::UnknownName { .. }
             | Error::Cancelled => None,
+        }
+    }
+
+    pub(crate) fn options(message: impl fmt::Display) -> Error {
+        Error::Options {
+            message: message.to_string(),
+        }
+    }
+
+    pub(crate) fn unsupported(message: impl fmt::Display) -> Error {
+        Error::Unsupported {
+            message: message.to_string(),
+        }
+    }
+
+    pub(crate) fn dimensions(message: impl fmt::Display) -> Error {
+        Error::Dimensions {
+            message: message.to_string(),
+        }
+    }
+
+    pub(crate) fn usage(message: impl fmt::Display) -> Error {
+        Error::Usage {
+            message: message.to_string(),
+        }
+    }
+
+    pub(crate) fn codec(format: &'static str, message: impl fmt::Display) -> Error {
+        Error::Codec {
+            format,
+            message: message.to_string(),
         }
     }
 

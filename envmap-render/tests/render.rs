@@ -208,3 +208,35 @@ fn progress_counts_every_band() {
     // 70 rows in bands of 16: 5 bands, each reported once.
     assert_eq!(seen, (1..=5).map(|k| (k, 5)).collect::<Vec<_>>());
 }
+
+/// A mesh whose triangle names a vertex past the last gives an error naming
+/// the triangle and the index, before anything is drawn; a normal that is
+/// not a unit vector likewise. Neither panics.
+#[test]
+fn a_bad_mesh_is_an_error_not_a_panic() {
+    use envmap_render::Error;
+    let (mut mesh, cam) = sphere_scene();
+    let opts = RenderOptions {
+        width: 16,
+        height: 16,
+        ..RenderOptions::default()
+    };
+    let env = EnvSource::Analytic(&direction_colour);
+    let last = mesh.triangles.len() - 1;
+    mesh.triangles[last][1] = 1_000_000;
+    match render(&mesh, env, &cam, &opts) {
+        Err(Error::MeshIndex {
+            triangle, index, ..
+        }) => assert_eq!((triangle, index), (last, 1_000_000)),
+        other => panic!("expected a mesh index error, got {other:?}"),
+    }
+    let (mut mesh, _) = sphere_scene();
+    mesh.normals[3] = Vec3::new(0.0, 0.0, 2.0);
+    assert!(matches!(
+        render(&mesh, env, &cam, &opts),
+        Err(Error::MeshNormal { vertex: 3, .. })
+    ));
+    // The same mesh, repaired, renders.
+    mesh.normals[3] = mesh.normals[3].normalize();
+    assert!(render(&mesh, env, &cam, &opts).is_ok());
+}

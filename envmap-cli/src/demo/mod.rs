@@ -79,8 +79,7 @@ pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
         bar.set_length(u64::from(total));
         bar.set_position(u64::from(done));
         bar.set_message(what.to_owned());
-    })
-    .map_err(|e| e.to_string())?;
+    })?;
     bar.finish_and_clear();
     // The report is written (report.md); a standard output that cannot take
     // it (closed early: `envmap demo | head`) is said, not a panic.
@@ -99,5 +98,5 @@ pub(crate) fn run(a: &DemoArgs, stop: &AtomicBool) -> CliResult {
         t.elapsed().as_secs_f64()
     )
     .and_then(|()| out.flush())
-    .map_err(|e| format!("<stdout>: {e}"))
+    .map_err(|e| format!("<stdout>: {e}").into())
 }

@@ -294,13 +294,13 @@ impl Preset {
     /// Supercompression outside KTX2; a layout that is not a cube's.
     pub fn check(&self) -> Result<()> {
         if self.container != Container::Ktx2 && self.texture.zstd.is_some() {
-            return Err(Error::Input(format!(
+            return Err(Error::options(format!(
                 "zstd: only KTX2 has supercompression (the container is {})",
                 self.container.extension()
             )));
         }
         if !Layout::for_mapping(envmap_core::AnyMapping::Cube).contains(&self.layout) {
-            return Err(Error::Input(format!(
+            return Err(Error::options(format!(
                 "layout {}: not a cube layout (cross, vcross, strip, vstrip, faces)",
                 self.layout
             )));

@@ -291,9 +291,7 @@ pub fn measure_level(
     seed: u32,
 ) -> Result<LevelError> {
     if level.mapping() != AnyMapping::Cube {
-        return Err(Error::Input(
-            "measure_level: a cube level expected".to_owned(),
-        ));
+        return Err(Error::usage("measure_level: a cube level expected"));
     }
     let t = Instant::now();
     let s = level.cell_size().0;
@@ -312,8 +310,8 @@ pub fn measure_level(
     } else {
         // Roughness 0: the input itself at each direction is not an
         // integral; the level is a resampling, measured by conversion tests.
-        return Err(Error::Input(
-            "measure_level: roughness 0 is a resampling, not an integral".to_owned(),
+        return Err(Error::usage(
+            "measure_level: roughness 0 is a resampling, not an integral",
         ));
     };
     let pairs = coords.iter().zip(&exact).map(|(&(c, i, j), e)| {
@@ -555,13 +553,13 @@ fn clamp_negative(img: &mut EnvImage) -> u64 {
 pub fn chain_sizes(opts: &BakeOptions) -> Result<Vec<u32>> {
     if let Some(sizes) = &opts.sizes {
         if sizes.is_empty() || sizes.contains(&0) {
-            return Err(Error::Input(format!(
+            return Err(Error::options(format!(
                 "level sizes {sizes:?}: at least one level, each at least 1"
             )));
         }
         if let RoughnessRule::Custom(r) = &opts.rule {
             if r.len() != sizes.len() {
-                return Err(Error::Input(format!(
+                return Err(Error::options(format!(
                     "{} level sizes for {} roughness values",
                     sizes.len(),
                     r.len()
@@ -571,13 +569,13 @@ pub fn chain_sizes(opts: &BakeOptions) -> Result<Vec<u32>> {
         return Ok(sizes.clone());
     }
     if opts.size == 0 {
-        return Err(Error::Input("--size must be at least 1".to_owned()));
+        return Err(Error::options("--size must be at least 1"));
     }
     let full: Vec<u32> =
         std::iter::successors(Some(opts.size), |&s| (s > 1).then_some(s / 2)).collect();
     match opts.levels {
-        Some(0) => Err(Error::Input("--levels must be at least 1".to_owned())),
-        Some(n) if n > full.len() => Err(Error::Input(format!(
+        Some(0) => Err(Error::options("--levels must be at least 1")),
+        Some(n) if n > full.len() => Err(Error::options(format!(
             "--levels {n}: a chain from {}² has at most {} levels (down to 1×1)",
             opts.size,
             full.len()
@@ -786,9 +784,7 @@ fn refuse_non_finite(src: &EnvImage) -> Result<()> {
     if bad == 0 {
         return Ok(());
     }
-    Err(Error::Input(format!(
-        "{bad} texels hold NaN or infinite values; replace them first (envmap bake does, as convert does)"
-    )))
+    Err(Error::NonFiniteTexels { texels: bad as u64 })
 }
 
 /// The specular chain of `src` (any representation, finite texels).
@@ -1401,7 +1397,7 @@ mod tests {
         // is the sink's.
         let started = Mutex::new(Vec::new());
         let failing = |k: usize, _: &EnvImage, _: &LevelReport| -> Result<()> {
-            Err(Error::Input(format!("disk full at level {k}")))
+            Err(Error::usage(format!("disk full at level {k}")))
         };
         let e = bake_owned_streaming(
             src,

@@ -418,7 +418,7 @@ impl<'a> Outputs<'a> {
             .into_iter()
             .map(|(s, path)| match s {
                 Staged::Bytes(bytes) => Ok(MemoryFile { path, bytes }),
-                Staged::File(_) => Err(Error::Input(format!(
+                Staged::File(_) => Err(Error::usage(format!(
                     "{}: staged as a file; an in-memory run is made with Outputs::in_memory",
                     path.display()
                 ))),
@@ -441,9 +441,8 @@ impl<'a> Outputs<'a> {
         cancel::check(self.cancel)?;
         let targets: Vec<PathBuf> = self.staged.iter().map(|(_, t)| t.clone()).collect();
         if self.memory {
-            return Err(Error::Input(
-                "an in-memory run is not committed to files: take them with Outputs::into_memory"
-                    .into(),
+            return Err(Error::usage(
+                "an in-memory run is not committed to files: take them with Outputs::into_memory",
             ));
         }
         let staged: Vec<(TempFile, PathBuf)> = self

@@ -51,7 +51,7 @@ pub fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Clamped)> 
     let dxgi_format = dxgi(format)
         .filter(|_| format.is_writable())
         .ok_or_else(|| {
-            Error::Input(format!(
+            Error::unsupported(format!(
                 "{} cannot be written as DDS; write one of {}",
                 format.name(),
                 TexelFormat::NAMES
@@ -74,7 +74,7 @@ pub fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Clamped)> 
         resource_dimension: D3D10ResourceDimension::Texture2D,
         alpha_mode: AlphaMode::Unknown,
     })
-    .map_err(|e| Error::Input(format!("DDS header: {e}")))?;
+    .map_err(|e| Error::codec("DDS", format!("DDS header: {e}")))?;
     // Face-major: each face with its chain.
     let mut data = Vec::with_capacity(dds.data.len());
     let mut clamped = Clamped::default();
@@ -84,16 +84,19 @@ pub fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Clamped)> 
         }
     }
     if data.len() != dds.data.len() {
-        return Err(Error::Input(format!(
-            "DDS layout: {} bytes of texels for a header that holds {}",
-            data.len(),
-            dds.data.len()
-        )));
+        return Err(Error::codec(
+            "DDS",
+            format!(
+                "DDS layout: {} bytes of texels for a header that holds {}",
+                data.len(),
+                dds.data.len()
+            ),
+        ));
     }
     dds.data = data;
     let mut out = Vec::with_capacity(dds.data.len() + 148);
     dds.write(&mut out)
-        .map_err(|e| Error::Input(format!("DDS: {e}")))?;
+        .map_err(|e| Error::codec("DDS", format!("DDS: {e}")))?;
     Ok((out, clamped))
 }
 

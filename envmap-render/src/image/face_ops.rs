@@ -269,7 +269,7 @@ impl FromStr for FaceTransforms {
         }
         for part in s.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let bad = |what: &str| {
-                Error::Input(format!(
+                Error::options(format!(
                     "'{part}': {what}; expected face:op, e.g. +x:rot90 or -z:flipx"
                 ))
             };

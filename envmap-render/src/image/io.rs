@@ -634,7 +634,10 @@ pub fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
         }
         _ => {
             drop(file);
-            Err(Error::Input(format!("{}: no decoder", path.display())))
+            Err(Error::unsupported(format!(
+                "{}: no decoder",
+                path.display()
+            )))
         }
     })
 }
@@ -675,13 +678,16 @@ fn decode_rgb(
         FileFormat::Hdr => hdr::read(path, file, max_texels),
         #[cfg(feature = "image")]
         FileFormat::Png | FileFormat::Jpeg => png_jpeg::read(path, file, format, max_texels),
-        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => Err(Error::Input(format!(
+        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => Err(Error::usage(format!(
             "{}: texture files are read whole (texture::decode)",
             path.display()
         ))),
         _ => {
             drop((file, max_texels));
-            Err(Error::Input(format!("{}: no decoder", path.display())))
+            Err(Error::unsupported(format!(
+                "{}: no decoder",
+                path.display()
+            )))
         }
     });
     cancel::or_cancelled(read, cancel)
@@ -988,7 +994,7 @@ impl<'a> Outputs<'a> {
         };
         if format.is_texture() {
             if opts.six_files || is_face_pattern(path) {
-                return Err(Error::Input(format!(
+                return Err(Error::unsupported(format!(
                     "a {} file holds a whole cube; it is not written as six files",
                     format.name()
                 ))
@@ -1154,13 +1160,16 @@ pub(super) fn encode(
         FileFormat::Hdr => hdr::encode(path, view, out),
         #[cfg(feature = "exr")]
         FileFormat::Exr => exr::encode(path, view, opts.exr_precision, opts.exr_compression, out),
-        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => Err(Error::Input(
-            "texture files are staged whole (Outputs::stage_texture)".into(),
+        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => Err(Error::usage(
+            "texture files are staged whole (Outputs::stage_texture)",
         )
         .in_file(path)),
         _ => {
             let _ = (view, opts, out);
-            Err(Error::Input(format!("{}: no encoder", path.display())))
+            Err(Error::unsupported(format!(
+                "{}: no encoder",
+                path.display()
+            )))
         }
     }
 }

@@ -65,7 +65,7 @@ pub fn encode(
     key_values: &[(&str, &[u8])],
 ) -> Result<(Vec<u8>, Clamped)> {
     if !format.is_writable() {
-        return Err(Error::Input(format!(
+        return Err(Error::unsupported(format!(
             "{} is read only; write one of {}",
             format.name(),
             TexelFormat::NAMES

@@ -174,7 +174,7 @@ pub fn writer_name() -> String {
 pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
     let format = opts.format;
     if !format.is_writable() {
-        return Err(Error::Input(format!(
+        return Err(Error::unsupported(format!(
             "{} is read only; write one of {}",
             format.name(),
             TexelFormat::NAMES
@@ -182,11 +182,11 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
     }
     #[cfg(not(feature = "zstd"))]
     if opts.zstd.is_some() {
-        return Err(Error::Input(NO_ZSTD.to_owned()));
+        return Err(Error::unsupported(NO_ZSTD));
     }
     if let Some(l) = opts.zstd {
         if !(1..=22).contains(&l) {
-            return Err(Error::Input(format!(
+            return Err(Error::options(format!(
                 "zstd level {l}: levels 1 (fastest) to 22 (smallest) exist"
             )));
         }
@@ -220,7 +220,7 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
             let all = std::iter::once(first)
                 .chain(rest.map_or_else(|e| vec![Err(e)], |v| v.into_iter().map(Ok).collect()))
                 .collect::<std::io::Result<Vec<_>>>()
-                .map_err(|e| Error::Input(format!("zstd compression failed: {e}")))?;
+                .map_err(|e| Error::codec("KTX2", format!("zstd compression failed: {e}")))?;
             Some(
                 all.into_iter()
                     .map(|(z, c)| {

@@ -81,16 +81,16 @@ impl Texture {
     /// does not match an image's size.
     pub fn new(kind: TextureKind, levels: Vec<Vec<RgbImage>>) -> Result<Self> {
         let Some(first) = levels.first().and_then(|l| l.first()) else {
-            return Err(Error::Input("a texture needs at least one level".into()));
+            return Err(Error::dimensions("a texture needs at least one level"));
         };
         let (w, h) = (first.width, first.height);
         if kind == TextureKind::Cube && w != h {
-            return Err(Error::Input(format!(
+            return Err(Error::dimensions(format!(
                 "cube faces must be square; level 0 is {w}×{h}"
             )));
         }
         if levels.len() > full_chain(w, h) {
-            return Err(Error::Input(format!(
+            return Err(Error::dimensions(format!(
                 "{} levels given; a {w}×{h} texture has at most {}",
                 levels.len(),
                 full_chain(w, h)
@@ -99,7 +99,7 @@ impl Texture {
         for (p, level) in levels.iter().enumerate() {
             let (lw, lh) = level_size(w, h, p);
             if level.len() != kind.faces() {
-                return Err(Error::Input(format!(
+                return Err(Error::dimensions(format!(
                     "level {p} has {} images; a {} texture needs {}",
                     level.len(),
                     if kind == TextureKind::Cube {
@@ -114,7 +114,7 @@ impl Texture {
                 if (img.width, img.height) != (lw, lh)
                     || img.pixels.len() != lw as usize * lh as usize
                 {
-                    return Err(Error::Input(format!(
+                    return Err(Error::dimensions(format!(
                         "level {p} must be {lw}×{lh}; an image given is {}×{} with {} texels",
                         img.width,
                         img.height,
@@ -137,7 +137,7 @@ impl Texture {
     /// As [`Texture::new`]; no images.
     pub fn from_env(levels: &[EnvImage]) -> Result<Self> {
         let Some(first) = levels.first() else {
-            return Err(Error::Input("a texture needs at least one level".into()));
+            return Err(Error::dimensions("a texture needs at least one level"));
         };
         let cube = first.mapping() == AnyMapping::Cube;
         let kind = if cube {
@@ -219,7 +219,7 @@ impl Texture {
         frame: impl Fn(AnyMapping) -> envmap_core::Frame,
     ) -> Result<EnvImage> {
         let level = self.levels.get(p).ok_or_else(|| {
-            Error::Input(format!(
+            Error::dimensions(format!(
                 "level {p} asked for; the texture has {}",
                 self.levels.len()
             ))
@@ -600,7 +600,7 @@ pub fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile>
         Some("DDS") => crate::image::dds::decode(path, bytes, max_texels),
         Some("KTX 1") => Err(ktx1_is_written(path)),
         Some(_) => Err(disabled(path)),
-        None => Err(Error::Input(format!(
+        None => Err(Error::unsupported(format!(
             "{}: not a KTX2 or DDS file name",
             path.display()
         ))),
@@ -612,7 +612,7 @@ fn disabled(path: &Path) -> Error {
     FileFormat::from_path(path)
         .and_then(|f| f.check_enabled(path))
         .err()
-        .unwrap_or_else(|| Error::Input(format!("{}: no codec", path.display())))
+        .unwrap_or_else(|| Error::unsupported(format!("{}: no codec", path.display())))
 }
 
 /// The bytes of `tex` as the file `path` names (KTX2, DDS or KTX 1 by
@@ -637,7 +637,7 @@ pub fn encode(tex: &Texture, path: &Path, opts: TextureOptions) -> Result<(Vec<u
             crate::image::ktx1::encode(tex, opts.format, &[])
         }
         Some(_) => return Err(disabled(path)),
-        None => Err(Error::Input("not a KTX2, DDS or KTX file name".into())),
+        None => Err(Error::unsupported("not a KTX2, DDS or KTX file name")),
     };
     r.map_err(|e| e.in_file(path))
 }
@@ -645,7 +645,7 @@ pub fn encode(tex: &Texture, path: &Path, opts: TextureOptions) -> Result<(Vec<u
 #[cfg(any(feature = "dds", feature = "ktx1"))]
 fn no_zstd(opts: TextureOptions, container: &str) -> Result<()> {
     match opts.zstd {
-        Some(_) => Err(Error::Input(format!(
+        Some(_) => Err(Error::options(format!(
             "{container} has no supercompression; zstd is for KTX2"
         ))),
         None => Ok(()),

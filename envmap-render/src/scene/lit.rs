@@ -179,7 +179,7 @@ impl LitEnvironment {
         dfg: DfgTable,
     ) -> Result<Self> {
         if levels.is_empty() || levels.len() != roughness.len() {
-            return Err(Error::Input(format!(
+            return Err(Error::dimensions(format!(
                 "a lit environment needs one roughness per level: {} levels, {} values",
                 levels.len(),
                 roughness.len()
@@ -189,7 +189,7 @@ impl LitEnvironment {
             .windows(2)
             .any(|w| w[0].partial_cmp(&w[1]).is_none_or(|o| o.is_gt()))
         {
-            return Err(Error::Input(format!(
+            return Err(Error::dimensions(format!(
                 "the levels' roughness must not decrease: {roughness:?}"
             )));
         }
@@ -199,8 +199,8 @@ impl LitEnvironment {
             .chain(std::iter::once(&irradiance))
             .any(|l| l.representation().frame != frame)
         {
-            return Err(Error::Input(
-                "the chain and the irradiance map are in different axes".into(),
+            return Err(Error::options(
+                "the chain and the irradiance map are in different axes",
             ));
         }
         let blend = LevelBlend::InverseWidth {
@@ -238,14 +238,14 @@ impl LitEnvironment {
     /// The chain's level 0 is not at roughness 0, or `src` is in other axes.
     pub fn with_source(self, src: EnvImage) -> Result<Self> {
         if self.roughness[0] != 0.0 {
-            return Err(Error::Input(format!(
+            return Err(Error::dimensions(format!(
                 "the source map stands for roughness 0, the chain's level 0 is at {}",
                 self.roughness[0]
             )));
         }
         if src.representation().frame != self.levels[0].representation().frame {
-            return Err(Error::Input(
-                "the source map and the chain are in different axes".into(),
+            return Err(Error::options(
+                "the source map and the chain are in different axes",
             ));
         }
         Ok(Self {
@@ -330,8 +330,8 @@ impl LitEnvironment {
         }
         let b = bake(src, &opts, &|_, _| {})?;
         let (Some(chain), Some(irr), Some(dfg)) = (b.chain, b.irradiance, b.dfg) else {
-            return Err(Error::Input(
-                "the bake made no chain, irradiance map or DFG table".into(),
+            return Err(Error::options(
+                "the bake made no chain, irradiance map or DFG table",
             ));
         };
         let roughness = chain.reports.iter().map(|r| r.roughness).collect();

@@ -28,6 +28,7 @@ use std::sync::OnceLock;
 
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
+use crate::error::{Error, Result};
 use envmap_core::glam::Vec3;
 
 /// The Utah teapot's patches in the `bpt` text format (public domain).
@@ -40,54 +41,6 @@ pub const WELD_TOLERANCE: f64 = 1e-5;
 /// How far a normal's length may stray from 1 before [`Mesh::validate`]
 /// rejects it.
 const UNIT_TOLERANCE: f32 = 1e-3;
-
-/// What is wrong with a mesh or with patch data.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum MeshError {
-    /// `positions` and `normals` have different lengths.
-    #[error("mesh has {positions} positions but {normals} normals")]
-    CountMismatch {
-        /// Number of positions.
-        positions: usize,
-        /// Number of normals.
-        normals: usize,
-    },
-    /// A triangle refers to a vertex that does not exist.
-    #[error("triangle {triangle} refers to vertex {index}, but the mesh has {vertices} vertices")]
-    IndexOutOfRange {
-        /// The triangle's index.
-        triangle: usize,
-        /// The offending vertex index.
-        index: u32,
-        /// Number of vertices.
-        vertices: usize,
-    },
-    /// A position is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite position {position:?}")]
-    BadPosition {
-        /// The vertex's index.
-        vertex: usize,
-        /// Its position.
-        position: Vec3,
-    },
-    /// A normal is NaN, infinite or not of unit length.
-    #[error("vertex {vertex} has normal {normal:?}, which is not a finite unit vector")]
-    BadNormal {
-        /// The vertex's index.
-        vertex: usize,
-        /// Its normal.
-        normal: Vec3,
-    },
-    /// Patch data could not be read.
-    #[error("patch data, line {line}: {message}")]
-    Parse {
-        /// 1-based line number.
-        line: usize,
-        /// What was expected there.
-        message: String,
-    },
-}
 
 /// An indexed triangle mesh with one unit normal per vertex.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -124,27 +77,27 @@ impl Mesh {
     /// Checks that every triangle's indices are in range, every position is
     /// finite and every normal is a finite unit vector (length within 10⁻³
     /// of 1).
-    pub fn validate(&self) -> Result<(), MeshError> {
+    pub fn validate(&self) -> Result<()> {
         if self.positions.len() != self.normals.len() {
-            return Err(MeshError::CountMismatch {
+            return Err(Error::MeshCounts {
                 positions: self.positions.len(),
                 normals: self.normals.len(),
             });
         }
         for (vertex, &position) in self.positions.iter().enumerate() {
             if !position.is_finite() {
-                return Err(MeshError::BadPosition { vertex, position });
+                return Err(Error::MeshPosition { vertex, position });
             }
         }
         for (vertex, &normal) in self.normals.iter().enumerate() {
             if !normal.is_finite() || (normal.length() - 1.0).abs() > UNIT_TOLERANCE {
-                return Err(MeshError::BadNormal { vertex, normal });
+                return Err(Error::MeshNormal { vertex, normal });
             }
         }
         let vertices = self.positions.len();
         for (triangle, tri) in self.triangles.iter().enumerate() {
             if let Some(&index) = tri.iter().find(|&&i| i as usize >= vertices) {
-                return Err(MeshError::IndexOutOfRange {
+                return Err(Error::MeshIndex {
                     triangle,
                     index,
                     vertices,
@@ -323,7 +276,7 @@ pub fn teapot_patches() -> &'static [BezierPatch] {
 /// line, then per patch a line with its degrees in u and v (only `3 3`,
 /// bicubic, is accepted) followed by 16 control points, one `x y z` per
 /// line, row by row. Blank lines are skipped.
-pub fn parse_bpt(text: &str) -> Result<Vec<BezierPatch>, MeshError> {
+pub fn parse_bpt(text: &str) -> Result<Vec<BezierPatch>> {
     let mut lines = text
         .lines()
         .enumerate()
@@ -335,13 +288,13 @@ pub fn parse_bpt(text: &str) -> Result<Vec<BezierPatch>, MeshError> {
         if let Some((line, _)) = found {
             last_line = line;
         }
-        found.ok_or_else(|| MeshError::Parse {
+        found.ok_or_else(|| Error::PatchData {
             line: last_line + 1,
             message: format!("unexpected end of data, expected {what}"),
         })
     };
     let (line, first) = next("the patch count")?;
-    let count: usize = first.parse().map_err(|_| MeshError::Parse {
+    let count: usize = first.parse().map_err(|_| Error::PatchData {
         line,
         message: format!("expected the patch count, found {first:?}"),
     })?;
@@ -349,7 +302,7 @@ pub fn parse_bpt(text: &str) -> Result<Vec<BezierPatch>, MeshError> {
     for _ in 0..count {
         let (line, degrees) = next("the degrees `3 3`")?;
         if degrees.split_whitespace().collect::<Vec<_>>() != ["3", "3"] {
-            return Err(MeshError::Parse {
+            return Err(Error::PatchData {
                 line,
                 message: format!("expected degrees `3 3`, found {degrees:?}"),
             });
@@ -364,7 +317,7 @@ pub fn parse_bpt(text: &str) -> Result<Vec<BezierPatch>, MeshError> {
                     .collect::<Result<_, _>>()
                     .ok()
                     .filter(|v: &Vec<f32>| v.len() == 3 && v.iter().all(|c| c.is_finite()))
-                    .ok_or_else(|| MeshError::Parse {
+                    .ok_or_else(|| Error::PatchData {
                         line,
                         message: format!("expected a control point `x y z`, found {text:?}"),
                     })?;
@@ -374,7 +327,7 @@ pub fn parse_bpt(text: &str) -> Result<Vec<BezierPatch>, MeshError> {
         patches.push(BezierPatch { control });
     }
     if let Ok((line, extra)) = next("") {
-        return Err(MeshError::Parse {
+        return Err(Error::PatchData {
             line,
             message: format!("data after the last of {count} patches: {extra:?}"),
         });
@@ -755,11 +708,11 @@ mod tests {
     fn parse_errors_name_the_line() {
         assert!(matches!(
             parse_bpt("x"),
-            Err(MeshError::Parse { line: 1, .. })
+            Err(Error::PatchData { line: 1, .. })
         ));
         assert!(matches!(
             parse_bpt("1\n3 2\n"),
-            Err(MeshError::Parse { line: 2, .. })
+            Err(Error::PatchData { line: 2, .. })
         ));
         let mut text = String::from("1\n3 3\n");
         for _ in 0..15 {
@@ -767,18 +720,18 @@ mod tests {
         }
         assert!(matches!(
             parse_bpt(&text),
-            Err(MeshError::Parse { line: 18, .. })
+            Err(Error::PatchData { line: 18, .. })
         ));
         text.push_str("1 2 nan\n");
         assert!(matches!(
             parse_bpt(&text),
-            Err(MeshError::Parse { line: 18, .. })
+            Err(Error::PatchData { line: 18, .. })
         ));
         let good = text.replace("1 2 nan", "1 2 3");
         assert_eq!(parse_bpt(&good).unwrap().len(), 1);
         assert!(matches!(
             parse_bpt(&(good + "4\n")),
-            Err(MeshError::Parse { line: 19, .. })
+            Err(Error::PatchData { line: 19, .. })
         ));
     }
 
@@ -788,25 +741,22 @@ mod tests {
         mesh.triangles.push([0, 1, 99]);
         assert!(matches!(
             mesh.validate(),
-            Err(MeshError::IndexOutOfRange { index: 99, .. })
+            Err(Error::MeshIndex { index: 99, .. })
         ));
         let mut mesh = Mesh::sphere(1.0, 3, 2);
         mesh.normals[2] *= 2.0;
         assert!(matches!(
             mesh.validate(),
-            Err(MeshError::BadNormal { vertex: 2, .. })
+            Err(Error::MeshNormal { vertex: 2, .. })
         ));
         mesh.normals[2] = Vec3::NAN;
         assert!(matches!(
             mesh.validate(),
-            Err(MeshError::BadNormal { vertex: 2, .. })
+            Err(Error::MeshNormal { vertex: 2, .. })
         ));
         let mut mesh = Mesh::sphere(1.0, 3, 2);
         mesh.normals.pop();
-        assert!(matches!(
-            mesh.validate(),
-            Err(MeshError::CountMismatch { .. })
-        ));
+        assert!(matches!(mesh.validate(), Err(Error::MeshCounts { .. })));
         assert_eq!(Mesh::default().bounds(), (Vec3::ZERO, Vec3::ZERO));
     }
 

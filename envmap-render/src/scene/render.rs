@@ -537,14 +537,19 @@ impl core::fmt::Debug for EnvSource<'_> {
 ///
 /// # Errors
 ///
-/// Only [`Error::Cancelled`], once `opts.cancel` is set (checked at every
-/// band of rows).
+/// A mesh that [`Mesh::validate`] refuses ([`Error::MeshIndex`] for a
+/// triangle past the last vertex, [`Error::MeshCounts`],
+/// [`Error::MeshPosition`], [`Error::MeshNormal`]), checked before anything
+/// is drawn; [`Error::Cancelled`], once `opts.cancel` is set (checked at
+/// every band of rows).
 pub fn render(
     mesh: &Mesh,
     env: EnvSource<'_>,
     cam: &Camera,
     opts: &RenderOptions,
 ) -> Result<RgbImage> {
+    // A triangle's index past the last vertex would be read below.
+    mesh.validate()?;
     match env {
         EnvSource::Map(img) => render_map(mesh, Some(img), None, cam, opts),
         EnvSource::Analytic(f) => render_map(mesh, None, Some(f), cam, opts),
