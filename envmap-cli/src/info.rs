@@ -120,6 +120,9 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
         let whence = match (given, loaded.metadata.axes) {
             (Some(_), _) => "as given",
             (None, Some(_)) => "as the file says",
+            (None, None) if loaded.source.format == FileFormat::Dds => {
+                "the default: a DDS file has no place to say; a bake's manifest.json beside it does (frame_to_canonical)"
+            }
             (None, None) => "the default: the file does not say",
         };
         p(

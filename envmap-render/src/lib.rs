@@ -39,6 +39,11 @@ mod par;
 pub mod scene;
 
 pub use crate::error::{Error, Result};
+
+// The README's Rust examples run as doctests (`cargo test --doc`).
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+struct ReadmeDoctests;
 pub use crate::filter::convert::{convert, convert_into, ConvertOptions};
 pub use crate::image::io::{
     load, load_from_memory, save, save_to_memory, LoadOptions, NonFinite, SaveOptions,

@@ -1307,3 +1307,94 @@ fn dds_huge_header_fails_the_size_limit() {
         "not TooLarge with all the texels: {e:?}"
     );
 }
+
+/// Every preset's files say the axes their cubes are in where the container
+/// has room (KTX2 key/value data, OpenEXR attributes), and loading them
+/// back puts every texel where the bake put it: level 0 read from the file
+/// and converted to a latlong in envmap's axes equals the bake's own level 0
+/// converted the same way, bit for bit. Bevy's cube is in its world with z
+/// negated: read as the GL world (as before the file said so) it comes back
+/// mirrored front to back, which the check catches. DDS has no place for
+/// the axes: a DDS file loads in the default GL world, and `envmap info`
+/// says so.
+#[test]
+fn every_presets_files_say_their_axes_and_load_back_in_them() {
+    use envmap_render::bake::{Baker, Container, Preset, Target};
+    use envmap_render::image::FileAxes;
+    use envmap_render::{convert, load_from_memory, ConvertOptions};
+    let src = envmap_render::scene::procedural::fill(
+        Representation::default_for(AnyMapping::LatLong),
+        64,
+        32,
+        |d| [d.x.max(0.0) + 0.1, d.y.max(0.0) + 0.1, d.z.max(0.0) + 0.1],
+    )
+    .expect("source");
+    let latlong = |img: &EnvImage| {
+        convert(
+            img,
+            Representation::default_for(AnyMapping::LatLong),
+            32,
+            16,
+            &ConvertOptions::default(),
+            None,
+        )
+        .expect("convert")
+    };
+    let mut cases: Vec<(String, Preset)> = Vec::new();
+    for t in [Target::Bevy, Target::Gltf] {
+        cases.push((
+            t.name().to_owned(),
+            Preset::for_target(t, FileAxes::default()),
+        ));
+    }
+    cases.push(("default".to_owned(), Preset::default()));
+    let mut dds = Preset::for_target(Target::Bevy, FileAxes::default());
+    dds.container = Container::Dds;
+    dds.texture.zstd = None;
+    dds.texture.format = TexelFormat::Rgba16f;
+    cases.push(("bevy-dds".to_owned(), dds));
+    for (label, mut preset) in cases {
+        preset.size = 8;
+        preset.irradiance_size = 0;
+        preset.dfg_size = 0;
+        let container = preset.container;
+        let baked = Baker::with_preset(preset).bake(&src).expect("bake");
+        let level0 = &baked.bake().chain.as_ref().expect("chain").levels[0];
+        let files = baked.files("ibl").expect("files");
+        let (name, bytes) = files
+            .files
+            .iter()
+            .find(|f| {
+                let n = f.path.to_string_lossy();
+                n.starts_with("specular") && !n.ends_with(".json")
+            })
+            .map(|f| (f.path.to_string_lossy().into_owned(), f.bytes.clone()))
+            .expect("a specular file");
+        let loaded = load_from_memory(&bytes, &name, &LoadOptions::default()).expect("load");
+        let frame = loaded.image.representation().frame;
+        if container == Container::Dds {
+            // No place to say: the GL world, whatever the bake's axes.
+            assert_eq!(
+                frame,
+                Representation::for_file(AnyMapping::Cube, FileAxes::default()).frame,
+                "{label}"
+            );
+            continue;
+        }
+        assert_eq!(
+            frame,
+            level0.representation().frame,
+            "{label}: the axes read back"
+        );
+        let (a, b) = (latlong(&loaded.image), latlong(level0));
+        // RGB9E5's step is at most 1/256 of a texel's largest channel (here
+        // under 1.2), so packing moves a value by under 0.0024; RGBA16F and
+        // f32 by far less. A mirrored map moves these texels by 0.1 to 1.
+        let close = a.pixels().iter().zip(b.pixels()).all(|(x, y)| {
+            x.iter()
+                .zip(y)
+                .all(|(u, v)| (u - v).abs() <= 5e-3 * v.abs().max(1.0))
+        });
+        assert!(close, "{label}: texels where the bake put them");
+    }
+}

@@ -764,6 +764,17 @@ fn texture_level0(t: texture::TextureFile, format: FileFormat) -> (RgbImage, Sou
     if t.texture.kind() == TextureKind::Cube {
         tags.push((metadata::MAPPING.to_owned(), AnyMapping::Cube.to_string()));
         tags.push((metadata::LAYOUT.to_owned(), Layout::Strip.name().to_owned()));
+        // The file's axes (a KTX2 of envmap's says them); its faces are
+        // read as a strip whatever its mapping key says.
+        tags.extend(
+            t.texture
+                .tags()
+                .iter()
+                .filter(|(k, _)| k == metadata::AXES)
+                .cloned(),
+        );
+    } else {
+        tags.extend(t.texture.tags().iter().cloned());
     }
     let pixel_format = format!("{} (level 0 read)", t.info.summary());
     let image = t.texture.level_rgb(0).unwrap_or_default();

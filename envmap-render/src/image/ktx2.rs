@@ -15,9 +15,12 @@
 //!   channel (RGB9E5: mantissa and exponent per channel), bounds as
 //!   §"Data Format Descriptor" and the Khronos Data Format Specification
 //!   1.4 give them ([`dfd`]);
-//! * the key/value data: `KTXorientation` = `rd` and `KTXwriter` =
-//!   `envmap <version>`, sorted, each entry padded to 4 bytes with zeros
-//!   (no custom keys, so `ktx validate -e` finds nothing to warn of);
+//! * the key/value data: `KTXorientation` = `rd`, `KTXwriter` =
+//!   `envmap <version>` and, for a texture of environment maps, what its
+//!   directions mean: `envmap.mapping`, `envmap.layout` (2D) and
+//!   `envmap.axes` ([`crate::image::metadata`]; a Bevy cube's z-negated
+//!   world, say), sorted, each entry padded to 4 bytes with zeros; reading
+//!   gives them back ([`Texture::tags`]);
 //! * the levels, smallest first, each starting at the next multiple of
 //!   lcm(texel size, 4) with zero padding (8 for RGBA16F, 16 for RGBA32F,
 //!   4 for the packed formats); under zstd each level is one frame, no
@@ -239,7 +242,9 @@ pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)>
     let faces = tex.kind().faces() as u32;
     let dfd = dfd(format);
     let writer = writer_name();
-    let kvd = key_values(&[("KTXorientation", "rd"), ("KTXwriter", &writer)]);
+    let mut entries = vec![("KTXorientation", "rd"), ("KTXwriter", writer.as_str())];
+    entries.extend(tex.tags().iter().map(|(k, v)| (k.as_str(), v.as_str())));
+    let kvd = key_values(&entries);
     let dfd_offset = (HEADER_LEN + LEVEL_ENTRY * n).next_multiple_of(4);
     let kvd_offset = dfd_offset + dfd.len();
     let align = if opts.zstd.is_some() {
@@ -645,7 +650,9 @@ fn decode_inner(b: &[u8], max_texels: u64) -> std::result::Result<TextureFile, F
         })
         .collect::<std::result::Result<Vec<_>, String>>()?;
     let level_lens = spans.iter().map(|(d, _)| d.len() as u64).collect();
-    let texture = Texture::new(kind, levels).map_err(Failure::Error)?;
+    let texture = Texture::new(kind, levels)
+        .map_err(Failure::Error)?
+        .with_tags(&key_values);
     Ok(TextureFile {
         texture,
         info: TextureInfo {

@@ -48,6 +48,10 @@ impl TextureKind {
 pub struct Texture {
     kind: TextureKind,
     levels: Vec<Vec<RgbImage>>,
+    /// What the texels' directions mean, as envmap's `envmap.*` keys
+    /// ([`crate::image::metadata`]): the mapping, a 2D texture's layout,
+    /// the axes; sorted by key. Empty for a texture made of plain images.
+    tags: Vec<(String, String)>,
 }
 
 /// The size of level `p` of a `w`×`h` texture: ⌊w/2ᵖ⌋ × ⌊h/2ᵖ⌋, at least 1.
@@ -123,7 +127,35 @@ impl Texture {
                 }
             }
         }
-        Ok(Self { kind, levels })
+        Ok(Self {
+            kind,
+            levels,
+            tags: Vec::new(),
+        })
+    }
+
+    /// What the texels' directions mean, as a file states it: envmap's
+    /// `envmap.mapping`, `envmap.layout` (2D textures) and `envmap.axes`
+    /// keys, sorted by key ([`crate::image::metadata`]). KTX2 files carry
+    /// them in their key/value data; DDS has no place for them. Empty for a
+    /// texture of plain images, or a file that does not say.
+    #[must_use]
+    pub fn tags(&self) -> &[(String, String)] {
+        &self.tags
+    }
+
+    /// `self` stating `tags` (only envmap's `envmap.*` keys are kept,
+    /// sorted by key).
+    #[must_use]
+    pub(crate) fn with_tags(mut self, tags: &[(String, String)]) -> Self {
+        let mut t: Vec<(String, String)> = tags
+            .iter()
+            .filter(|(k, _)| k.starts_with("envmap."))
+            .cloned()
+            .collect();
+        t.sort();
+        self.tags = t;
+        self
     }
 
     /// A texture of environment maps, largest first: cubes become six faces
@@ -176,7 +208,15 @@ impl Texture {
                 }]);
             }
         }
-        Self::new(kind, out)
+        // What the directions mean: a cube's faces are GL's, so its axes
+        // say it all; a 2D texture keeps its mapping and layout too.
+        let repr = first.representation();
+        let layout = if cube { None } else { repr.layout() };
+        let mut tags = crate::image::metadata::tags(repr, layout, None);
+        if cube {
+            tags.retain(|(k, _)| k != crate::image::metadata::LAYOUT);
+        }
+        Ok(Self::new(kind, out)?.with_tags(&tags))
     }
 
     /// 2D or cube.
