@@ -13,7 +13,7 @@ use crate::args::{
     load_error, parse_convention, parse_layout, parse_mapping, parse_world, set_threads,
     warn_clamped, warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
-use envmap_render::bake::{self, Baker, Container, Preset, Target};
+use envmap_render::bake::{Baker, Container, Preset, Target};
 use envmap_render::filter::bake::{chain_sizes, Bake, BakeOptions, Quality};
 use envmap_render::filter::dfg::DfgGrid;
 use envmap_render::filter::sh::{IrradianceScale, ShWindow};
@@ -383,7 +383,8 @@ fn summary(a: &BakeArgs, plan: &Preset, name: &str, b: &Bake, files: usize, time
         );
         note!("| ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: |");
         for (k, r) in chain.reports.iter().enumerate() {
-            let expected = bake::write::estimated_error(r)
+            let expected = r
+                .estimated_error()
                 .map(|e| format!("{:.2} %", 100.0 * e))
                 .unwrap_or_else(|| "not sampled".to_owned());
             let measured = r

@@ -9,7 +9,7 @@
 //! | [`image`] | [`EnvImage`] and its [`Representation`], layouts, every file format ([`image::io`]: PNG/JPEG, Radiance HDR, OpenEXR, six-file cubes, safe writes) | `envmap-core` |
 //! | [`filter`] | sampling with each representation's edge rule ([`filter::sample`]), the one conversion loop ([`filter::convert`]) | `image`, `envmap-simd` |
 //! | [`scene`] | built-in environments, procedural environments, meshes, the renderer, the demo | `image`, `filter` |
-//! | [`bakedir`] | the bake directory: the engines' presets, its files written to a directory or into memory, and read back | `image`, `filter`, `scene` |
+//! | [`bake`] | the one way to bake ([`bake::Baker`]), the engines' presets, a bake's files written to a directory or into memory, and read back | `image`, `filter`, `scene` |
 //!
 //! [`Error`] (in `error.rs`) is shared by all of them: every message names
 //! the file it concerns.

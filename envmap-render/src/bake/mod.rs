@@ -1,7 +1,6 @@
 //! The bake directory: the files `envmap bake` writes and `envmap render
 //! --env DIR` reads, owned here, writer and reader side by side, so that a
-//! library gets the same files (or their bytes) from a [`Bake`] without the
-//! command line.
+//! library gets the same files (or their bytes) without the command line.
 //!
 //! # The files
 //!
@@ -20,44 +19,38 @@
 //! ([`read::level_entry`]). Every value's convention (axes, E or E/π, which
 //! mip is which roughness) is written beside it in the manifest.
 //!
-//! # Writing and reading
+//! # Baking, writing and reading
 //!
-//! * [`Preset`]: a [`Target`]'s choices (or envmap's default), turned into
-//!   [`crate::filter::bake::BakeOptions`] by [`Preset::bake_options`].
-//! * [`write()`]: every file into a directory, renamed into place together;
-//!   [`bake_into`]: the bake and its files at once, each level of an
-//!   OpenEXR chain written while the next is made (what `envmap bake`
-//!   runs); [`in_memory`]: the same files' bytes, with nothing on disk
-//!   touched;
-//!   [`engine_textures`]: the maps' texels per level and face in the
-//!   preset's texel format, for an engine's own upload.
+//! * [`Baker`]: the one way to bake. A [`Target`]'s choices
+//!   ([`Baker::for_target`]) or envmap's own ([`Baker::new`]), any
+//!   override, then [`Baker::bake`] (the input by value or by reference)
+//!   or [`Baker::bake_into`] (each level of an OpenEXR chain written while
+//!   the next is made: what `envmap bake` runs).
+//! * [`Baked`]: the result, holding the choices it was made with:
+//!   [`Baked::write`] (every file into a directory, renamed into place
+//!   together), [`Baked::files`] (the same files' bytes, nothing on disk
+//!   touched), [`Baked::textures`] (the maps' texels per level and face in
+//!   the preset's texel format, for an engine's own upload).
 //! * [`read::open`]: the maps back as a [`crate::scene::lit::LitEnvironment`].
 //!
 //! ```
-//! use envmap_render::bake::{self, Preset, Provenance, Target};
-//! use envmap_render::filter::bake::{bake, BakeOptions};
-//! use envmap_render::image::{FileAxes, Representation};
+//! use envmap_render::bake::{Baker, Target};
 //! use envmap_render::scene::procedural::{fill, smooth};
+//! use envmap_render::Representation;
 //! use envmap_core::AnyMapping;
 //!
 //! let src = fill(Representation::default_for(AnyMapping::LatLong), 128, 64, smooth)?;
-//! let mut preset = Preset::for_target(Target::Bevy, FileAxes::default());
-//! preset.size = 16;
-//! preset.irradiance_size = 8;
-//! let opts = preset.bake_options(BakeOptions::default());
-//! let baked = bake(&src, &opts, &|_, _| {})?;
-//! let files = bake::in_memory("ibl".as_ref(), &baked, &opts, &preset, &Provenance::new("smooth"))?;
+//! let baked = Baker::for_target(Target::Bevy).size(16).input_name("smooth").bake(&src)?;
+//! let files = baked.files("ibl")?;
 //! let ktx2 = files.get("specular.ktx2").expect("the chain");
 //! assert_eq!(&ktx2[..12], b"\xABKTX 20\xBB\r\n\x1A\n");
 //! # Ok::<(), envmap_render::Error>(())
 //! ```
-//!
-//! [`Bake`]: crate::filter::bake::Bake
 
 mod builder;
-pub mod preset;
+mod preset;
 pub mod read;
-pub mod write;
+mod write;
 
 pub use builder::{Baked, Baker, Progress};
 pub use preset::{Container, Preset, Target, DEFAULT_ZSTD};

@@ -105,8 +105,8 @@ pub const DEFAULT_ZSTD: i32 = 3;
 /// choices ([`Preset::for_target`]) or envmap's own default
 /// ([`Preset::default`]), any field of which a caller may change.
 /// [`Preset::bake_options`] turns it into the bake's options;
-/// [`crate::bake::write()`] and [`crate::bake::in_memory`] write the
-/// files it names.
+/// [`crate::bake::Baker::with_preset`] bakes with it, and the result writes
+/// the files it names.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct Preset {
@@ -172,7 +172,7 @@ impl Default for Preset {
 /// `axes` with z negated: the y-up left-handed world of a y-up one (and
 /// back), any other frame times diag(1, 1, −1).
 #[must_use]
-pub fn z_negated(axes: FileAxes) -> FileAxes {
+pub(crate) fn z_negated(axes: FileAxes) -> FileAxes {
     use crate::image::convention::World;
     match axes {
         FileAxes::Convention(c, World::YUp) => FileAxes::Convention(c, World::YUpLh),

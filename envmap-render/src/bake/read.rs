@@ -1,5 +1,5 @@
 //! The bake directory's reader: a [`LitEnvironment`] from the files
-//! [`super::write()`] (`envmap bake`) wrote, or a KTX2 / DDS chain on its own.
+//! [`super::Baked::write`] (`envmap bake`) wrote, or a KTX2 / DDS chain on its own.
 //!
 //! * **A bake directory** (or any chain file in one): `manifest.json` says
 //!   where each level of the specular chain is (`specular_k.exr`, or level

@@ -42,7 +42,7 @@ impl Provenance {
     }
 }
 
-/// What [`write()`] wrote.
+/// What [`Baked::write`](super::Baked::write) wrote.
 #[derive(Clone, Debug, Default)]
 pub struct Written {
     /// The files, in the order they were staged.
@@ -51,8 +51,9 @@ pub struct Written {
     pub clamped: Vec<(PathBuf, Clamped)>,
 }
 
-/// What [`in_memory`] made: the files [`write()`] would have written to its
-/// `dir`, each by its name in that directory.
+/// What [`Baked::files`](super::Baked::files) made: the files
+/// [`Baked::write`](super::Baked::write) would have written to a directory,
+/// each by its name in that directory.
 #[derive(Clone, Debug, Default)]
 pub struct BakeFiles {
     /// Each file: its name in the directory and its bytes.
@@ -559,7 +560,7 @@ fn format_g(v: f32) -> String {
 
 /// The `sh` key of cmgen's KTX 1 files: nine lines `r g b`, L00 … L22, `%g`
 /// of the f32 values, each line ended by `\n`.
-pub fn filament_sh_key(b: &Bake, preset: &Preset) -> String {
+pub(crate) fn filament_sh_key(b: &Bake, preset: &Preset) -> String {
     filament_sh(b, preset)
         .iter()
         .map(|c| {
@@ -575,7 +576,7 @@ pub fn filament_sh_key(b: &Bake, preset: &Preset) -> String {
 
 /// cmgen's `sh.txt`: `(r, g, b); // L00, irradiance, pre-scaled base` per
 /// line, `%18.15f`.
-pub fn filament_sh_txt(b: &Bake, preset: &Preset) -> String {
+pub(crate) fn filament_sh_txt(b: &Bake, preset: &Preset) -> String {
     filament_sh(b, preset)
         .iter()
         .zip(NAMES)
@@ -618,7 +619,7 @@ fn named(c: &[[f64; 3]; 9]) -> serde_json::Value {
 }
 
 /// `sh.json`: the coefficients, their basis, frame and kind.
-pub fn sh_json(preset: &Preset, b: &Bake, axes: FileAxes) -> String {
+pub(crate) fn sh_json(preset: &Preset, b: &Bake, axes: FileAxes) -> String {
     let frame = axes.frame(AnyMapping::Cube);
     let windowed = match preset.sh_window {
         Some(w) => b.sh.windowed(w),
@@ -664,7 +665,7 @@ pub fn sh_json(preset: &Preset, b: &Bake, axes: FileAxes) -> String {
 }
 
 /// The manifest: the input, the conventions, the rule, every level.
-pub fn manifest(
+pub(crate) fn manifest(
     dir: &Path,
     preset: &Preset,
     provenance: &Provenance,
@@ -686,7 +687,7 @@ pub fn manifest(
                     "method": r.method,
                     "samples": r.samples,
                     "exact_source_level": r.source_level,
-                    "expected_relative_rms_error_smooth_light": estimated_error(r),
+                    "expected_relative_rms_error_smooth_light": r.estimated_error(),
                     "measured": r.measured.map(|m| serde_json::json!({
                         "texels": m.texels,
                         "relative_rms_error": m.relative_rms,
@@ -812,12 +813,6 @@ fn frame_columns(f: envmap_core::Frame) -> [[f32; 3]; 3] {
         m.y_axis.to_array(),
         m.z_axis.to_array(),
     ]
-}
-
-/// The relative RMS error a level's method is measured to have
-/// (`docs/lighting.md`): 0 for the resampled and exact levels.
-pub fn estimated_error(r: &crate::filter::bake::LevelReport) -> Option<f64> {
-    (r.method == "sampled").then(|| crate::filter::bake::estimated_error(r.roughness, r.samples))
 }
 
 #[cfg(test)]

@@ -178,7 +178,7 @@ pub struct BakeOptions<'a> {
     /// Added to each sample's FIS level. Default 0 (measured best on smooth
     /// and sharp environments: `docs/lighting.md`).
     pub lod_bias: f32,
-    /// At most this many brightest texels are split out and summed by [`crate::filter::bright_tree`].
+    /// At most this many brightest texels are split out and summed by a Barnes–Hut tree near each lobe.
     pub bright_max: usize,
     /// Firefly control: texels above this luminance are compressed
     /// (Y → T·(1 + ln(Y/T))) before the specular chain is filtered (the SH
@@ -257,6 +257,16 @@ pub struct LevelReport {
     /// The error measured against the exact integral on
     /// [`BakeOptions::check`] texels (sampled levels, when asked).
     pub measured: Option<LevelError>,
+}
+
+impl LevelReport {
+    /// The relative RMS error this level's method is measured to have on
+    /// smooth light ([`estimated_error`], `docs/lighting.md`); `None` for the
+    /// resampled and exact levels, which have no sampling error.
+    #[must_use]
+    pub fn estimated_error(&self) -> Option<f64> {
+        (self.method == "sampled").then(|| estimated_error(self.roughness, self.samples))
+    }
 }
 
 /// A level's error against the exact integral on a subset of its texels
@@ -1176,7 +1186,7 @@ pub type LevelSink<'s> = dyn Fn(usize, &EnvImage, &LevelReport) -> Result<()> + 
 /// [`bake_owned`], handing each level of the specular chain to `sink` as
 /// soon as it is final, while the bake goes on: a caller writes (or
 /// uploads) level k while level k + 1 is filtered
-/// ([`crate::bake::bake_into`] writes a bake directory so).
+/// ([`crate::bake::Baker::bake_into`] writes a bake directory so).
 ///
 /// The levels come in order, each once: level 0 before the base cube and
 /// the pyramid are made, level k − 1 beside the making of level k

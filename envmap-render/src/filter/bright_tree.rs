@@ -26,12 +26,12 @@ use crate::filter::specular::{peak_magnitude, weight8, Bright};
 /// from the nearest of the eight directions to the node's nearest point.
 /// Near the lobe a node at most an eighth of the lobe across; in the tail
 /// one at most a sixteenth of its distance across ([`FAR`]).
-pub const CORE: f32 = 16.0;
+pub(crate) const CORE: f32 = 16.0;
 
 /// See [`CORE`]: a far node is added whole when its radius is at most
 /// its distance over `FAR`. Coarser far nodes (16, 8) move a chain's
 /// levels by only a small fraction of a per cent; 32 keeps that margin.
-pub const FAR: f32 = 32.0;
+pub(crate) const FAR: f32 = 32.0;
 
 /// Depth of the leaves: faces cut into 2¹⁵ × 2¹⁵ cells (0.003° across),
 /// finer than any part [`crate::filter::specular::split_bright`] makes.
@@ -64,7 +64,7 @@ const FLAT: u32 = 16;
 
 /// The split texels' points as a tree, for [`BrightTree::sums`].
 #[derive(Clone, Debug, Default)]
-pub struct BrightTree {
+pub(crate) struct BrightTree {
     nodes: Vec<Node>,
     kids: Vec<u32>,
     roots: Vec<u32>,
@@ -95,7 +95,7 @@ fn morton(i: u32, j: u32) -> u64 {
 impl BrightTree {
     /// The tree over `b`'s points.
     #[must_use]
-    pub fn new(b: &Bright) -> BrightTree {
+    pub(crate) fn new(b: &Bright) -> BrightTree {
         let n = 1u32 << DEPTH;
         let mut keyed: Vec<(u64, usize)> = b
             .dirs
@@ -189,25 +189,13 @@ impl BrightTree {
         (self.nodes.len() - 1) as u32
     }
 
-    /// Nodes in the tree (leaves included).
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.nodes.len()
-    }
-
-    /// Whether the tree holds no point.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.nodes.is_empty()
-    }
-
     /// Σ w·Ω·L over the points for eight directions `r` (lanes), w the GGX
     /// weight at α² = `a2`, `width` the lobe's width (radians): nodes added
     /// whole by the rule of [`CORE`] and [`FAR`], accumulated in f32 per
     /// run of 256 nodes and in f64 across runs.
     #[must_use]
     #[inline]
-    pub fn sums(&self, r: &Dir8, a2: f32, width: f32) -> [[f64; 3]; 8] {
+    pub(crate) fn sums(&self, r: &Dir8, a2: f32, width: f32) -> [[f64; 3]; 8] {
         if self.nodes.is_empty() {
             return [[0.0f64; 3]; 8];
         }
@@ -345,7 +333,7 @@ mod tests {
     fn the_tree_sums_as_the_flat_sum_does() {
         let b = scattered(20_000);
         let t = BrightTree::new(&b);
-        assert!(t.len() >= b.dirs.len());
+        assert!(t.nodes.len() >= b.dirs.len());
         for roughness in [0.1f32, 0.25, 0.5, 1.0] {
             let alpha = roughness * roughness;
             let a2 = alpha * alpha;
@@ -380,7 +368,7 @@ mod tests {
     #[test]
     fn an_empty_tree_sums_to_zero() {
         let t = BrightTree::new(&Bright::default());
-        assert!(t.is_empty());
+        assert!(t.nodes.is_empty());
         let r = Dir8::new(f32x8::ZERO, f32x8::ZERO, f32x8::ONE);
         assert_eq!(t.sums(&r, 0.1, 0.3), [[0.0; 3]; 8]);
     }

@@ -15,7 +15,7 @@
 //! * [`oracle`]: the bake's integrals from the input itself, piecewise
 //!   constant over its own texels, by adaptive quadrature ([`oracle::Oracle`]).
 //! * [`bake`]: the lighting bake's pipeline (chain, levels, reports).
-//! * [`bright_tree`]: the split texels summed hierarchically per eight
+//! * `bright_tree`: the split texels summed hierarchically per eight
 //!   directions (Barnes–Hut), near the lobe point by point.
 //! * [`specular`]: GGX-prefiltered levels, exact or importance-sampled, the
 //!   brightest texels added by a tree, and the mip↔roughness rules.
@@ -27,7 +27,7 @@
 //! nothing from `scene` or `cli`.
 
 pub mod bake;
-pub mod bright_tree;
+pub(crate) mod bright_tree;
 pub mod convert;
 pub mod dfg;
 // Its channel loops index several per-channel arrays in step.

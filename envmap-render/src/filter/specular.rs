@@ -522,8 +522,8 @@ pub const SPLIT_MEAN: f64 = 4.0;
 
 /// The split texels are cut into parts at most 1/`PART` of the narrowest
 /// level's lobe across ([`split_bright`]'s `pitch`): finer parts (1/8,
-/// 1/16) gain nothing on real HDRIs ([`crate::filter::bright_tree`] is what
-/// sums them, near each lobe part by part).
+/// 1/16) gain nothing on real HDRIs (a Barnes–Hut tree sums them, near
+/// each lobe part by part).
 pub const PART: f64 = 4.0;
 
 /// Per-sample values shared by every output texel of a sampled level.
