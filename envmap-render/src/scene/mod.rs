@@ -7,17 +7,13 @@
 //! * [`material`]: the glTF metallic-roughness model and its presets.
 //! * [`lit`]: shading with baked maps (the split sum) and the Monte Carlo
 //!   reference it approximates.
-//! * [`lit_files`]: those maps from the files `envmap bake` wrote (the
-//!   reader of [`crate::bake`], kept here under its first name).
 //! * [`render`]: the rasterizer, per pixel (seed `000`) and per vertex
 //!   (seed `002`).
 //!
-//! This folder uses [`crate::image`] and [`crate::filter`]; nothing from
-//! `cli`.
+//! This folder uses [`crate::image`] and [`crate::filter`].
 
 pub mod environments;
 pub mod lit;
-pub use crate::bake::read as lit_files;
 pub mod material;
 pub mod mesh;
 pub mod procedural;
