@@ -348,6 +348,7 @@ impl Error {
         }
     }
 
+    #[cfg(any(feature = "ktx2", feature = "dds"))]
     pub(crate) fn codec(format: &'static str, message: impl fmt::Display) -> Error {
         Error::Codec {
             format,

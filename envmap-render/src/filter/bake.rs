@@ -84,7 +84,7 @@ impl Quality {
     /// [`SAMPLE_BUDGET`] samples in all (scaled as the quality scales its
     /// counts), at most 4096 per texel.
     #[must_use]
-    pub fn samples_for(self, roughness: f32, texels: u64) -> u32 {
+    pub(crate) fn samples_for(self, roughness: f32, texels: u64) -> u32 {
         let budget = match self {
             Quality::Draft => SAMPLE_BUDGET / 4,
             Quality::Default => SAMPLE_BUDGET,
@@ -122,7 +122,7 @@ impl std::str::FromStr for Quality {
 }
 
 /// A sampled level whose lobe is narrower than this many of the input's
-/// texels ([`texel_pitch`]) takes twice [`Quality::samples_for`]'s count.
+/// texels (`texel_pitch`) takes twice `Quality::samples_for`'s count.
 pub const SHARP_TEXELS: f64 = 2.0;
 
 /// A level is summed exactly when its source level has at most this many
@@ -153,7 +153,7 @@ pub struct BakeOptions<'a> {
     /// Number of levels; `None` down to `min_size`.
     pub levels: Option<usize>,
     /// The smallest level's face size when `levels` is `None`; `None` for
-    /// the rule's own ([`RoughnessRule::default_min_size`]).
+    /// the rule's own (`RoughnessRule::default_min_size`).
     pub min_size: Option<u32>,
     /// Each level's face size, level 0 first, instead of sizes halving from
     /// `size` (then `size`, `levels` and `min_size` are not read): a chain
@@ -445,7 +445,7 @@ pub fn estimated_error(roughness: f32, samples: u32) -> f64 {
     e * (64.0 / f64::from(samples.max(1))).sqrt()
 }
 
-/// What [`clamp_luminance`] changed.
+/// What `clamp_luminance` changed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ClampReport {
     /// The luminance threshold.
@@ -458,7 +458,7 @@ pub struct ClampReport {
 
 /// Compresses every texel whose luminance Y exceeds `t` to the luminance
 /// t·(1 + ln(Y/t)) (continuous, with slope 1 at t), keeping its colour.
-pub fn clamp_luminance(img: &mut EnvImage, t: f32) -> Result<ClampReport> {
+pub(crate) fn clamp_luminance(img: &mut EnvImage, t: f32) -> Result<ClampReport> {
     let mapping = img.mapping();
     let (cw, ch) = img.cell_size();
     let weights = crate::filter::weights::TexelWeights::new(mapping, cw, ch);

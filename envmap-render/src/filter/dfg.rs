@@ -122,7 +122,7 @@
 //! the integral in its 4th decimal, the difference is the sampling error
 //! of the Hammersley estimator it was made with. Stored as f16
 //! ([`ExrPrecision::F16`](crate::image::io::ExrPrecision::F16),
-//! [`DfgTable::multiscatter_f16_bits`]) the values are rounded to a
+//! `DfgTable::multiscatter_f16_bits`) the values are rounded to a
 //! relative 2⁻¹¹. The measured errors are in `docs/lighting.md`; the
 //! criterion bench `dfg` in `envmap-bench` times the table.
 //!
@@ -806,16 +806,16 @@ impl DfgTable {
     /// # Errors
     ///
     /// As [`DfgTable::new`], and [`Error::Cancelled`] once `cancel` is set.
-    pub fn new_cancellable(size: u32, cancel: Option<&AtomicBool>) -> Result<DfgTable> {
+    pub(crate) fn new_cancellable(size: u32, cancel: Option<&AtomicBool>) -> Result<DfgTable> {
         DfgTable::on_grid(size, DfgGrid::TexelCentres, cancel)
     }
 
-    /// As [`DfgTable::new_cancellable`], the texels on `grid` (see the
+    /// As `DfgTable::new_cancellable`, the texels on `grid` (see the
     /// [module docs](self#grids-texel-centres-or-edges)).
     ///
     /// # Errors
     ///
-    /// As [`DfgTable::new_cancellable`]; [`Error::Layout`] for a
+    /// As `DfgTable::new_cancellable`; [`Error::Layout`] for a
     /// [`DfgGrid::Edges`] table under 2 × 2.
     pub fn on_grid(size: u32, grid: DfgGrid, cancel: Option<&AtomicBool>) -> Result<DfgTable> {
         check_size(size)?;
@@ -866,19 +866,21 @@ impl DfgTable {
         self.grid
     }
 
+    #[cfg(test)]
     /// (μ, r) of texel (`i`, `j`): ((i + 0.5)/size, (j + 0.5)/size) at
     /// texel centres, (i/(size − 1), j/(size − 1)) on the edges grid.
     #[inline]
     #[must_use]
-    pub fn texel_point(&self, i: u32, j: u32) -> (f64, f64) {
+    pub(crate) fn texel_point(&self, i: u32, j: u32) -> (f64, f64) {
         (self.grid.point(i, self.size), self.grid.point(j, self.size))
     }
 
+    #[cfg(test)]
     /// The single-scatter `[scale, bias]` at column `i` (μ) and row `j` (r);
     /// `None` outside the table.
     #[inline]
     #[must_use]
-    pub fn single_scatter(&self, i: u32, j: u32) -> Option<[f32; 2]> {
+    pub(crate) fn single_scatter(&self, i: u32, j: u32) -> Option<[f32; 2]> {
         self.index(i, j).map(|k| self.single[k])
     }
 
@@ -897,16 +899,17 @@ impl DfgTable {
         &self.single
     }
 
+    #[cfg(test)]
     /// Every texel's multiscatter `[bias, scale + bias]`, row-major, row 0
     /// first.
     #[inline]
     #[must_use]
-    pub fn multiscatter_texels(&self) -> &[[f32; 2]] {
+    pub(crate) fn multiscatter_texels(&self) -> &[[f32; 2]] {
         &self.multi
     }
 
     /// The single-scatter `[scale, bias]` at μ and r, bilinear between the
-    /// texels' points ([`DfgTable::texel_point`]): at texel centres, as a
+    /// texels' points (`DfgTable::texel_point`): at texel centres, as a
     /// GPU samples the table at (μ, r) with linear filtering and
     /// clamp-to-edge; on the edges grid, as it samples it at
     /// ((size − 1)·x + ½)/size. The arguments are clamped to the outermost
@@ -931,10 +934,11 @@ impl DfgTable {
         }
     }
 
+    #[cfg(test)]
     /// The multiscatter `[bias, scale + bias]` at μ and r, bilinear as in
     /// [`DfgTable::sample_single_scatter`].
     #[must_use]
-    pub fn sample_multiscatter(&self, mu: f32, r: f32) -> [f32; 2] {
+    pub(crate) fn sample_multiscatter(&self, mu: f32, r: f32) -> [f32; 2] {
         bilinear(&self.multi, self.size, self.grid, mu, r)
     }
 
@@ -942,7 +946,7 @@ impl DfgTable {
     /// Column i is μ = (i + 0.5)/size; row j (top row first) is
     /// r = (j + 0.5)/size.
     #[must_use]
-    pub fn single_scatter_image(&self) -> RgbImage {
+    pub(crate) fn single_scatter_image(&self) -> RgbImage {
         self.image(&self.single)
     }
 
@@ -950,23 +954,25 @@ impl DfgTable {
     /// G = scale + bias, B = 0. Column i is μ = (i + 0.5)/size; row j (top
     /// row first) is r = (j + 0.5)/size.
     #[must_use]
-    pub fn multiscatter_image(&self) -> RgbImage {
+    pub(crate) fn multiscatter_image(&self) -> RgbImage {
         self.image(&self.multi)
     }
 
+    #[cfg(test)]
     /// The single-scatter texels as IEEE half floats (their bits), rounded
     /// to nearest from the stored f32, row-major, row 0 first: the texels of
     /// an RG16F texture.
     #[must_use]
-    pub fn single_scatter_f16_bits(&self) -> Vec<[u16; 2]> {
+    pub(crate) fn single_scatter_f16_bits(&self) -> Vec<[u16; 2]> {
         to_f16_bits(&self.single)
     }
 
+    #[cfg(test)]
     /// The multiscatter texels as IEEE half floats (their bits), rounded to
     /// nearest from the stored f32, row-major, row 0 first: the texels of
     /// an RG16F texture.
     #[must_use]
-    pub fn multiscatter_f16_bits(&self) -> Vec<[u16; 2]> {
+    pub(crate) fn multiscatter_f16_bits(&self) -> Vec<[u16; 2]> {
         to_f16_bits(&self.multi)
     }
 
@@ -1036,6 +1042,7 @@ fn texel_point(index: u32, size: u32) -> f64 {
     (f64::from(index) + 0.5) / f64::from(size)
 }
 
+#[cfg(test)]
 fn to_f16_bits(texels: &[[f32; 2]]) -> Vec<[u16; 2]> {
     use crate::image::texel::f16;
     texels

@@ -313,7 +313,7 @@ impl<'a> Oracle<'a> {
 
     /// The oracle of `src` read between texel centres as `recon` says.
     #[must_use]
-    pub fn with_reconstruction(src: &'a EnvImage, recon: Reconstruction) -> Self {
+    pub(crate) fn with_reconstruction(src: &'a EnvImage, recon: Reconstruction) -> Self {
         let mapping = src.mapping();
         let (cw, ch) = src.cell_size();
         let weights = TexelWeights::new(mapping, cw, ch);
@@ -719,10 +719,11 @@ impl<'a> Oracle<'a> {
             .collect()
     }
 
+    #[cfg(test)]
     /// ∫ max(n·l, 0) dl over the input's texels at `n` (π for a map that
     /// covers the sphere): the quadrature's own check.
     #[must_use]
-    pub fn cosine_total(&self, n: Vec3) -> f64 {
+    pub(crate) fn cosine_total(&self, n: Vec3) -> f64 {
         self.integrate(&Cosine, n).den
     }
 

@@ -46,7 +46,7 @@ use crate::image::{EnvImage, Representation, RgbImage};
 /// The chart size one level down: height ⌊h/2⌋ (at least 1), width by the
 /// chart's aspect `aw : ah`.
 #[must_use]
-pub fn next_chart_size(w: u32, h: u32, aw: u32, ah: u32) -> (u32, u32) {
+pub(crate) fn next_chart_size(w: u32, h: u32, aw: u32, ah: u32) -> (u32, u32) {
     let _ = w;
     let h2 = (h / 2).max(1);
     let w2 = (h2 * aw / ah.max(1)).max(1);
@@ -60,7 +60,7 @@ pub fn next_chart_size(w: u32, h: u32, aw: u32, ah: u32) -> (u32, u32) {
 ///
 /// Only if the smaller image cannot be made (it never exceeds the
 /// original's size, so in practice never).
-pub fn downsample(img: &EnvImage, weights: &TexelWeights) -> Result<EnvImage> {
+pub(crate) fn downsample(img: &EnvImage, weights: &TexelWeights) -> Result<EnvImage> {
     downsample_to(img, weights, img.representation().atlas)
 }
 
@@ -71,7 +71,11 @@ pub fn downsample(img: &EnvImage, weights: &TexelWeights) -> Result<EnvImage> {
 /// # Errors
 ///
 /// If `atlas` is not an atlas of `img`'s mapping.
-pub fn downsample_to(img: &EnvImage, weights: &TexelWeights, atlas: Atlas) -> Result<EnvImage> {
+pub(crate) fn downsample_to(
+    img: &EnvImage,
+    weights: &TexelWeights,
+    atlas: Atlas,
+) -> Result<EnvImage> {
     let repr = Representation {
         atlas,
         ..*img.representation()
@@ -402,7 +406,7 @@ impl Pyramid {
     ///
     /// # Errors
     ///
-    /// Only if a level cannot be made (see [`downsample`]).
+    /// Only if a level cannot be made (see `downsample`).
     pub fn new(base: EnvImage, min_height: u32) -> Result<Self> {
         let mut levels = vec![base];
         loop {
@@ -442,12 +446,6 @@ impl Pyramid {
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.levels.is_empty()
-    }
-
-    /// The base, giving up the pyramid.
-    #[must_use]
-    pub fn into_base(mut self) -> EnvImage {
-        self.levels.swap_remove(0)
     }
 }
 
@@ -850,7 +848,7 @@ impl<'a> Level<'a> {
 }
 
 /// A pyramid's levels made ready for [`Trilinear`] once, for samplers that
-/// borrow them ([`Trilinear::over_prepared`]): each level copied with its
+/// borrow them (`Trilinear::over_prepared`): each level copied with its
 /// one-texel border, the pyramid itself then let go; a disk map's levels
 /// are kept as they are (its plain sampler reads them in place).
 #[derive(Clone, Debug, PartialEq)]
@@ -887,7 +885,7 @@ impl PreparedLevels {
     /// # Errors
     ///
     /// If `atlas` is not an atlas of `map`'s mapping, or a level cannot be
-    /// made (see [`downsample`]).
+    /// made (see `downsample`).
     pub fn below(map: &EnvImage, weights: &TexelWeights, atlas: Atlas) -> Result<Self> {
         let mapping = map.mapping();
         if mapping.has_disk_charts() {
@@ -940,7 +938,7 @@ impl PreparedLevels {
 
     /// The chart size of every level, largest first.
     #[must_use]
-    pub fn chart_sizes(&self) -> Vec<(u32, u32)> {
+    pub(crate) fn chart_sizes(&self) -> Vec<(u32, u32)> {
         match &self.kind {
             Prepared::Bordered(b) => b.iter().map(|l| (l.w, l.h)).collect(),
             Prepared::Plain(p) => p.levels.iter().map(EnvImage::cell_size).collect(),
@@ -956,7 +954,7 @@ impl PreparedLevels {
     /// that level `k + 2` is made from). Returns false, changing nothing,
     /// where they cannot be made in place (sizes that turn odd, a disk
     /// map, a map that lacks a chart, weights of other sizes).
-    pub fn remake_below(
+    pub(crate) fn remake_below(
         &mut self,
         map: &EnvImage,
         weights: &TexelWeights,
@@ -1023,7 +1021,7 @@ impl<'a> Trilinear<'a> {
     /// [`Trilinear::new`]'s, bit for bit; for importance sampling whose
     /// samples never ask for the finest levels, it saves their copies.
     #[must_use]
-    pub fn starting_at(p: &'a Pyramid, first: usize) -> Self {
+    pub(crate) fn starting_at(p: &'a Pyramid, first: usize) -> Self {
         let first = first.min(p.levels.len() - 1);
         Self {
             levels: p
@@ -1067,7 +1065,7 @@ impl<'a> Trilinear<'a> {
     /// reads, bit for bit, without copying a level. For many samplers of
     /// one map (a renderer drawing several images of it).
     #[must_use]
-    pub fn over_prepared(base: &'a EnvImage, below: &'a PreparedLevels) -> Self {
+    pub(crate) fn over_prepared(base: &'a EnvImage, below: &'a PreparedLevels) -> Self {
         let mut levels = Vec::with_capacity(below.len() + 1);
         levels.push(Level::Plain(Sampler::new(base)));
         match &below.kind {

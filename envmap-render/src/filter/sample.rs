@@ -272,7 +272,7 @@ impl<'a> Sampler<'a> {
     /// edge rules. Small enough to inline into a conversion's inner loop.
     #[inline(always)]
     #[must_use]
-    pub fn bilinear_interior(&self, chart: u32, u: f32, v: f32) -> Option<[f32; 3]> {
+    pub(crate) fn bilinear_interior(&self, chart: u32, u: f32, v: f32) -> Option<[f32; 3]> {
         if chart >= self.charts {
             return None;
         }
@@ -346,7 +346,7 @@ impl<'a> Sampler<'a> {
     /// [`Sampler::footprint8`] written into `f`, which a caller can keep in
     /// place (a queue slot) instead of moving.
     #[inline(always)]
-    pub fn footprint8_into(&self, q: &Uv8, filter: Filter, f: &mut Footprint8) {
+    pub(crate) fn footprint8_into(&self, q: &Uv8, filter: Filter, f: &mut Footprint8) {
         let (cw, ch) = (self.cw as f32, self.ch as f32);
         let bilinear = filter == Filter::Bilinear;
         let (x, y, inside) = if bilinear {

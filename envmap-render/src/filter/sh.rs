@@ -57,7 +57,7 @@
 //! at any number of threads. A row whose fast sums are not finite is summed
 //! again texel by texel in f64, skipping texels with a NaN or infinite
 //! channel: they count as black and are counted
-//! ([`Sh9::project_detailed`]); nothing NaN comes out. (A bake replaces
+//! (`Sh9::project_detailed`); nothing NaN comes out. (A bake replaces
 //! them by black before this step already.)
 //!
 //! Tests hold the sum within 10⁻⁵ × |L00| of the plain f64 sum over every
@@ -69,7 +69,7 @@
 //!
 //! # Frames
 //!
-//! [`Sh9::in_frame`] and [`Sh9::transformed`] re-express the function in
+//! `Sh9::in_frame` and [`Sh9::transformed`] re-express the function in
 //! other axes, exactly, for any orthogonal matrix (rotations and
 //! reflections): band 0 is kept; band 1 is the vector a = (L11, L1−1, L10)
 //! of f₁ = Y1·a·d, and becomes Mᵀa; band 2 is the traceless symmetric
@@ -112,7 +112,7 @@
 //! (`CubemapSH::sincWindow`, after Sloan, "Deringing Spherical Harmonics",
 //! 2017): band l is scaled by [`sinc4_window`]: 1 for l = 0, 0 for l ≥ w, else
 //! (sin x / x)⁴ with x = πl/w, w the cutoff in bands. [`ShWindow::Auto`]
-//! takes the cutoff from [`Sh9::auto_cutoff`]: none if the reconstructed
+//! takes the cutoff from `Sh9::auto_cutoff`: none if the reconstructed
 //! irradiance is non-negative already; otherwise bisection for the largest
 //! w whose windowed irradiance has a minimum ≥ 0 in all three channels (one
 //! window for all, so colours do not shift), between 1 (band 0 alone,
@@ -313,7 +313,7 @@ impl Sh9 {
 
     /// The radiance coefficients of `img`: Σ L·Y(ω)·Ω over its texels (see
     /// the [module docs](self)); texels with a NaN or infinite channel are
-    /// skipped ([`Sh9::project_detailed`] counts them).
+    /// skipped (`Sh9::project_detailed` counts them).
     #[must_use]
     pub fn project(img: &EnvImage) -> Sh9 {
         Self::project_detailed(img).sh
@@ -321,7 +321,7 @@ impl Sh9 {
 
     /// [`Sh9::project`], with the number of texels skipped.
     #[must_use]
-    pub fn project_detailed(img: &EnvImage) -> Projection {
+    pub(crate) fn project_detailed(img: &EnvImage) -> Projection {
         let (raw, skipped) = native_sums(img, Path::Fast);
         let sh = from_native(raw, img.representation().frame);
         Projection { sh, skipped }
@@ -398,7 +398,7 @@ impl Sh9 {
     /// axes of [`Frame`], which [`Frame::to_canonical`] takes to envmap's
     /// canonical ones): g(d) = f(frame.to_canonical(d)).
     #[must_use]
-    pub fn in_frame(&self, frame: Frame) -> Sh9 {
+    pub(crate) fn in_frame(&self, frame: Frame) -> Sh9 {
         if frame == Frame::IDENTITY {
             return *self;
         }
@@ -444,7 +444,7 @@ impl Sh9 {
 
     /// The coefficients with band l scaled by the window's factor (see
     /// [`sinc4_window`]); [`ShWindow::Auto`] finds its cutoff with
-    /// [`Sh9::auto_cutoff`] and changes nothing when none is needed.
+    /// `Sh9::auto_cutoff` and changes nothing when none is needed.
     #[must_use]
     pub fn windowed(&self, window: ShWindow) -> Sh9 {
         let Some(w) = window.cutoff(self) else {
@@ -462,7 +462,7 @@ impl Sh9 {
     /// the [module docs](self). `None` when the irradiance is non-negative
     /// already (nothing to window), or for non-finite coefficients.
     #[must_use]
-    pub fn auto_cutoff(&self) -> Option<f64> {
+    pub(crate) fn auto_cutoff(&self) -> Option<f64> {
         let e = self.irradiance();
         if e.coeffs.iter().flatten().any(|c| !c.is_finite()) {
             return None;
@@ -598,11 +598,11 @@ pub enum ShWindow {
         /// The band at which the window reaches 0.
         cutoff: f64,
     },
-    /// The sinc⁴ window whose cutoff [`Sh9::auto_cutoff`] finds (none if
+    /// The sinc⁴ window whose cutoff `Sh9::auto_cutoff` finds (none if
     /// the irradiance is non-negative already).
     Auto,
     /// cmgen's default (`--sh-window=auto`), which windows every map: the
-    /// cutoff [`Sh9::auto_cutoff`] finds, at most [`CMGEN_SMOOTH_CUTOFF`]
+    /// cutoff `Sh9::auto_cutoff` finds, at most [`CMGEN_SMOOTH_CUTOFF`]
     /// (the cutoff cmgen applies to maps that need none; see the
     /// [module docs](self)).
     Cmgen,
@@ -628,7 +628,7 @@ impl ShWindow {
     }
 }
 
-/// Where [`Sh9::auto_cutoff`]'s bisection starts its upper end: 13, cmgen's
+/// Where `Sh9::auto_cutoff`'s bisection starts its upper end: 13, cmgen's
 /// `4·bands + 1` for three bands.
 pub const AUTO_CUTOFF_START: f64 = 13.0;
 

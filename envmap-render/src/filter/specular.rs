@@ -107,7 +107,7 @@ impl RoughnessRule {
     /// Filament (cmgen's `--ibl-min-lod-size`), 8 for Unity (its 6 LOD
     /// steps at 512), 2 otherwise (glTF-IBL-Sampler's ⌊log2 size⌋ levels).
     #[must_use]
-    pub fn default_min_size(&self) -> u32 {
+    pub(crate) fn default_min_size(&self) -> u32 {
         match self {
             RoughnessRule::Filament => 16,
             RoughnessRule::Unity => 8,
@@ -282,12 +282,12 @@ pub struct BrightReport {
 /// negative lobe ringing around a sun counts as much as its overshoot.
 #[inline]
 #[must_use]
-pub fn peak_magnitude(p: [f32; 3]) -> f32 {
+pub(crate) fn peak_magnitude(p: [f32; 3]) -> f32 {
     p[0].abs().max(p[1].abs()).max(p[2].abs())
 }
 
 /// Takes out of `img` (in place, setting them to black) the texels whose
-/// largest absolute channel ([`peak_magnitude`]) exceeds both P and
+/// largest absolute channel (`peak_magnitude`) exceeds both P and
 /// [`SPLIT_MEAN`] × its solid-angle mean, with P the solid-angle-weighted
 /// 99th percentile of that measure (the value that 1 % of the sphere
 /// exceeds, read from a histogram of 64 bins per octave: a value's bin is
@@ -486,7 +486,7 @@ pub enum Method {
 /// (radians): a cube face's π/2 over its width, else the full turn over
 /// the atlas's width (a latlong's row).
 #[must_use]
-pub fn texel_pitch(img: &EnvImage) -> f64 {
+pub(crate) fn texel_pitch(img: &EnvImage) -> f64 {
     let (cw, _) = img.cell_size();
     match img.mapping() {
         AnyMapping::Cube => std::f64::consts::FRAC_PI_2 / f64::from(cw.max(1)),
@@ -585,7 +585,12 @@ fn mean_texel_solid_angle(img: &EnvImage) -> f64 {
 /// samples reads (the FIS level of its densest sample, rounded down): the
 /// levels finer than that need no preparing ([`Trilinear::starting_at`]).
 #[must_use]
-pub fn finest_sampled_level(rest: &Pyramid, roughness: f32, samples: u32, lod_bias: f32) -> usize {
+pub(crate) fn finest_sampled_level(
+    rest: &Pyramid,
+    roughness: f32,
+    samples: u32,
+    lod_bias: f32,
+) -> usize {
     let alpha = roughness * roughness;
     let omega_p = mean_texel_solid_angle(rest.level(0));
     samples_plan(alpha, samples.max(1), omega_p, lod_bias)

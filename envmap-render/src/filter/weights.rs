@@ -272,7 +272,7 @@ impl TexelWeights {
 
     /// Row `j` of `chart` into `out` (resized to `w` values), each
     /// [`TexelWeights::get`]'s, without a lookup per texel.
-    pub fn row_into(&self, chart: u32, j: u32, out: &mut Vec<f64>) {
+    pub(crate) fn row_into(&self, chart: u32, j: u32, out: &mut Vec<f64>) {
         let w = self.w as usize;
         out.clear();
         if chart >= self.charts || j >= self.h {

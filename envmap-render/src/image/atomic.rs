@@ -345,7 +345,7 @@ impl<'a> Outputs<'a> {
     /// The run with outputs synced to the disk as `sync` says (the default
     /// [`SyncPolicy::Replacing`]).
     #[must_use]
-    pub fn with_sync(mut self, sync: SyncPolicy) -> Self {
+    pub(crate) fn with_sync(mut self, sync: SyncPolicy) -> Self {
         self.sync = sync;
         self
     }

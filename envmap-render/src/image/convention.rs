@@ -16,7 +16,7 @@
 //!   within that world. Every convention keeps the cube in the GL world (the
 //!   GL face table applied to (x, y, z) as given, +y face up); they differ in
 //!   the latlong, as the tools do, and [`Convention::Envmap`] also fixes the
-//!   other mappings (see [`Convention::frame_in_world`]).
+//!   other mappings (see `Convention::frame_in_world`).
 //!
 //! # The latlong presets
 //!
@@ -126,7 +126,7 @@ impl FromStr for World {
 pub enum Convention {
     /// envmap's own (the default): a latlong as `cmgen --no-mirror` and
     /// `py360convert.e2c` read it (image centre +z, +x at u = 0.75); every
-    /// other mapping as [`Convention::frame_in_world`] states.
+    /// other mapping as `Convention::frame_in_world` states.
     #[default]
     Envmap,
     /// Filament's `cmgen` with its default mirroring (also OpenEXR's
@@ -295,7 +295,7 @@ impl Convention {
     /// | octahedral, equal-area octahedral | centre +y (up), +x at the right edge's middle, +z at the bottom edge's middle |
     /// | sphere map (class and GL), angular, dual paraboloid | a mirror ball photographed from +z looking along −z, +y up: centre +z, +x to the right, +y to the top (the paraboloid's front disk, on the left, is +z; its back disk −z, joining it at the rim) |
     #[must_use]
-    pub fn frame_in_world(self, mapping: AnyMapping) -> Mat3 {
+    pub(crate) fn frame_in_world(self, mapping: AnyMapping) -> Mat3 {
         let diag = |x: f32, y: f32, z: f32| Mat3::from_diagonal(Vec3::new(x, y, z));
         match mapping {
             AnyMapping::Cube => Mat3::IDENTITY,
@@ -316,7 +316,7 @@ impl Convention {
 
     /// The frame (file axes → envmap's canonical axes) of a `mapping` file
     /// in this convention and `world`: the world's frame after
-    /// [`Convention::frame_in_world`], or the identity in [`World::ZUp`].
+    /// `Convention::frame_in_world`, or the identity in [`World::ZUp`].
     #[must_use]
     pub fn frame(self, mapping: AnyMapping, world: World) -> Frame {
         if world == World::ZUp {

@@ -31,7 +31,7 @@ pub const BYTES_PER_TEXEL: usize = std::mem::size_of::<[f32; 3]>();
 /// against `max_texels`; returns the texel count of one image as `usize`.
 ///
 /// Call this before allocating: the error states the size and the limit.
-pub fn check_size(width: u32, height: u32, count: u32, max_texels: u64) -> Result<usize> {
+pub(crate) fn check_size(width: u32, height: u32, count: u32, max_texels: u64) -> Result<usize> {
     let one = u64::from(width) * u64::from(height);
     let texels = one.saturating_mul(u64::from(count));
     if texels > max_texels {
@@ -157,7 +157,7 @@ impl EnvImage {
     /// Errors if the representation is inconsistent, the size does not fit
     /// its atlas (`cross needs 4:3, this image is 2048×1024 (2:1)`), or the
     /// size exceeds the limit.
-    pub fn new_with_limit(
+    pub(crate) fn new_with_limit(
         width: u32,
         height: u32,
         repr: Representation,
@@ -241,7 +241,7 @@ impl EnvImage {
 
     /// Replaces the frame (the texels are unchanged: this only re-labels
     /// which axes they are seen in).
-    pub fn set_frame(&mut self, frame: Frame) {
+    pub(crate) fn set_frame(&mut self, frame: Frame) {
         self.repr.frame = frame;
     }
 
@@ -290,7 +290,7 @@ impl EnvImage {
     /// and `y` clamped into the image: always a valid index.
     #[inline]
     #[must_use]
-    pub fn pixel_index(&self, x: u32, y: u32) -> usize {
+    pub(crate) fn pixel_index(&self, x: u32, y: u32) -> usize {
         let x = x.min(self.width - 1) as usize;
         let y = y.min(self.height - 1) as usize;
         y * self.width as usize + x
@@ -319,7 +319,7 @@ impl EnvImage {
     /// `None` for a chart or texel out of range.
     #[inline]
     #[must_use]
-    pub fn chart_texel_position(&self, chart: u32, i: u32, j: u32) -> Option<(u32, u32)> {
+    pub(crate) fn chart_texel_position(&self, chart: u32, i: u32, j: u32) -> Option<(u32, u32)> {
         self.repr
             .atlas
             .chart_to_texel(chart, i, j, self.width, self.height)
@@ -360,7 +360,7 @@ impl EnvImage {
     /// reading charts without copying them ([`EnvImage::chart_image`]
     /// copies).
     #[must_use]
-    pub fn chart_row(&self, chart: u32, j: u32) -> Option<(&[[f32; 3]], bool)> {
+    pub(crate) fn chart_row(&self, chart: u32, j: u32) -> Option<(&[[f32; 3]], bool)> {
         let r = self.chart_rect(chart)?;
         (j < r.h).then(|| (self.stored_row(&r, j), r.turn == Turn::Half))
     }

@@ -116,7 +116,7 @@ impl FaceTurn {
 
     /// Where texel `(i, j)` of an `n × n` image goes.
     #[must_use]
-    pub fn apply_texel(self, i: u32, j: u32, n: u32) -> (u32, u32) {
+    pub(crate) fn apply_texel(self, i: u32, j: u32, n: u32) -> (u32, u32) {
         // Twice the coordinates about the centre, so that they are whole.
         let c = i64::from(n) - 1;
         let (x, y) = (2 * i64::from(i) - c, 2 * i64::from(j) - c);
@@ -203,7 +203,7 @@ pub struct FaceTransforms {
 impl FaceTransforms {
     /// Every face as GL has it.
     #[must_use]
-    pub fn is_identity(&self) -> bool {
+    pub(crate) fn is_identity(&self) -> bool {
         self.faces.iter().all(|t| *t == FaceTurn::IDENTITY)
     }
 

@@ -30,7 +30,7 @@ pub const FACE_PLACEHOLDER: &str = "{face}";
 
 /// Whether the file name holds a [`FACE_PLACEHOLDER`] pattern.
 #[must_use]
-pub fn is_face_pattern(path: &Path) -> bool {
+pub(crate) fn is_face_pattern(path: &Path) -> bool {
     path.file_name()
         .is_some_and(|n| n.to_string_lossy().contains(FACE_PLACEHOLDER))
 }
@@ -96,7 +96,7 @@ impl FaceNames {
     /// others (`front.png`, `sky_0.exr`, `F.png`) are taken for one only
     /// when all six exist, square and of one size.
     #[must_use]
-    pub const fn is_distinctive(self) -> bool {
+    pub(crate) const fn is_distinctive(self) -> bool {
         matches!(self, FaceNames::Signs | FaceNames::Px | FaceNames::Pos)
     }
 }
@@ -170,7 +170,7 @@ pub struct FaceName {
 /// nothing (`sky_+x.exr`, `m0_px.hdr`, `posx.jpg`, `front.png`, `F.png`).
 /// The sign names need their separator: `sky+x.png` names no face.
 #[must_use]
-pub fn face_name(path: &Path) -> Option<FaceName> {
+pub(crate) fn face_name(path: &Path) -> Option<FaceName> {
     let stem = path.file_stem()?.to_str()?;
     for scheme in FaceNames::ALL {
         for (i, n) in scheme.names().iter().enumerate() {
@@ -199,10 +199,11 @@ pub fn face_name(path: &Path) -> Option<FaceName> {
     None
 }
 
+#[cfg(test)]
 /// The face a file name names by a face name of any scheme; see
 /// [`face_name`].
 #[must_use]
-pub fn face_of_name(path: &Path) -> Option<CubeFace> {
+pub(crate) fn face_of_name(path: &Path) -> Option<CubeFace> {
     face_name(path).map(|f| f.face)
 }
 

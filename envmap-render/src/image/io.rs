@@ -92,9 +92,9 @@ use crate::image::{hdr, png_jpeg};
 use crate::par::*;
 
 pub use crate::image::atomic::{MemoryFile, Outputs};
+pub(crate) use crate::image::faces::is_face_pattern;
 pub use crate::image::faces::{
-    face_name, face_of_name, face_paths, face_paths_named, is_face_pattern, FaceName, FaceNames,
-    FACE_PLACEHOLDER,
+    face_paths, face_paths_named, FaceName, FaceNames, FACE_PLACEHOLDER,
 };
 pub use crate::image::srgb::{linear_to_srgb, linear_to_srgb8, srgb_to_linear};
 
@@ -335,7 +335,7 @@ impl FileFormat {
     /// Whether this build reads and writes the format (its
     /// [`FileFormat::feature`] on).
     #[must_use]
-    pub const fn is_enabled(self) -> bool {
+    pub(crate) const fn is_enabled(self) -> bool {
         match self {
             FileFormat::Png | FileFormat::Jpeg | FileFormat::Hdr => cfg!(feature = "image"),
             FileFormat::Exr => cfg!(feature = "exr"),
@@ -351,7 +351,7 @@ impl FileFormat {
     /// # Errors
     ///
     /// The format's feature is off.
-    pub fn check_enabled(self, path: &Path) -> Result<()> {
+    pub(crate) fn check_enabled(self, path: &Path) -> Result<()> {
         if self.is_enabled() {
             Ok(())
         } else {
@@ -608,7 +608,7 @@ fn open<'a>(path: &Path, cancel: Option<&'a AtomicBool>) -> Result<Source<'a>> {
 }
 
 /// The size of an image file, from its header alone.
-pub fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
+pub(crate) fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
     let format = FileFormat::from_path(path)?;
     if format.is_texture() {
         let t = texture::read(path, u64::MAX, None)?;

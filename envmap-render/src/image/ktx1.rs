@@ -5,7 +5,7 @@
 //!
 //! Layout (§"File Structure"): the identifier «KTX 11»\r\n\x1A\n,
 //! endianness `0x04030201`, then `glType`, `glTypeSize`, `glFormat`,
-//! `glInternalFormat`, `glBaseInternalFormat` of [`gl_format`],
+//! `glInternalFormat`, `glBaseInternalFormat` of `gl_format`,
 //! `pixelWidth`, `pixelHeight`, `pixelDepth` 0, `numberOfArrayElements` 0,
 //! `numberOfFaces` 6 or 1, `numberOfMipmapLevels`, `bytesOfKeyValueData`;
 //! the key/value pairs, each `{u32 size, key NUL value}` padded to 4 bytes;
@@ -28,7 +28,7 @@ pub const IDENTIFIER: [u8; 12] = [
 /// `glInternalFormat`, `glBaseInternalFormat` (OpenGL 4.6 tables 8.2, 8.3,
 /// 8.12; R11F_G11F_B10F as `cmgen` writes it).
 #[must_use]
-pub const fn gl_format(format: TexelFormat) -> [u32; 5] {
+pub(crate) const fn gl_format(format: TexelFormat) -> [u32; 5] {
     const GL_RGB: u32 = 0x1907;
     const GL_RGBA: u32 = 0x1908;
     match format {

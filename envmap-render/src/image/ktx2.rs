@@ -164,7 +164,7 @@ pub fn level_alignment(format: TexelFormat) -> usize {
 
 /// What `KTXwriter` says: `envmap` and its version.
 #[must_use]
-pub fn writer_name() -> String {
+pub(crate) fn writer_name() -> String {
     format!("envmap {}", env!("CARGO_PKG_VERSION"))
 }
 

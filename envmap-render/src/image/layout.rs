@@ -108,7 +108,7 @@ impl Layout {
 
     /// The single-image layout whose atlas is `atlas` (never [`Layout::Faces`]).
     #[must_use]
-    pub fn from_atlas(atlas: &Atlas) -> Option<Layout> {
+    pub(crate) fn from_atlas(atlas: &Atlas) -> Option<Layout> {
         Layout::ALL
             .into_iter()
             .filter(|l| !l.is_six_files())
@@ -153,7 +153,7 @@ impl Layout {
 
     /// The aspect ratio of the whole image (`"4:3"`), or `"six square files"`.
     #[must_use]
-    pub fn aspect_text(self) -> String {
+    pub(crate) fn aspect_text(self) -> String {
         if self.is_six_files() {
             return "six square files".to_owned();
         }
@@ -226,7 +226,7 @@ impl Representation {
     }
 
     /// Checks that a `width × height` image fits this representation.
-    pub fn check_size(&self, width: u32, height: u32) -> Result<()> {
+    pub(crate) fn check_size(&self, width: u32, height: u32) -> Result<()> {
         check_fits(self.mapping, &self.atlas, width, height)
     }
 }
@@ -396,7 +396,12 @@ fn near_hint(width: u32, height: u32) -> String {
 
 /// Checks that `atlas` can hold `mapping` (one cell per chart, cells of the
 /// mapping's shape) and that a `width × height` image fits it.
-pub fn check_fits(mapping: AnyMapping, atlas: &Atlas, width: u32, height: u32) -> Result<()> {
+pub(crate) fn check_fits(
+    mapping: AnyMapping,
+    atlas: &Atlas,
+    width: u32,
+    height: u32,
+) -> Result<()> {
     check_compatible(mapping, atlas)?;
     if atlas.cell_size(width, height).is_none() {
         let (a, b) = atlas.image_aspect();
@@ -419,7 +424,7 @@ pub fn check_fits(mapping: AnyMapping, atlas: &Atlas, width: u32, height: u32) -
 
 /// Checks that `atlas` can hold `mapping`: one cell per chart, each chart
 /// present once, and cells of the shape of the mapping's default atlas.
-pub fn check_compatible(mapping: AnyMapping, atlas: &Atlas) -> Result<()> {
+pub(crate) fn check_compatible(mapping: AnyMapping, atlas: &Atlas) -> Result<()> {
     let n = mapping.chart_count();
     let default = mapping.atlas();
     let shape = |a: &Atlas| aspect_ratio(a.cell_aspect_w, a.cell_aspect_h);

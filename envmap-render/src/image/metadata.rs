@@ -29,7 +29,7 @@ pub const MAPPING: &str = "envmap.mapping";
 pub const LAYOUT: &str = "envmap.layout";
 /// The key of a six-file cube face's name.
 pub const FACE: &str = "envmap.face";
-/// The key of the axes ([`format_axes`]).
+/// The key of the axes (`format_axes`).
 pub const AXES: &str = "envmap.axes";
 /// The key of what the values are, when the writer said
 /// ([`crate::image::io::SaveOptions::content`]): "irradiance E/pi", a
@@ -69,7 +69,7 @@ pub struct FileMetadata {
 impl FileMetadata {
     /// Reads the `envmap.*` keys of `tags`; unknown values are ignored.
     #[must_use]
-    pub fn from_tags(tags: &[(String, String)]) -> Self {
+    pub(crate) fn from_tags(tags: &[(String, String)]) -> Self {
         let get = |k: &str| tags.iter().find(|(key, _)| key == k).map(|(_, v)| v.trim());
         FileMetadata {
             mapping: get(MAPPING).and_then(|v| v.parse().ok()),
@@ -87,7 +87,7 @@ impl FileMetadata {
 
 /// `axes` as [`AXES`] stores it.
 #[must_use]
-pub fn format_axes(axes: FileAxes) -> String {
+pub(crate) fn format_axes(axes: FileAxes) -> String {
     match axes {
         FileAxes::Convention(c, w) => format!("convention {c} world {w}"),
         FileAxes::Frame(f) => {
@@ -101,7 +101,7 @@ pub fn format_axes(axes: FileAxes) -> String {
 /// The inverse of [`format_axes`]; `None` for anything else (or a frame
 /// that is not orthogonal).
 #[must_use]
-pub fn parse_axes(s: &str) -> Option<FileAxes> {
+pub(crate) fn parse_axes(s: &str) -> Option<FileAxes> {
     let words: Vec<&str> = s.split_whitespace().collect();
     match words.as_slice() {
         ["convention", c, "world", w] => {
@@ -172,7 +172,8 @@ pub fn description(repr: &Representation, layout: Option<Layout>, face: Option<&
 /// in ASCII (any other replaced by `?`): OpenEXR text attributes and PNG
 /// `tEXt` chunks hold Latin-1.
 #[must_use]
-pub fn ascii(s: &str) -> String {
+#[cfg(any(feature = "exr", feature = "image"))]
+pub(crate) fn ascii(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {

@@ -53,8 +53,7 @@ pub mod texture;
 
 pub use convention::{Convention, FileAxes, World};
 pub use envimage::{
-    check_size, luminance, EnvImage, InAtlas, RgbImage, RowSource, Stats, BYTES_PER_TEXEL,
-    DEFAULT_MAX_TEXELS,
+    luminance, EnvImage, InAtlas, RgbImage, RowSource, Stats, BYTES_PER_TEXEL, DEFAULT_MAX_TEXELS,
 };
 pub use layout::{Layout, Representation};
 pub use texel::{Clamped, TexelFormat};

@@ -282,7 +282,7 @@ impl TexelFormat {
 
     /// Whether the format has no sign (negative values clamp to 0).
     #[must_use]
-    pub const fn is_unsigned(self) -> bool {
+    pub(crate) const fn is_unsigned(self) -> bool {
         matches!(self, TexelFormat::B10g11r11 | TexelFormat::E5b9g9r9)
     }
 
@@ -338,7 +338,7 @@ impl TexelFormat {
     /// # Panics
     ///
     /// If `out` has another length.
-    pub fn pack_into(self, texels: &[[f32; 3]], out: &mut [u8]) -> Clamped {
+    pub(crate) fn pack_into(self, texels: &[[f32; 3]], out: &mut [u8]) -> Clamped {
         use crate::par::*;
         const BLOCK: usize = 16 * 1024;
         assert_eq!(out.len(), texels.len() * self.bytes(), "packed length");
@@ -624,7 +624,7 @@ fn floor_log2(v: f32) -> i32 {
 /// the channel's own significand and exponent in integers (a test checks
 /// it against the same arithmetic in f64, where every step is exact too).
 #[must_use]
-pub fn pack_rgb9e5(rgb: [f32; 3], c: &mut Clamped) -> u32 {
+pub(crate) fn pack_rgb9e5(rgb: [f32; 3], c: &mut Clamped) -> u32 {
     let ch = rgb.map(|v| clamp_counted(v, 0.0, RGB9E5_MAX, c));
     let max = ch[0].max(ch[1]).max(ch[2]);
     let mut e = if max > 0.0 {
@@ -665,7 +665,7 @@ fn scaled_round(v: f32, e: i32) -> u32 {
 
 /// One `E5B9G9R9_UFLOAT_PACK32` texel: each mantissa · 2^(e − 24).
 #[must_use]
-pub fn unpack_rgb9e5(w: u32) -> [f32; 3] {
+pub(crate) fn unpack_rgb9e5(w: u32) -> [f32; 3] {
     // 2^(e − 24) exactly, from its bits (a normal f32 for every e in 0..=31).
     let scale = f32::from_bits(((127 + (w >> 27) as i32 - 24) as u32) << 23);
     [w & 0x1ff, (w >> 9) & 0x1ff, (w >> 18) & 0x1ff].map(|m| m as f32 * scale)
@@ -726,7 +726,7 @@ fn unpack_ufloat(q: u32, m: u32) -> f32 {
 /// (6-bit mantissa), B unsigned 10-bit (5-bit mantissa), each clamped to
 /// its largest finite value and at zero (counted), rounded to nearest even.
 #[must_use]
-pub fn pack_b10g11r11(rgb: [f32; 3], c: &mut Clamped) -> u32 {
+pub(crate) fn pack_b10g11r11(rgb: [f32; 3], c: &mut Clamped) -> u32 {
     let r = pack_ufloat(clamp_counted(rgb[0], 0.0, UF11_MAX, c), 6);
     let g = pack_ufloat(clamp_counted(rgb[1], 0.0, UF11_MAX, c), 6);
     let b = pack_ufloat(clamp_counted(rgb[2], 0.0, UF10_MAX, c), 5);

@@ -252,7 +252,7 @@ impl Texture {
     ///
     /// `p` out of range; a 2D level whose size fits no (or not the given)
     /// mapping.
-    pub fn level_image(
+    pub(crate) fn level_image(
         &self,
         p: usize,
         mapping: Option<AnyMapping>,
@@ -364,7 +364,7 @@ impl Texture {
 
     /// The bytes of level `p` in `format` (all its faces).
     #[must_use]
-    pub fn level_len(&self, p: usize, format: TexelFormat) -> usize {
+    pub(crate) fn level_len(&self, p: usize, format: TexelFormat) -> usize {
         self.levels.get(p).map_or(0, |l| {
             l.iter().map(|i| i.pixels.len()).sum::<usize>() * format.bytes()
         })
@@ -376,7 +376,7 @@ impl Texture {
     /// # Panics
     ///
     /// If `out` has another length.
-    pub fn pack_level_into(&self, p: usize, format: TexelFormat, out: &mut [u8]) -> Clamped {
+    pub(crate) fn pack_level_into(&self, p: usize, format: TexelFormat, out: &mut [u8]) -> Clamped {
         assert_eq!(out.len(), self.level_len(p, format), "level length");
         let mut clamped = Clamped::default();
         let mut at = 0;
@@ -557,7 +557,7 @@ impl Default for TextureOptions {
 
 /// The texture format of a path's extension, if it is one.
 #[must_use]
-pub fn container_of(path: &Path) -> Option<&'static str> {
+pub(crate) fn container_of(path: &Path) -> Option<&'static str> {
     match path
         .extension()?
         .to_string_lossy()
@@ -575,12 +575,12 @@ pub fn container_of(path: &Path) -> Option<&'static str> {
 /// 16 bytes, plus 1 MiB for headers and metadata. Larger files are refused
 /// before they are read.
 #[must_use]
-pub fn max_file_bytes(max_texels: u64) -> u64 {
+pub(crate) fn max_file_bytes(max_texels: u64) -> u64 {
     max_texels.saturating_mul(16).saturating_add(1 << 20)
 }
 
 /// Reads a KTX2 or DDS file (by extension): checks its size on disk
-/// against [`max_file_bytes`] before reading it, then decodes it.
+/// against `max_file_bytes` before reading it, then decodes it.
 ///
 /// # Errors
 ///

@@ -85,18 +85,18 @@ pub const SUN_RADIANCE: [f32; 3] = [5000.0, 4700.0, 4200.0];
 /// assert!((d.z - 1.0).abs() < 1e-6);
 /// ```
 #[must_use]
-pub fn direction_from_angles(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
+pub(crate) fn direction_from_angles(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
     let (se, ce) = elevation_deg.to_radians().sin_cos();
     let (sa, ca) = azimuth_deg.to_radians().sin_cos();
     Vec3::new(ce * ca, ce * sa, se)
 }
 
-/// The constants of [`sky_with`]; [`SkyParams::default`] is the sky of
+/// The constants of `sky_with`; [`SkyParams::default`] is the sky of
 /// [`sky`]. Colours are linear RGB radiances.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkyParams {
     /// Direction towards the sun's centre (normalised on use). Default:
-    /// elevation 35°, azimuth 40° ([`direction_from_angles`]).
+    /// elevation 35°, azimuth 40° (`direction_from_angles`).
     pub sun_direction: Vec3,
     /// The sun disk's angular radius in degrees. Default 0.6°.
     pub sun_radius_deg: f32,
@@ -164,7 +164,7 @@ fn falloff(one_minus_cos: f32, width_deg: f32) -> f32 {
     }
 }
 
-/// The default sky ([`SkyParams::default`]) along `d`; see [`sky_with`].
+/// The default sky ([`SkyParams::default`]) along `d`; see `sky_with`.
 #[must_use]
 pub fn sky(d: Vec3) -> [f32; 3] {
     sky_with(&SkyParams::default(), d)
@@ -180,7 +180,7 @@ pub fn sky(d: Vec3) -> [f32; 3] {
 /// halo by its distance, so the two halves meet continuously at the horizon.
 /// Black for a zero or non-finite `d`.
 #[must_use]
-pub fn sky_with(p: &SkyParams, d: Vec3) -> [f32; 3] {
+pub(crate) fn sky_with(p: &SkyParams, d: Vec3) -> [f32; 3] {
     let Some(d) = unit(d) else {
         return BLACK;
     };

@@ -560,7 +560,7 @@ impl LitSampler<'_> {
 
     /// The prefiltered radiance at chart point `c` of the chain.
     #[must_use]
-    pub fn specular_at(&self, c: ChartUv, roughness: f32) -> [f32; 3] {
+    pub(crate) fn specular_at(&self, c: ChartUv, roughness: f32) -> [f32; 3] {
         let (k, blend) = self.levels_of(roughness);
         if let (Some(nf), Some(d)) = (
             self.near_field(k, blend, roughness),
@@ -689,7 +689,7 @@ impl LitSampler<'_> {
     /// and of `n` in the irradiance map. Per-vertex shading computes these
     /// at the vertices and interpolates them (seed `002`).
     #[must_use]
-    pub fn lookup_points(
+    pub(crate) fn lookup_points(
         &self,
         m: &Material,
         n: Vec3,
@@ -792,7 +792,7 @@ impl LitSampler<'_> {
     /// [`LitSampler::shade`] from given lookup points ([`LitSampler::lookup_points`]):
     /// `nv` is N·V, `spec` the chain's point, `irr` the irradiance map's.
     #[must_use]
-    pub fn shade_at(
+    pub(crate) fn shade_at(
         &self,
         m: &Material,
         nv: f32,
@@ -931,7 +931,7 @@ impl Pcg32 {
     }
 
     /// The next 32 random bits.
-    pub fn next_u32(&mut self) -> u32 {
+    pub(crate) fn next_u32(&mut self) -> u32 {
         let old = self.state;
         self.state = old
             .wrapping_mul(6_364_136_223_846_793_005)
@@ -941,7 +941,7 @@ impl Pcg32 {
     }
 
     /// A uniform value in [0, 1).
-    pub fn next_f32(&mut self) -> f32 {
+    pub(crate) fn next_f32(&mut self) -> f32 {
         (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
     }
 }
@@ -1119,7 +1119,7 @@ impl EnvSampling {
 
     /// The density (per steradian) of drawing unit direction `d`.
     #[must_use]
-    pub fn pdf(&self, d: Vec3) -> f32 {
+    pub(crate) fn pdf(&self, d: Vec3) -> f32 {
         let z = f64::from(d.z).clamp(-1.0, 1.0);
         let theta = z.acos();
         let sin = theta.sin();

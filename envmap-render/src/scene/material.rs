@@ -86,14 +86,14 @@ impl Material {
 
     /// The Lambertian albedo: base colour · (1 − metallic).
     #[must_use]
-    pub fn diffuse_color(&self) -> [f32; 3] {
+    pub(crate) fn diffuse_color(&self) -> [f32; 3] {
         let m = self.metallic.clamp(0.0, 1.0);
         self.base_color.map(|b| b.clamp(0.0, 1.0) * (1.0 - m))
     }
 
     /// The roughness clamped to [0, 1] (NaN to 0).
     #[must_use]
-    pub fn clamped_roughness(&self) -> f32 {
+    pub(crate) fn clamped_roughness(&self) -> f32 {
         if self.roughness.is_nan() {
             0.0
         } else {

@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""Counts the public API of a crate from its rustdoc JSON."""
+import json, sys
+path = sys.argv[1]
+d = json.load(open(path))
+idx = d["index"]; root = d["root"]
+crate_id = idx[str(root)]["crate_id"] if str(root) in idx else 0
+def inner_kind(it):
+    return next(iter(it["inner"])) if isinstance(it["inner"], dict) else it["inner"]
+# walk reachable public items from the root module
+fns = set(); mods = []; reexports = []; fields = set(); seen_mods = {}
+def visit_module(mid, path):
+    it = idx[str(mid)]
+    if mid in seen_mods:
+        seen_mods[mid].append(path); return
+    seen_mods[mid] = [path]
+    mods.append(path)
+    for child in it["inner"]["module"]["items"]:
+        c = idx.get(str(child))
+        if c is None: continue
+        if c.get("crate_id", 0) != 0: continue
+        k = inner_kind(c)
+        if c["visibility"] != "public" and k != "use": continue
+        if k == "module":
+            visit_module(child, path + "::" + c["name"])
+        elif k == "use":
+            if c["visibility"] != "public": continue
+            reexports.append(path + "::" + (c["inner"]["use"]["name"]))
+            tgt = c["inner"]["use"].get("id")
+            if tgt is not None and str(tgt) in idx:
+                t = idx[str(tgt)]
+                if inner_kind(t) == "module" and t.get("crate_id",0)==0:
+                    visit_module(tgt, path + "::" + c["inner"]["use"]["name"])
+                else:
+                    visit_item(tgt)
+        else:
+            visit_item(child)
+def visit_item(iid):
+    it = idx.get(str(iid))
+    if it is None or it.get("crate_id",0)!=0: return
+    k = inner_kind(it)
+    if k == "function": fns.add(iid)
+    elif k in ("struct","enum","union"):
+        inner = it["inner"][k]
+        if k == "struct":
+            kind = inner["kind"]
+            if isinstance(kind, dict):
+                fl = kind.get("plain",{}).get("fields") or kind.get("tuple") or []
+                for f in fl:
+                    if f is None: continue
+                    fi = idx.get(str(f))
+                    if fi and fi["visibility"] == "public": fields.add(f)
+        for impl in inner.get("impls", []):
+            im = idx[str(impl)]["inner"]["impl"]
+            if im.get("trait") is not None: continue
+            for m in im["items"]:
+                mi = idx.get(str(m))
+                if mi and inner_kind(mi) == "function" and mi["visibility"] == "public":
+                    fns.add(m)
+    elif k == "trait":
+        for m in it["inner"]["trait"]["items"]:
+            mi = idx.get(str(m))
+            if mi and inner_kind(mi) == "function": fns.add(m)
+visit_module(root, d["index"][str(root)]["name"])
+twice = {m: p for m, p in seen_mods.items() if len(p) > 1}
+print(f"public functions and methods: {len(fns)}")
+print(f"public modules: {len(mods)}")
+print(f"re-exports: {len(reexports)}")
+print(f"public fields: {len(fields)}")
+print(f"modules reachable by two paths: {len(twice)}")
+for m,p in twice.items(): print("   ", " = ".join(p))
+if "-v" in sys.argv:
+    for m in mods: print("mod", m)
+    for r in reexports: print("use", r)
+if "-f" in sys.argv:
+    for f in sorted(fns, key=lambda i: str(idx[str(i)].get("span",{}).get("filename",""))):
+        it = idx[str(f)]
+        print(it.get("span",{}).get("filename",""), it["name"])
