@@ -1,5 +1,16 @@
 #!/usr/bin/env python3
-"""Counts the public API of a crate from its rustdoc JSON."""
+"""Counts the public API of a crate from its rustdoc JSON.
+
+    cargo +nightly rustdoc -p envmap-render --lib -- -Z unstable-options --output-format json
+    python3 scripts/api-count.py target/doc/envmap_render.json [-v] [-f] [--max-functions N]
+        [--max-modules N] [--max-reexports N]
+
+Walks the items reachable from the crate root: public functions and
+methods (inherent impls and traits; trait impls not counted), public
+modules (the root included), re-exports (`pub use` items; a glob counts
+once), public struct fields, and modules reachable by two paths. Exits 1
+when a count is above its --max, or any module has two paths.
+"""
 import json, sys
 path = sys.argv[1]
 d = json.load(open(path))
@@ -76,3 +87,14 @@ if "-f" in sys.argv:
     for f in sorted(fns, key=lambda i: str(idx[str(i)].get("span",{}).get("filename",""))):
         it = idx[str(f)]
         print(it.get("span",{}).get("filename",""), it["name"])
+
+def limit(flag, value):
+    if flag in sys.argv:
+        m = int(sys.argv[sys.argv.index(flag) + 1])
+        if value > m:
+            print(f"{flag[6:]}: {value}, above {m}")
+            return True
+    return False
+bad = [limit("--max-functions", len(fns)), limit("--max-modules", len(mods)),
+       limit("--max-reexports", len(reexports)), bool(twice)]
+sys.exit(1 if any(bad) else 0)
