@@ -946,7 +946,7 @@ impl DfgTable {
     /// Column i is μ = (i + 0.5)/size; row j (top row first) is
     /// r = (j + 0.5)/size.
     #[must_use]
-    pub(crate) fn single_scatter_image(&self) -> RgbImage {
+    pub fn single_scatter_image(&self) -> RgbImage {
         self.image(&self.single)
     }
 
@@ -954,7 +954,7 @@ impl DfgTable {
     /// G = scale + bias, B = 0. Column i is μ = (i + 0.5)/size; row j (top
     /// row first) is r = (j + 0.5)/size.
     #[must_use]
-    pub(crate) fn multiscatter_image(&self) -> RgbImage {
+    pub fn multiscatter_image(&self) -> RgbImage {
         self.image(&self.multi)
     }
 
