@@ -7,7 +7,7 @@
 //! the DFG table cost, apart from the split sum's own approximation.
 //!
 //! The scene and the measure are `sphere_scene`'s (the ones
-//! `docs/lighting.md` tables): a white metal sphere seen as `envmap render
+//! `docs/design/lighting-method.md` tables): a white metal sphere seen as `envmap render
 //! --object sphere --eye 0,1.4,6 --target 0,1.4,0` shows it, relative RMS
 //! and bias over its pixels.
 //!
@@ -23,7 +23,7 @@
 //! built-in sky and the four committed HDRIs, for envmap's chain and each
 //! engine's (`--target bevy`, `gltf`, `filament`, and the unity rule) as
 //! the engine reads it, with the chain shapes that lower their error;
-//! it prints the tables of `docs/lighting.md` and asserts envmap's chain
+//! it prints the tables of `docs/design/lighting-method.md` and asserts envmap's chain
 //! within the bounds at every roughness.
 //!
 //! ```text

@@ -29,7 +29,7 @@
 //!
 //! The worst cases and where they occur are printed
 //! (`cargo test --release -p envmap-tests --test shader_mappings_gpu --
-//! --nocapture`); `docs/shaders.md` has them.
+//! --nocapture`); `docs/design/shaders.md` has them.
 
 mod gpu;
 
