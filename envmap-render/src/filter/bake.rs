@@ -674,7 +674,7 @@ pub fn lobe_chain(
 /// texels). Below the first level the renderer reads the input itself
 /// ([`crate::scene::lit::LitEnvironment::with_source`]). Its target against
 /// the exact split sum is 2 % RMS and 0.5 % bias at every roughness from 0
-/// to 1 (`docs/lighting.md`, "How exact the lit renders are", has the
+/// to 1 (`docs/design/lighting-method.md`, "How exact the lit renders are", has the
 /// measurements).
 #[must_use]
 pub fn render_chain(size: u32) -> ChainShape {

@@ -17,7 +17,7 @@
 //! [`Sampler::gather8_into`] filters. Conversions and the renderer keep 32
 //! batches between the two and ask the processor for their texels in the
 //! meantime ([`Sampler::prefetch8`]), so that filtering rarely waits for
-//! memory (`docs/performance.md` has the measurements).
+//! memory (`docs/design/kernels.md` has the measurements).
 
 use envmap_core::cube::{face_direction, CubeFace};
 use envmap_core::texel::{bilinear_footprint, texel_index};

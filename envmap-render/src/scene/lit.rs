@@ -25,7 +25,7 @@
 //! [`exact_split_sum`] is the same sum with nothing baked: the prefiltered
 //! integral of the input itself at r, the DFG integral at (N·V, r) and the
 //! exact irradiance. The render's distance from it is what the chain and
-//! the table cost (`tests/split_sum.rs`, `docs/lighting.md`).
+//! the table cost (`tests/split_sum.rs`, `docs/design/lighting-method.md`).
 //!
 //! [`reference()`] is the integral the split sum stands for, per pixel:
 //! L_o = ∫ L(l) (c_diff/π + D·Vis·F) (N·l)⁺ dl with GGX D, the
@@ -64,7 +64,7 @@ pub enum LevelBlend {
     /// shrinks as α; blended linearly in r, two levels of very different
     /// width give a shape neither has, and the weight that comes closest to
     /// the lobe in between is linear in 1/α (least squares over the
-    /// sphere, measured for GGX with N = V = R: `docs/lighting.md`).
+    /// sphere, measured for GGX with N = V = R: `docs/design/lighting-method.md`).
     /// `floor` is the width of what a level at roughness 0 holds (its
     /// texels, in α units), so that level 0 blends as a lobe too. envmap's
     /// own.
