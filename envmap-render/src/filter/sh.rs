@@ -109,7 +109,7 @@
 //! axes are those of envmap's cube files, which are `cmgen --no-mirror`'s
 //! (measured, peers notes §1); cmgen's default mirroring negates x, which
 //! flips sh3, sh4 and sh7. Measured against cmgen 1.9.25 itself
-//! (`tests/irradiance.rs`, `ENVMAP_PEERS=1`; `cmgen --no-mirror
+//! (`tests/irradiance.rs`, an ignored test CI runs; `cmgen --no-mirror
 //! --sh-window=no --sh-shader` on a 2048 × 1024 float EXR envmap wrote):
 //! every one of the 9 × 3 values agrees within **1.4·10⁻³ × sh0** at
 //! `--size=256` and 1.0·10⁻³ at `--size=64`, on a smooth map and on a
