@@ -673,20 +673,26 @@ fn closed_report_pipes_do_not_stop_a_job() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     latlong_file(d, "sky.hdr", 64);
+    // A pipe whose reading end is closed before the command starts: every
+    // write to it fails, however soon the command writes.
+    let closed = || {
+        let (reader, writer) = std::io::pipe().expect("a pipe");
+        drop(reader);
+        Stdio::from(writer)
+    };
     let run = |args: &[&str], close_stderr: bool| {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_envmap"))
+        Command::new(env!("CARGO_BIN_EXE_envmap"))
             .args(args)
             .current_dir(d)
             .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("run envmap");
-        drop(child.stdout.take());
-        if close_stderr {
-            drop(child.stderr.take());
-        }
-        child.wait_with_output().expect("wait")
+            .stdout(closed())
+            .stderr(if close_stderr {
+                closed()
+            } else {
+                Stdio::piped()
+            })
+            .output()
+            .expect("run envmap")
     };
     for (args, made) in [
         (
