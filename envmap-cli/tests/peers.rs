@@ -1,12 +1,12 @@
 //! envmap's default file conventions against the peer tools themselves:
 //! Filament's `cmgen` (Debian's `libfilament-tools`) and `py360convert`
 //! (PyPI), and its default EXR files read by OpenEXR's library through
-//! OpenCV (PyPI). Runs only with `ENVMAP_PEERS=1` (the tools are not needed
-//! otherwise):
+//! OpenCV (PyPI). The tests are ignored by default (they need the tools);
+//! `.ci/run` installs the tools and runs them, and a missing tool fails them:
 //!
 //! ```sh
 //! apt-get install libfilament-tools && pip install py360convert numpy scipy "opencv-python-headless<4.11"
-//! ENVMAP_PEERS=1 cargo test --release -p envmap-cli --test peers -- --nocapture
+//! cargo test --release -p envmap-cli --test peers -- --ignored --nocapture
 //! ```
 //!
 //! A smooth latlong goes through `envmap convert --to cube` and through each
@@ -28,14 +28,6 @@ use envmap_render::{EnvImage, Representation, RgbImage};
 
 mod common;
 use common::{envmap, text};
-
-fn peers() -> bool {
-    let on = std::env::var("ENVMAP_PEERS").is_ok_and(|v| v == "1");
-    if !on {
-        println!("ENVMAP_PEERS=1 not set: cmgen and py360convert not run");
-    }
-    on
-}
 
 /// A file of little-endian f32 values (what the Python peers write).
 fn raw_f32(path: &Path) -> Vec<f32> {
@@ -111,10 +103,8 @@ fn ours(dir: &Path, extra: &[&str]) -> EnvImage {
 }
 
 #[test]
+#[ignore = "needs Filament's cmgen (apt-get install libfilament-tools); run with cargo test --release -p envmap-cli --test peers -- --ignored"]
 fn the_default_cube_is_cmgens_without_mirroring_and_the_cmgen_preset_its_default() {
-    if !peers() {
-        return;
-    }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     input(d, "in.exr");
@@ -140,10 +130,8 @@ fn the_default_cube_is_cmgens_without_mirroring_and_the_cmgen_preset_its_default
 }
 
 #[test]
+#[ignore = "needs python3 with py360convert (pip install py360convert numpy scipy); run with cargo test --release -p envmap-cli --test peers -- --ignored"]
 fn the_default_cube_is_py360converts() {
-    if !peers() {
-        return;
-    }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     input(d, "in.exr");
@@ -166,7 +154,11 @@ fn the_default_cube_is_py360converts() {
         .current_dir(d)
         .output()
         .expect("run python3 (pip install py360convert numpy scipy)");
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        o.status.success(),
+        "py360convert's conversion failed (pip install py360convert numpy scipy): {}",
+        text(&o.stderr)
+    );
     // R L U D F B are +x −x +y −y +z −z.
     let repr = Representation::new(
         AnyMapping::Cube,
@@ -195,10 +187,8 @@ fn the_default_cube_is_py360converts() {
 /// read by OpenEXR's own library through OpenCV (`pip install
 /// "opencv-python-headless<4.11" numpy`): every texel to the bit.
 #[test]
+#[ignore = "needs python3 with OpenCV (pip install \"opencv-python-headless<4.11\" numpy); run with cargo test --release -p envmap-cli --test peers -- --ignored"]
 fn opencv_reads_the_default_cross_to_the_bit() {
-    if !peers() {
-        return;
-    }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     input(d, "in.exr");
@@ -233,7 +223,11 @@ fn opencv_reads_the_default_cross_to_the_bit() {
             .current_dir(d)
             .output()
             .expect(r#"run python3 (pip install "opencv-python-headless<4.11" numpy)"#);
-        assert!(o.status.success(), "{file}: {}", text(&o.stderr));
+        assert!(
+            o.status.success(),
+            r#"{file}: OpenCV's read failed (pip install "opencv-python-headless<4.11" numpy): {}"#,
+            text(&o.stderr)
+        );
         assert_eq!(
             text(&o.stdout).trim(),
             format!("{} {}", ours.width(), ours.height()),

@@ -5,13 +5,15 @@
 //! them) baked at a CI size and at 64² meet the project's targets (relative
 //! RMS ≤ 1 %, |bias| ≤ 0.2 % at every level above 0), their energy adds up
 //! (input = base cube + split texels), a made-up sun ringing as DWAB rings is
-//! baked without bias with its ring split out, and, with
-//! `ENVMAP_REAL_HDRIS=DIR` (`scripts/fetch-hdris.sh DIR` fetches the 18),
-//! every `*.exr` in DIR meets the same targets at 128² and 512².
+//! baked without bias with its ring split out; and the ignored test
+//! `full_set_within_target`: every `*.exr` in a directory meets the same
+//! targets at 128² and 512² (`ENVMAP_REAL_HDRIS=DIR`, default `target/hdri`,
+//! where `scripts/fetch-hdris.sh` puts the 18; a missing or empty directory
+//! fails it). CI runs it on the four committed ones.
 //!
 //! ```text
 //! cargo test --release -p envmap-render --test real_hdri -- --nocapture
-//! ENVMAP_REAL_HDRIS=target/hdri cargo test --release -p envmap-render --test real_hdri -- --nocapture
+//! scripts/fetch-hdris.sh && cargo test --release -p envmap-render --test real_hdri -- --ignored --nocapture
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -397,24 +399,26 @@ fn a_ringing_sun_is_baked_without_bias() {
 }
 
 #[test]
+#[ignore = "needs the 18 fetched HDRIs (scripts/fetch-hdris.sh, npm) or ENVMAP_REAL_HDRIS=DIR; about 10 minutes; run with cargo test --release -p envmap-render --test real_hdri -- --ignored"]
 fn full_set_within_target() {
-    let Ok(dir) = std::env::var("ENVMAP_REAL_HDRIS") else {
-        println!(
-            "ENVMAP_REAL_HDRIS not set: the full set of real HDRIs skipped (scripts/fetch-hdris.sh DIR, then ENVMAP_REAL_HDRIS=DIR)"
-        );
-        return;
-    };
     // Tests run in the package's directory: a relative DIR is taken from
     // the repository root, where the script's default, target/hdri, is.
     // (An absolute DIR is kept as it is.)
+    let dir = std::env::var("ENVMAP_REAL_HDRIS").unwrap_or_else(|_| "target/hdri".into());
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(dir);
+    let fetch = "scripts/fetch-hdris.sh fetches the 18 into target/hdri; \
+                 ENVMAP_REAL_HDRIS=DIR reads another directory";
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .unwrap_or_else(|e| panic!("{}: {e} ({fetch})", dir.display()))
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "exr"))
         .collect();
     files.sort();
-    assert!(!files.is_empty(), "{}: no .exr files", dir.display());
+    assert!(
+        !files.is_empty(),
+        "{}: no .exr files ({fetch})",
+        dir.display()
+    );
     let t = Instant::now();
     let mut rows = Vec::new();
     for path in &files {

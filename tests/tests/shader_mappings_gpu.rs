@@ -387,9 +387,7 @@ impl Tally {
 
 #[test]
 fn every_mapping_on_the_gpu_against_the_core() {
-    let Some(g) = gpu("shader mappings") else {
-        return;
-    };
+    let g = gpu("shader mappings");
     let dirs = directions();
     let dir_bits: Vec<u32> = dirs
         .iter()
@@ -587,9 +585,7 @@ fn every_mapping_on_the_gpu_against_the_core() {
 /// ±1), to say why the shaders do not call them.
 #[test]
 fn atan2f_and_the_device_builtins() {
-    let Some(g) = gpu("shader built-ins") else {
-        return;
-    };
+    let g = gpu("shader built-ins");
     let n = 200_000usize;
     let mut input = Vec::with_capacity(2 * n);
     for k in 0..n {

@@ -100,7 +100,7 @@
 //! (Filament `libs/ibl/src/CubemapSH.cpp`, `preprocessSHForShader`.) The
 //! axes are those of envmap's cube files, which are `cmgen --no-mirror`'s;
 //! cmgen's default mirroring negates x, which flips sh3, sh4 and sh7.
-//! `tests/irradiance.rs` (`ENVMAP_PEERS=1`) compares it with cmgen's own
+//! `tests/irradiance.rs` (an ignored test CI runs) compares it with cmgen's own
 //! output. The two differ slightly because cmgen projects its own cube,
 //! filled from nearest input texels shifted by up to one texel, and because
 //! it decodes an `.hdr` value up to half an RGBE step brighter than envmap

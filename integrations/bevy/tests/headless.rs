@@ -2,7 +2,9 @@
 //! lavapipe in CI) and held to envmap's own renders.
 //!
 //! A machine without a Vulkan adapter fails these tests with Bevy's own
-//! message; set `ENVMAP_BEVY_SKIP_GPU=1` to skip them there (a line says so).
+//! message (Debian: `apt-get install mesa-vulkan-drivers libvulkan1` for
+//! lavapipe); `cargo test --release --test files` runs the tests that need
+//! no device.
 //!
 //! Pictures of each comparison are written to `target/headless/` (PNG,
 //! exposure 0) for a person to look at.
@@ -19,14 +21,6 @@ use envmap_render::scene::mesh::Mesh as EnvMesh;
 use envmap_render::scene::procedural::fill;
 use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions};
 use envmap_render::{EnvImage, RgbImage};
-
-fn skip() -> bool {
-    if std::env::var_os("ENVMAP_BEVY_SKIP_GPU").is_some() {
-        eprintln!("ENVMAP_BEVY_SKIP_GPU is set: the Bevy render test is skipped");
-        return true;
-    }
-    false
-}
 
 /// Bevy's world (GL: y up, right-handed) in envmap's canonical axes (z up).
 fn to_canonical(v: Vec3) -> envmap_core::glam::Vec3 {
@@ -148,9 +142,6 @@ fn views() -> [View; 2] {
 /// of the same background; the same files mirrored or turned do not.
 #[test]
 fn the_skybox_is_the_environment_as_envmap_renders_it() {
-    if skip() {
-        return;
-    }
     let env = environment(pattern);
     let baked = bake_image(&env, 256).expect("bake");
     let mirrored =
@@ -190,9 +181,6 @@ fn the_skybox_is_the_environment_as_envmap_renders_it() {
 /// L where it faces the camera: the diffuse map's E/π is what Bevy expects.
 #[test]
 fn a_white_diffuse_sphere_in_a_constant_environment_renders_its_radiance() {
-    if skip() {
-        return;
-    }
     const L: f32 = 0.5;
     let env = environment(|_| [L, L, L]);
     let baked = bake_image(&env, 64).expect("bake");
@@ -243,9 +231,6 @@ fn a_white_diffuse_sphere_in_a_constant_environment_renders_its_radiance() {
 /// rendering frames, then gives the camera its light and skybox.
 #[test]
 fn the_plugin_bakes_off_the_main_thread_while_the_app_runs() {
-    if skip() {
-        return;
-    }
     use envmap_bevy::{BakeEnvironment, BakedEnvironment, EnvmapPlugin};
     use envmap_render::image::io::{Outputs, SaveOptions};
     let sky = envmap_render::scene::environments::Builtin::Sky
@@ -388,9 +373,6 @@ fn bevy_sphere<B: Bundle>(
 /// its dominant-direction rule against mix(R, N, α).
 #[test]
 fn lit_spheres_agree_with_envmaps_split_sum() {
-    if skip() {
-        return;
-    }
     use envmap_render::filter::dfg::DfgTable;
     use envmap_render::filter::sh::IrradianceScale;
     use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
@@ -495,9 +477,6 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
 /// the preset's RGB9E5 + zstd and for RGBA16F with and without zstd.
 #[test]
 fn the_asset_server_loads_the_preset_files_as_the_images_made_in_memory() {
-    if skip() {
-        return;
-    }
     use bevy::asset::LoadState;
     use envmap_render::bake::Baker;
     let dir = std::env::temp_dir().join(format!("envmap-bevy-assets-{}", std::process::id()));
@@ -905,9 +884,6 @@ fn assert_envmaps_maps_are_closer(name: &str, rows: &[Row], to_truth: bool) {
 /// larger one; the table in docs/engines.md shows it.)
 #[test]
 fn envmaps_maps_are_closer_to_the_ground_truth_than_bevys_generated_ones() {
-    if skip() {
-        return;
-    }
     let sky = envmap_render::scene::environments::Builtin::Sky
         .image(Representation::default_for(AnyMapping::LatLong), 1024, 512)
         .expect("sky");
@@ -917,25 +893,23 @@ fn envmaps_maps_are_closer_to_the_ground_truth_than_bevys_generated_ones() {
     assert_envmaps_maps_are_closer("sky", &sky_rows, true);
 }
 
-/// The same on real HDRIs with suns (`ENVMAP_REAL_HDRIS=DIR`, the files of
-/// `scripts/fetch-hdris.sh`; skipped with a line otherwise): park.exr,
-/// sky.exr, sunrise.exr.
+/// The same on real HDRIs with suns, the files of `scripts/fetch-hdris.sh`
+/// (in the repository's `target/hdri`, or `ENVMAP_REAL_HDRIS=DIR`):
+/// park.exr, sky.exr, sunrise.exr. A missing file fails the test.
 #[test]
+#[ignore = "needs the fetched HDRIs (scripts/fetch-hdris.sh, npm) or ENVMAP_REAL_HDRIS=DIR; run with cargo test --release --test headless real_hdris -- --ignored"]
 fn on_real_hdris_envmaps_maps_are_closer_to_the_ground_truth_than_bevys() {
-    let Some(dir) = std::env::var_os("ENVMAP_REAL_HDRIS") else {
-        eprintln!("ENVMAP_REAL_HDRIS is not set: the real-HDRI map comparison is skipped");
-        return;
-    };
-    if skip() {
-        return;
-    }
+    // A relative DIR is taken from the repository root, where the script's
+    // default, target/hdri, is; an absolute one is kept as it is.
+    let dir = std::env::var_os("ENVMAP_REAL_HDRIS").unwrap_or_else(|| "target/hdri".into());
+    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(dir);
     for name in ["park.exr", "sky.exr", "sunrise.exr"] {
-        let path = PathBuf::from(&dir).join(name);
+        let path = dir.join(name);
         let src = envmap_render::image::io::load(
             &path,
             &envmap_render::image::io::LoadOptions::default(),
         )
-        .unwrap_or_else(|e| panic!("{e}"));
+        .unwrap_or_else(|e| panic!("{e} (scripts/fetch-hdris.sh fetches it into target/hdri)"));
         let rows = maps_against_reference(&src, name);
         assert_envmaps_maps_are_closer(name, &rows, true);
     }

@@ -2,9 +2,8 @@
 //! (Mesa's lavapipe in CI) and compute dispatches over storage buffers,
 //! whose outputs start as NaN so that a write the device drops cannot pass.
 //!
-//! Adapter policy: without a Vulkan adapter a test prints why and returns,
-//! unless `ENVMAP_REQUIRE_GPU=1` (set by `.ci/run`), which makes it fail
-//! with the reason.
+//! Adapter policy: without a Vulkan adapter a test fails with the reason and
+//! how to install lavapipe (`.ci/run` installs it).
 #![allow(dead_code, unreachable_pub)]
 
 use std::future::Future;
@@ -63,36 +62,21 @@ pub struct Gpu {
     pipelines: std::cell::RefCell<Vec<(String, String, wgpu::ComputePipeline)>>,
 }
 
-/// Whether the environment asks for a GPU (a missing one is then a failure).
-pub fn gpu_required() -> bool {
-    std::env::var("ENVMAP_REQUIRE_GPU").is_ok_and(|v| v == "1")
-}
-
-/// The Vulkan device, or `None` (after printing why) when there is none and
-/// `ENVMAP_REQUIRE_GPU=1` is not set; with it set, a missing device panics
-/// with the reason.
-pub fn gpu(test: &str) -> Option<Gpu> {
+/// The Vulkan device; without one the test fails with the reason.
+pub fn gpu(test: &str) -> Gpu {
     match open() {
         Ok(g) => {
             eprintln!(
                 "{test}: on {} ({:?}, driver {} {})",
                 g.info.name, g.info.device_type, g.info.driver, g.info.driver_info
             );
-            Some(g)
+            g
         }
-        Err(why) => {
-            assert!(
-                !gpu_required(),
-                "{test}: ENVMAP_REQUIRE_GPU=1 but no Vulkan device: {why}. Install Mesa's \
-                 lavapipe (Debian: apt-get install mesa-vulkan-drivers libvulkan1; it provides \
-                 /usr/share/vulkan/icd.d/lvp_icd.x86_64.json) or a Vulkan driver"
-            );
-            eprintln!(
-                "{test}: skipped: no Vulkan device ({why}); install mesa-vulkan-drivers for \
-                 lavapipe, and set ENVMAP_REQUIRE_GPU=1 to make this a failure"
-            );
-            None
-        }
+        Err(why) => panic!(
+            "{test}: no Vulkan device: {why}. Install Mesa's lavapipe (Debian: apt-get install \
+             mesa-vulkan-drivers libvulkan1; it provides \
+             /usr/share/vulkan/icd.d/lvp_icd.x86_64.json) or a Vulkan driver"
+        ),
     }
 }
 
