@@ -4,8 +4,8 @@
 //! `map` read back by `unmap` must be accepted.
 #![no_main]
 
-use envmap_core::{AnyMapping, Frame, Mapping};
 use envmap_cli::text::{MapLines, UnmapLines};
+use envmap_core::{AnyMapping, Frame, Mapping};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
