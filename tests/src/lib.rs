@@ -607,3 +607,26 @@ pub fn check_simd_inverse(m: AnyMapping, tier: &str, c: ChartUv, got: Vec3) -> R
 #[cfg(doctest)]
 #[doc = include_str!("../../README.md")]
 struct ReadmeDoctests;
+
+/// Bytes (a process's output) as text, for test messages.
+#[must_use]
+pub fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// The names in a directory, sorted (panics if it cannot be read: a test
+/// helper).
+#[must_use]
+pub fn entries(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .expect("read the directory")
+        .map(|e| {
+            e.expect("a directory entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    v.sort();
+    v
+}

@@ -1,7 +1,6 @@
 //! Helpers shared by the integration tests (each test file uses some).
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)]
 
-use std::fs;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -35,17 +34,4 @@ pub(crate) fn envmap_stdin(args: &[&str], dir: &Path, input: &str) -> Output {
     child.wait_with_output().expect("wait")
 }
 
-/// Bytes as text, for messages.
-pub(crate) fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-/// The names in a directory, sorted.
-pub(crate) fn entries(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
+pub(crate) use envmap_tests::{entries, text};
