@@ -21,8 +21,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use envmap_render::image::texture::{full_chain, level_size};
-use envmap_render::image::{dds, ktx2};
+use envmap_render::image::texture::{self, full_chain, level_size};
 use envmap_render::image::{RgbImage, TexelFormat, Texture, TextureKind, TextureOptions};
 use glam::Vec3;
 
@@ -123,11 +122,20 @@ fn bench(c: &mut Criterion) {
     g.throughput(Throughput::Elements(texels));
     g.sample_size(20);
     g.bench_function("rgb9e5_zstd", |b| {
-        b.iter(|| pool.install(|| ktx2::encode(black_box(&tex), rgb9e5_zstd).expect("KTX2")))
+        b.iter(|| {
+            pool.install(|| {
+                texture::encode(black_box(&tex), Path::new("chain.ktx2"), rgb9e5_zstd)
+                    .expect("KTX2")
+            })
+        })
     });
     g.sample_size(20);
     g.bench_function("rgba16f", |b| {
-        b.iter(|| pool.install(|| ktx2::encode(black_box(&tex), rgba16f).expect("KTX2")))
+        b.iter(|| {
+            pool.install(|| {
+                texture::encode(black_box(&tex), Path::new("chain.ktx2"), rgba16f).expect("KTX2")
+            })
+        })
     });
     g.finish();
 
@@ -139,15 +147,23 @@ fn bench(c: &mut Criterion) {
         let bytes = file(
             &ktx2_zstd,
             &format!("KTX2 RGB9E5 + zstd {ZSTD_LEVEL}"),
-            || pool.install(|| ktx2::encode(&tex, rgb9e5_zstd).expect("KTX2").0),
+            || {
+                pool.install(|| {
+                    texture::encode(&tex, Path::new("chain.ktx2"), rgb9e5_zstd)
+                        .expect("KTX2")
+                        .0
+                })
+            },
         );
-        b.iter(|| pool.install(|| ktx2::decode(path, black_box(bytes), u64::MAX).expect("KTX2")))
+        b.iter(|| pool.install(|| texture::decode(path, black_box(bytes), u64::MAX).expect("KTX2")))
     });
     g.bench_function("rgba16f", |b| {
         let bytes = file(&ktx2_half, "KTX2 RGBA16F", || {
-            ktx2::encode(&tex, rgba16f).expect("KTX2").0
+            texture::encode(&tex, Path::new("chain.ktx2"), rgba16f)
+                .expect("KTX2")
+                .0
         });
-        b.iter(|| pool.install(|| ktx2::decode(path, black_box(bytes), u64::MAX).expect("KTX2")))
+        b.iter(|| pool.install(|| texture::decode(path, black_box(bytes), u64::MAX).expect("KTX2")))
     });
     g.finish();
 
@@ -155,7 +171,19 @@ fn bench(c: &mut Criterion) {
     g.sample_size(20);
     g.throughput(Throughput::Elements(texels));
     g.bench_function("rgba16f", |b| {
-        b.iter(|| pool.install(|| dds::encode(black_box(&tex), TexelFormat::Rgba16f).expect("DDS")))
+        b.iter(|| {
+            pool.install(|| {
+                texture::encode(
+                    black_box(&tex),
+                    Path::new("chain.dds"),
+                    TextureOptions {
+                        format: TexelFormat::Rgba16f,
+                        zstd: None,
+                    },
+                )
+                .expect("DDS")
+            })
+        })
     });
     g.finish();
 
@@ -165,9 +193,18 @@ fn bench(c: &mut Criterion) {
     let path = Path::new("chain.dds");
     g.bench_function("rgba16f", |b| {
         let bytes = file(&dds_half, "DDS RGBA16F", || {
-            dds::encode(&tex, TexelFormat::Rgba16f).expect("DDS").0
+            texture::encode(
+                &tex,
+                Path::new("chain.dds"),
+                TextureOptions {
+                    format: TexelFormat::Rgba16f,
+                    zstd: None,
+                },
+            )
+            .expect("DDS")
+            .0
         });
-        b.iter(|| pool.install(|| dds::decode(path, black_box(bytes), u64::MAX).expect("DDS")))
+        b.iter(|| pool.install(|| texture::decode(path, black_box(bytes), u64::MAX).expect("DDS")))
     });
     g.finish();
 }

@@ -13,7 +13,7 @@ use crate::args::{
     load_error, parse_convention, parse_layout, parse_mapping, parse_world, set_threads,
     warn_clamped, warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
-use envmap_render::bake::{Baker, Container, Preset, Target};
+use envmap_render::bake::{Baker, Preset, Target};
 use envmap_render::filter::bake::{chain_sizes, Bake, BakeOptions, Quality};
 use envmap_render::filter::dfg::DfgGrid;
 use envmap_render::filter::sh::{IrradianceScale, ShWindow};
@@ -21,6 +21,7 @@ use envmap_render::filter::specular::RoughnessRule;
 use envmap_render::image::convention::{Convention, FileAxes, World};
 use envmap_render::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
 use envmap_render::image::layout::Layout;
+use envmap_render::image::FileFormat;
 use envmap_render::image::{EnvImage, Representation};
 use envmap_render::scene::environments::Builtin;
 
@@ -36,7 +37,7 @@ pub(crate) struct BakeArgs {
     pub(crate) target: Option<Target>,
     /// Container of the maps: exr (the default without --target: one file per level), ktx2, dds (the whole chain in one file), ktx (KTX 1).
     #[arg(long, value_parser = parse_container)]
-    pub(crate) container: Option<Container>,
+    pub(crate) container: Option<FileFormat>,
     #[command(flatten)]
     pub(crate) texture: TextureFlags,
     #[command(flatten)]
@@ -129,8 +130,14 @@ fn parse_target(s: &str) -> Result<Target, String> {
     s.parse()
 }
 
-fn parse_container(s: &str) -> Result<Container, String> {
-    s.parse()
+fn parse_container(s: &str) -> Result<FileFormat, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "exr" => Ok(FileFormat::Exr),
+        "ktx2" => Ok(FileFormat::Ktx2),
+        "dds" => Ok(FileFormat::Dds),
+        "ktx" | "ktx1" => Ok(FileFormat::Ktx),
+        _ => Err(format!("{s}: expected exr, ktx2, dds or ktx")),
+    }
 }
 
 /// The preset of `a.target` with every flag given laid over it.
@@ -153,10 +160,10 @@ fn plan(a: &BakeArgs) -> Result<Preset, crate::Failure> {
     }
     let container = a.container.unwrap_or(base.container);
     let texture = a.texture.over(base.texture);
-    if container == Container::Exr && (a.texture.format.is_some() || a.texture.zstd.is_some()) {
+    if container == FileFormat::Exr && (a.texture.format.is_some() || a.texture.zstd.is_some()) {
         return Err("--format and --zstd are for --container ktx2, dds or ktx".into());
     }
-    if container != Container::Ktx2 && texture.zstd.is_some() {
+    if container != FileFormat::Ktx2 && texture.zstd.is_some() {
         return Err(format!(
             "--zstd: only KTX2 has supercompression (the container is {})",
             container.extension()
@@ -367,7 +374,7 @@ fn triple(v: [f64; 3]) -> String {
 /// written beside it) and writing the rest.
 fn summary(a: &BakeArgs, plan: &Preset, name: &str, b: &Bake, files: usize, times: [f64; 3]) {
     let [load, work, write] = times.map(|t| t * 1e3);
-    let beside = if plan.container == Container::Exr && b.chain.is_some() {
+    let beside = if plan.container == FileFormat::Exr && b.chain.is_some() {
         " (its levels' files written beside it)"
     } else {
         ""

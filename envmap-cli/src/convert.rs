@@ -19,12 +19,13 @@ use envmap_render::filter::sample::Filter;
 use envmap_render::image::convention::{Convention, FileAxes, World};
 use envmap_render::image::face_ops::FaceTransforms;
 use envmap_render::image::io::FaceNames;
+use envmap_render::image::io::Outputs;
 use envmap_render::image::io::{
     load_detailed, save, ExrPrecision, LoadOptions, Loaded, NonFinite, SaveOptions,
 };
-use envmap_render::image::io::{FileFormat, Outputs};
 use envmap_render::image::layout::Layout;
 use envmap_render::image::metadata;
+use envmap_render::image::FileFormat;
 use envmap_render::image::Texture;
 use envmap_render::image::{EnvImage, Representation, TextureOptions};
 

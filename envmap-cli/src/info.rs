@@ -13,11 +13,12 @@ use crate::args::{
 };
 use envmap_render::image::convention::{Convention, FileAxes, World};
 use envmap_render::image::face_ops::FaceTransforms;
-use envmap_render::image::io::{load_detailed, FileFormat, LoadOptions};
+use envmap_render::image::io::{load_detailed, LoadOptions};
 use envmap_render::image::layout::Layout;
 use envmap_render::image::metadata;
 use envmap_render::image::texture::{level_size, TextureFile, TextureKind};
 use envmap_render::image::EnvImage;
+use envmap_render::image::FileFormat;
 
 #[derive(Args)]
 pub(crate) struct InfoArgs {

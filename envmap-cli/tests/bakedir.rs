@@ -8,7 +8,8 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use envmap_core::AnyMapping;
-use envmap_render::bake::{Baker, Container, Preset, Target};
+use envmap_render::bake::{Baker, Preset, Target};
+use envmap_render::image::FileFormat;
 use envmap_render::image::{FileAxes, Representation, TexelFormat};
 use envmap_render::scene::environments::Builtin;
 
@@ -156,7 +157,7 @@ fn engine_upload_data_is_the_ktx2_files_levels() {
     preset.size = 16;
     preset.irradiance_size = 4;
     preset.dfg_size = 0;
-    assert_eq!(preset.container, Container::Ktx2);
+    assert_eq!(preset.container, FileFormat::Ktx2);
     let baked = Baker::with_preset(preset)
         .input_name("sky")
         .bake(&src)

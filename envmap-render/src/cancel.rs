@@ -62,6 +62,17 @@ impl<'a, T> Cancellable<'a, T> {
         Self { inner, flag }
     }
 
+    /// The cancel flag it watches.
+    pub(crate) fn flag(&self) -> Option<&'a AtomicBool> {
+        self.flag
+    }
+
+    /// The reader or writer inside.
+    #[cfg(any(feature = "ktx2", feature = "dds"))]
+    pub(crate) fn into_inner(self) -> T {
+        self.inner
+    }
+
     fn check(&self) -> io::Result<()> {
         if is_set(self.flag) {
             Err(io::Error::other("cancelled"))

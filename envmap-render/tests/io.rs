@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use envmap_core::{AnyMapping, Atlas, CubeFace, Frame};
 use envmap_render::image::io::{
     face_paths, linear_to_srgb8, load_detailed, read_rgb, srgb_to_linear, write_rgb, ExrPrecision,
-    FileFormat,
 };
 use envmap_render::image::layout::{detect, resolve};
+use envmap_render::image::FileFormat;
 use envmap_render::{
     convert, load, save, ConvertOptions, EnvImage, Error, Layout, LoadOptions, Representation,
     RgbImage, SaveOptions,

@@ -1,6 +1,5 @@
 //! Arbitrary bytes as a GPU texture file: the same bytes through both the
-//! KTX2 and the DDS reader (`envmap_render::image::ktx2::decode`,
-//! `dds::decode`). Reading may fail (with an error naming the file);
+//! KTX2 and the DDS reader (`envmap_render::image::texture::decode`). Reading may fail (with an error naming the file);
 //! nothing may panic, a texture read must agree with what its file info
 //! says and stay within the texel limit, and a texture of finite texels
 //! must read back the same after writing it again in its own container.
@@ -8,8 +7,7 @@
 
 use std::path::Path;
 
-use envmap_render::image::texture::{level_bytes, level_size};
-use envmap_render::image::{dds, ktx2};
+use envmap_render::image::texture::{self, level_bytes, level_size};
 use envmap_render::image::{TexelFormat, TextureFile, TextureKind, TextureOptions};
 use libfuzzer_sys::fuzz_target;
 
@@ -80,35 +78,29 @@ fn check_round_trip(file: &TextureFile, container: &str) {
     } else {
         "again.dds"
     });
-    let (bytes, clamped) = if container == "KTX2" {
-        let opts = TextureOptions {
-            format,
-            zstd: file.info.supercompression.map(|_| 1),
-        };
-        ktx2::encode(tex, opts).expect("a texture read is written again")
-    } else {
-        dds::encode(tex, format).expect("a texture read is written again")
-    };
+    // DDS has no supercompression.
+    let zstd = file
+        .info
+        .supercompression
+        .filter(|_| container == "KTX2")
+        .map(|_| 1);
+    let (bytes, clamped) = texture::encode(tex, path, TextureOptions { format, zstd })
+        .expect("a texture read is written again");
     assert!(
         clamped.is_empty(),
         "{clamped:?} clamped writing texels read"
     );
-    let again = if container == "KTX2" {
-        ktx2::decode(path, &bytes, MAX_TEXELS)
-    } else {
-        dds::decode(path, &bytes, MAX_TEXELS)
-    }
-    .expect("a texture written reads back");
+    let again = texture::decode(path, &bytes, MAX_TEXELS).expect("a texture written reads back");
     assert!(again.texture == *tex, "{container}: the texels changed");
     assert_eq!(again.info.format, format);
 }
 
 fuzz_target!(|data: &[u8]| {
-    if let Ok(file) = ktx2::decode(Path::new("input.ktx2"), data, MAX_TEXELS) {
+    if let Ok(file) = texture::decode(Path::new("input.ktx2"), data, MAX_TEXELS) {
         check_consistent(&file, "KTX2");
         check_round_trip(&file, "KTX2");
     }
-    if let Ok(file) = dds::decode(Path::new("input.dds"), data, MAX_TEXELS) {
+    if let Ok(file) = texture::decode(Path::new("input.dds"), data, MAX_TEXELS) {
         check_consistent(&file, "DDS");
         check_round_trip(&file, "DDS");
     }

@@ -8,12 +8,12 @@
 //! | --- | --- | --- |
 //! | `manifest.json` | the input, the axes (`frame_to_canonical`), the container, texel format and target, every level's file, size, perceptual roughness, method and samples, the energy bookkeeping, the irradiance map's file and scale (E or E/π), the DFG table's axes, timings | always |
 //! | `sh.json` | the SH9 of the input: radiance and irradiance coefficients in the files' axes and in envmap's, Filament's pre-scaled form, the basis and window | always |
-//! | `specular_k.exr` (or `specular_k_{face}.exr`) | level k of the GGX chain, a cube in [`Preset::layout`] | [`Container::Exr`] |
-//! | `specular.ktx2` / `.dds` | the whole chain in one cube texture, level k = mip k | [`Container::Ktx2`], [`Container::Dds`] |
+//! | `specular_k.exr` (or `specular_k_{face}.exr`) | level k of the GGX chain, a cube in [`Preset::layout`] | [`FileFormat::Exr`](crate::image::FileFormat::Exr) |
+//! | `specular.ktx2` / `.dds` | the whole chain in one cube texture, level k = mip k | [`FileFormat::Ktx2`](crate::image::FileFormat::Ktx2), [`FileFormat::Dds`](crate::image::FileFormat::Dds) |
 //! | `irradiance.exr`, or `irradiance.ktx2` / `diffuse.ktx2` / `.dds` | the irradiance cube (E/π by default) | an irradiance size above 0 |
 //! | `dfg.exr`, `dfg_multiscatter.exr` | the DFG table (scale, bias; Filament's multiscatter form), f32 | a DFG size above 0 |
 //! | `lut_ggx.ktx2` | glTF-IBL-Sampler's BRDF LUT | [`Target::Gltf`] |
-//! | `<dir>_ibl.ktx`, `<dir>_skybox.ktx`, `sh.txt` | cmgen's files: the chain with the SH in its `sh` key, level 0, the SH as text | [`Container::Ktx`] ([`Target::Filament`]) |
+//! | `<dir>_ibl.ktx`, `<dir>_skybox.ktx`, `sh.txt` | cmgen's files: the chain with the SH in its `sh` key, level 0, the SH as text | [`FileFormat::Ktx`](crate::image::FileFormat::Ktx) ([`Target::Filament`]) |
 //!
 //! A manifest names a level inside a texture as `"specular.ktx2 (level 3)"`
 //! ([`read::level_entry`]). Every value's convention (axes, E or E/π, which
@@ -53,5 +53,5 @@ pub mod read;
 mod write;
 
 pub use builder::{Baked, Baker, Progress};
-pub use preset::{Container, Preset, Target, DEFAULT_ZSTD};
+pub use preset::{Preset, Target, DEFAULT_ZSTD};
 pub use write::{BakeFiles, EngineTextures, Provenance, Written};

@@ -12,7 +12,7 @@ use crate::filter::sh::ShWindow;
 use crate::filter::specular::RoughnessRule;
 use crate::image::convention::FileAxes;
 use crate::image::layout::Layout;
-use crate::image::{TexelFormat, TextureOptions};
+use crate::image::{FileFormat, TexelFormat, TextureOptions};
 
 /// An engine a bake is made for (`envmap bake --target`); see
 /// `docs/engines.md` for what each loads and how it was checked.
@@ -56,46 +56,6 @@ impl std::str::FromStr for Target {
     }
 }
 
-/// How a bake's maps are stored.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Container {
-    /// One OpenEXR file (or six) per level.
-    Exr,
-    /// One KTX2 file per map, every level inside.
-    Ktx2,
-    /// One DDS file per map.
-    Dds,
-    /// One KTX 1 file per map (Filament).
-    Ktx,
-}
-
-impl Container {
-    /// The files' extension: `exr`, `ktx2`, `dds`, `ktx`.
-    #[must_use]
-    pub const fn extension(self) -> &'static str {
-        match self {
-            Container::Exr => "exr",
-            Container::Ktx2 => "ktx2",
-            Container::Dds => "dds",
-            Container::Ktx => "ktx",
-        }
-    }
-}
-
-impl std::str::FromStr for Container {
-    type Err = String;
-
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s.to_ascii_lowercase().as_str() {
-            "exr" => Ok(Container::Exr),
-            "ktx2" => Ok(Container::Ktx2),
-            "dds" => Ok(Container::Dds),
-            "ktx" | "ktx1" => Ok(Container::Ktx),
-            _ => Err(format!("{s}: expected exr, ktx2, dds or ktx")),
-        }
-    }
-}
-
 /// The zstd level of the presets that supercompress: zstd's own default
 /// (higher levels give smaller files far more slowly;
 /// `docs/performance.md`).
@@ -126,11 +86,14 @@ pub struct Preset {
     pub dfg_size: u32,
     /// Where the DFG table's texels sit (texel centres unless asked).
     pub dfg_grid: DfgGrid,
-    /// Container of the maps.
-    pub container: Container,
+    /// Container of the maps: [`FileFormat::Exr`] (one file, or six, per
+    /// level), or one texture file per map, every level inside:
+    /// [`FileFormat::Ktx2`], [`FileFormat::Dds`] or [`FileFormat::Ktx`]
+    /// (KTX 1, Filament's).
+    pub container: FileFormat,
     /// Texel format and supercompression of texture containers.
     pub texture: TextureOptions,
-    /// Layout of the chain's OpenEXR files ([`Container::Exr`]).
+    /// Layout of the chain's OpenEXR files ([`FileFormat::Exr`]).
     pub layout: Layout,
     /// The cube files' axes.
     pub axes: FileAxes,
@@ -158,7 +121,7 @@ impl Default for Preset {
             sh_window: None,
             dfg_size: crate::filter::dfg::DEFAULT_SIZE,
             dfg_grid: DfgGrid::TexelCentres,
-            container: Container::Exr,
+            container: FileFormat::Exr,
             texture: TextureOptions::default(),
             layout: Layout::Cross,
             axes: FileAxes::default(),
@@ -218,7 +181,7 @@ impl Preset {
             Target::Bevy => Self {
                 axes: z_negated(axes),
                 dfg_size: 0,
-                container: Container::Ktx2,
+                container: FileFormat::Ktx2,
                 texture: TextureOptions {
                     format: TexelFormat::E5b9g9r9,
                     zstd: Some(DEFAULT_ZSTD),
@@ -231,7 +194,7 @@ impl Preset {
             // Lambertian map, the GGX BRDF LUT.
             Target::Gltf => Self {
                 min_size: Some(2),
-                container: Container::Ktx2,
+                container: FileFormat::Ktx2,
                 irradiance: "diffuse",
                 ..base
             },
@@ -245,7 +208,7 @@ impl Preset {
                 irradiance_size: 0,
                 sh_window: Some(ShWindow::Cmgen),
                 dfg_size: 0,
-                container: Container::Ktx,
+                container: FileFormat::Ktx,
                 texture: TextureOptions {
                     format: TexelFormat::B10g11r11,
                     zstd: None,
@@ -291,9 +254,16 @@ impl Preset {
     ///
     /// # Errors
     ///
-    /// Supercompression outside KTX2; a layout that is not a cube's.
+    /// A container that holds no bake, supercompression outside KTX2, a
+    /// layout that is not a cube's.
     pub fn check(&self) -> Result<()> {
-        if self.container != Container::Ktx2 && self.texture.zstd.is_some() {
+        if !(self.container == FileFormat::Exr || self.container.is_texture()) {
+            return Err(Error::options(format!(
+                "{}: a bake is written as exr, ktx2, dds or ktx",
+                self.container.name()
+            )));
+        }
+        if self.container != FileFormat::Ktx2 && self.texture.zstd.is_some() {
             return Err(Error::options(format!(
                 "zstd: only KTX2 has supercompression (the container is {})",
                 self.container.extension()

@@ -37,7 +37,8 @@ use crate::filter::dfg::{DfgGrid, DfgTable};
 use crate::filter::sh::{irradiance_map, IrradianceScale, Sh9, DEFAULT_IRRADIANCE_SIZE};
 use crate::filter::specular::RoughnessRule;
 use crate::image::io::{load_detailed, LoadOptions};
-use crate::image::texture::{self, container_of};
+use crate::image::texture;
+use crate::image::FileFormat;
 use crate::image::{EnvImage, FileAxes, Representation};
 use crate::scene::lit::LitEnvironment;
 
@@ -93,11 +94,16 @@ fn chain_file(s: &str) -> (&str, Option<usize>) {
     (s, None)
 }
 
+/// The format `path`'s extension names, if any.
+fn format_of(path: &Path) -> Option<FileFormat> {
+    FileFormat::from_path(path).ok()
+}
+
 /// Whether `path` is what [`open`] reads: a directory, or a `.ktx2` / `.dds`
 /// file (a chain if it has more than one level or a manifest names it).
 #[must_use]
 pub fn is_candidate(path: &Path) -> bool {
-    path.is_dir() || matches!(container_of(path), Some("KTX2" | "DDS"))
+    path.is_dir() || matches!(format_of(path), Some(FileFormat::Ktx2 | FileFormat::Dds))
 }
 
 /// The lit maps at `path`; see the [module docs](self). `Ok(None)` when
@@ -172,7 +178,7 @@ impl Files<'_> {
     fn load(&mut self, entry: &str) -> Result<EnvImage> {
         let (file, level) = chain_file(entry);
         let path = self.dir.join(file);
-        if container_of(&path) == Some("KTX 1") {
+        if format_of(&path) == Some(FileFormat::Ktx) {
             return Err(bad(
                 self.manifest,
                 format!("{file}: KTX 1 files (Filament's) are written, not read; bake again with --container ktx2 or exr"),
@@ -181,7 +187,7 @@ impl Files<'_> {
         let frame = self
             .frame
             .or_else(|| self.axes.map(|a| a.frame(AnyMapping::Cube)));
-        if container_of(&path).is_some() {
+        if format_of(&path).is_some_and(FileFormat::is_texture) {
             let t = match self.texture.take() {
                 Some((p, t)) if p == path => t,
                 _ => texture::read(&path, self.max_texels, self.cancel)?,
@@ -309,7 +315,7 @@ fn alone(
     max_texels: u64,
     cancel: Option<&AtomicBool>,
 ) -> Result<Option<OpenedLit>> {
-    if !matches!(container_of(path), Some("KTX2" | "DDS")) {
+    if !matches!(format_of(path), Some(FileFormat::Ktx2 | FileFormat::Dds)) {
         return Ok(None);
     }
     let t = texture::read(path, max_texels, cancel)?;
@@ -320,7 +326,7 @@ fn alone(
     if t.texture.kind() != texture::TextureKind::Cube {
         return Err(Error::Decode {
             path: path.to_path_buf(),
-            format: container_of(path).unwrap_or("texture"),
+            format: format_of(path).map_or("texture", FileFormat::name),
             message: format!(
                 "{n} levels of a 2D texture: a specular chain is read from a cube map"
             ),

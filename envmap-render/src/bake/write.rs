@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use envmap_core::AnyMapping;
 
-use super::preset::{Container, Preset, Target};
+use super::preset::{Preset, Target};
 use crate::error::{Error, Result};
 use crate::filter::bake::{
     bake_owned, bake_owned_streaming, chain_sizes, Bake, BakeOptions, LevelReport,
@@ -17,7 +17,7 @@ use crate::filter::dfg::{DfgGrid, DfgTable};
 use crate::filter::sh::{IrradianceScale, NAMES};
 use crate::image::convention::FileAxes;
 use crate::image::io::{ExrPrecision, MemoryFile, Outputs, SaveOptions};
-use crate::image::{Clamped, EnvImage, Texture, TextureKind, TextureOptions, Upload};
+use crate::image::{Clamped, EnvImage, FileFormat, Texture, TextureKind, TextureOptions, Upload};
 
 /// Where a bake came from, for its manifest.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -148,7 +148,7 @@ pub(crate) fn bake_into(
     in_new_dir(dir, preset, || {
         let files = Files::new(dir, opts, preset, save);
         let run = Mutex::new(Outputs::new(save));
-        let streams = preset.container == Container::Exr;
+        let streams = preset.container == FileFormat::Exr;
         let sink = |k: usize, level: &EnvImage, report: &LevelReport| {
             let mut run = run.lock().unwrap_or_else(PoisonError::into_inner);
             files.stage_level(&mut run, (k, n), level, report)
@@ -274,9 +274,9 @@ fn ktx1_with_keys(
     #[cfg(not(feature = "ktx1"))]
     {
         let _ = (tex, preset, kv);
-        crate::image::io::FileFormat::Ktx
-            .check_enabled(path)
-            .map(|()| (Vec::new(), Clamped::default()))
+        FileFormat::Ktx
+            .codec(path)
+            .map(|_| (Vec::new(), Clamped::default()))
     }
 }
 
@@ -361,7 +361,7 @@ impl<'p> Files<'p> {
     ) -> Result<Vec<(PathBuf, Clamped)>> {
         let (dir, opts, preset) = (self.dir, self.opts, self.preset);
         let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
-        if preset.container == Container::Exr {
+        if preset.container == FileFormat::Exr {
             if let Some(chain) = bake.chain.as_ref().filter(|_| !levels_staged) {
                 let n = chain.levels.len();
                 for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
@@ -386,7 +386,7 @@ impl<'p> Files<'p> {
              -> Result<()> {
                 let tex = Texture::from_env(levels)?;
                 let path = dir.join(name);
-                let clamped = if preset.container == Container::Ktx {
+                let clamped = if preset.container == FileFormat::Ktx {
                     let (bytes, c) = ktx1_with_keys(&tex, preset, kv, &path)?;
                     run.stage_bytes(&path, &bytes)?;
                     c
@@ -399,7 +399,7 @@ impl<'p> Files<'p> {
             let ext = preset.container.extension();
             let sh_key = filament_sh_key(bake, preset);
             if let Some(chain) = &bake.chain {
-                let kv: Vec<(&str, &[u8])> = if preset.container == Container::Ktx {
+                let kv: Vec<(&str, &[u8])> = if preset.container == FileFormat::Ktx {
                     vec![("sh", sh_key.as_bytes())]
                 } else {
                     Vec::new()
@@ -410,7 +410,7 @@ impl<'p> Files<'p> {
                     &texture_name(dir, preset, preset.specular),
                     &kv,
                 )?;
-                if preset.container == Container::Ktx {
+                if preset.container == FileFormat::Ktx {
                     texture(
                         run,
                         &chain.levels[..1],
@@ -427,7 +427,7 @@ impl<'p> Files<'p> {
                     &[],
                 )?;
             }
-            if preset.container == Container::Ktx {
+            if preset.container == FileFormat::Ktx {
                 run.stage_bytes(dir.join("sh.txt"), filament_sh_txt(bake, preset).as_bytes())?;
             }
             if let (Some(t), Some(Target::Gltf)) = (&bake.dfg, preset.target) {
@@ -487,7 +487,7 @@ impl<'p> Files<'p> {
 /// without its extension.
 fn texture_name(dir: &Path, preset: &Preset, stem: &str) -> String {
     let ext = preset.container.extension();
-    if preset.container == Container::Ktx {
+    if preset.container == FileFormat::Ktx {
         let dir = dir
             .file_stem()
             .map(|d| d.to_string_lossy().into_owned())
@@ -501,7 +501,7 @@ fn texture_name(dir: &Path, preset: &Preset, stem: &str) -> String {
 
 /// Where level `k` of the chain is, for the manifest.
 fn level_file(dir: &Path, preset: &Preset, k: usize) -> String {
-    if preset.container == Container::Exr {
+    if preset.container == FileFormat::Exr {
         file_name(preset, &format!("specular_{k}"))
     } else {
         super::read::level_entry(&texture_name(dir, preset, preset.specular), k)
@@ -741,16 +741,16 @@ pub(crate) fn manifest(
         "axes": opts.axes.describe(AnyMapping::Cube),
         "frame_to_canonical": frame_columns(opts.axes.frame(AnyMapping::Cube)),
         "frame_to_canonical_note": "the cube files' x, y and z axes as columns in envmap's canonical axes (z up, right-handed); what `envmap render --env DIR` reads",
-        "layout": if preset.container == Container::Exr { preset.layout.name() } else { "one texture file per map: faces +X, -X, +Y, -Y, +Z, -Z, first texel top-left (KTX orientation rd), levels largest first" },
+        "layout": if preset.container == FileFormat::Exr { preset.layout.name() } else { "one texture file per map: faces +X, -X, +Y, -Y, +Z, -Z, first texel top-left (KTX orientation rd), levels largest first" },
         "container": preset.container.extension(),
         "target": preset.target.map(Target::name),
-        "texel_format": (preset.container != Container::Exr).then(|| preset.texture.format.vk_name()),
+        "texel_format": (preset.container != FileFormat::Exr).then(|| preset.texture.format.vk_name()),
         "zstd_level": preset.texture.zstd,
         "mirrored": preset.mirrored.then_some("x negated, as cmgen's default (Filament's shaders expect it)"),
         "seconds": { "load": provenance.load_seconds, "bake": provenance.bake_seconds },
         "specular": specular,
         "irradiance": b.irradiance.as_ref().map(|i| serde_json::json!({
-            "file": if preset.container == Container::Exr { file_name(preset, "irradiance") } else { texture_name(dir, preset, preset.irradiance) },
+            "file": if preset.container == FileFormat::Exr { file_name(preset, "irradiance") } else { texture_name(dir, preset, preset.irradiance) },
             "size": i.image.cell_size().0,
             "value": opts.irradiance_scale.name(),
             "value_note": "E/pi is the outgoing radiance of a white Lambertian surface (what engines expect); E = pi × that",

@@ -19,15 +19,31 @@
 
 use std::path::Path;
 
-use ddsfile::{AlphaMode, Caps2, D3D10ResourceDimension, Dds, DxgiFormat, NewDxgiParams};
+use ddsfile::{AlphaMode, Caps2, D3D10ResourceDimension, DxgiFormat, NewDxgiParams};
 
 use crate::error::{Error, Result};
 use crate::image::envimage::RgbImage;
+use crate::image::format::{whole, Codec, Contents, FileFormat, Source};
 use crate::image::texel::{Clamped, TexelFormat};
 use crate::image::texture::{
-    check_texels, full_chain, level_bytes, level_size, Texture, TextureFile, TextureInfo,
-    TextureKind,
+    check_texels, full_chain, level_bytes, level_size, no_zstd, Texture, TextureFile, TextureInfo,
+    TextureKind, TextureOptions,
 };
+
+/// DDS's codec.
+pub(crate) struct Dds;
+
+impl Codec for Dds {
+    fn read(&self, path: &Path, src: Source<'_>, max_texels: u64) -> Result<Contents> {
+        let bytes = whole(path, FileFormat::Dds, src, max_texels)?;
+        decode(path, &bytes, max_texels).map(Contents::Chain)
+    }
+
+    fn write_chain(&self, tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
+        no_zstd(opts, "DDS")?;
+        encode(tex, opts.format)
+    }
+}
 
 /// The `ddsfile` format of a texel format.
 fn dxgi(format: TexelFormat) -> Option<DxgiFormat> {
@@ -47,7 +63,7 @@ fn dxgi(format: TexelFormat) -> Option<DxgiFormat> {
 /// # Errors
 ///
 /// A format DDS has no DXGI number for (RGB16F) or envmap does not write.
-pub fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Clamped)> {
+pub(crate) fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Clamped)> {
     let dxgi_format = dxgi(format)
         .filter(|_| format.is_writable())
         .ok_or_else(|| {
@@ -60,7 +76,7 @@ pub fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Clamped)> 
     let (w, h) = tex.size();
     let cube = tex.kind() == TextureKind::Cube;
     let n = tex.level_count();
-    let mut dds = Dds::new_dxgi(NewDxgiParams {
+    let mut dds = ddsfile::Dds::new_dxgi(NewDxgiParams {
         height: h,
         width: w,
         depth: None,
@@ -107,13 +123,14 @@ pub fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Clamped)> 
 /// [`Error::Decode`] for anything malformed or unsupported (see the
 /// [module docs](self)); [`Error::TooLarge`] above `max_texels`, before
 /// decoding.
-pub fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile> {
+pub(crate) fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile> {
     let fail = |m: String| Error::Decode {
         path: path.to_path_buf(),
         format: "DDS",
         message: m,
     };
-    let dds = Dds::read(bytes).map_err(|e| fail(format!("the header does not parse: {e}")))?;
+    let dds =
+        ddsfile::Dds::read(bytes).map_err(|e| fail(format!("the header does not parse: {e}")))?;
     let hd = &dds.header;
     let (w, h) = (hd.width, hd.height);
     if w == 0 || h == 0 {

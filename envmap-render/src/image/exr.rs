@@ -6,10 +6,35 @@ use std::io::{BufReader, Seek, SeekFrom, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::image::atomic::TempWriter;
 use crate::image::envimage::{check_size, RgbImage};
-use crate::image::io::{
-    decode_error, ExrCompression, ExrPrecision, FileFormat, Source, SourceFormat, View,
-};
+use crate::image::format::{decode_error, Codec, Contents, FileFormat, Source};
+use crate::image::io::{ExrCompression, ExrPrecision, SaveOptions, SourceFormat, View};
+
+/// OpenEXR's codec.
+pub(crate) struct Exr;
+
+impl Codec for Exr {
+    fn read(&self, path: &Path, src: Source<'_>, max_texels: u64) -> Result<Contents> {
+        read(path, src, max_texels).map(|(rgb, source)| Contents::Image(rgb, source))
+    }
+
+    fn dimensions(&self, path: &Path, src: Source<'_>) -> Result<(u32, u32)> {
+        let meta = ::exr::meta::MetaData::read_from_buffered(BufReader::new(src), false)
+            .map_err(|e| decode_error(path, FileFormat::Exr, e))?;
+        exr_size(path, rgb_header(path, &meta)?)
+    }
+
+    fn write_image(
+        &self,
+        path: &Path,
+        view: View<'_>,
+        opts: &SaveOptions,
+        out: &mut TempWriter<'_>,
+    ) -> Result<()> {
+        encode(path, view, opts.exr_precision, opts.exr_compression, out)
+    }
+}
 use crate::image::metadata;
 
 fn exr_has(header: &::exr::meta::header::Header, name: &str) -> bool {

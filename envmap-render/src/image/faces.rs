@@ -18,9 +18,10 @@ use envmap_core::{AnyMapping, CubeFace};
 use crate::error::{Error, Result};
 use crate::image::atomic::Outputs;
 use crate::image::envimage::{check_size, EnvImage};
+use crate::image::format::FileFormat;
 use crate::image::io::{
-    apply_non_finite, encode, read_dimensions, read_rgb, FileFormat, LoadOptions, Loaded,
-    SaveOptions, SourceFormat, View,
+    apply_non_finite, encode, read_dimensions, read_rgb, LoadOptions, Loaded, SaveOptions,
+    SourceFormat, View,
 };
 use crate::image::layout::{Layout, Representation};
 use crate::image::metadata::{self, FileMetadata};

@@ -8,18 +8,39 @@ use std::path::Path;
 use ::image::DynamicImage;
 
 use crate::error::Result;
+use crate::image::atomic::TempWriter;
 use crate::image::envimage::RgbImage;
+use crate::image::format::{Codec, Contents, FileFormat, Source};
 use crate::image::io::{
-    decode_with_image, encode_error, expand, FileFormat, Source, SourceFormat, View,
+    decode_with_image, encode_error, expand, image_dimensions, SaveOptions, SourceFormat, View,
 };
+
+/// Radiance's codec.
+pub(crate) struct Hdr;
+
+impl Codec for Hdr {
+    fn read(&self, path: &Path, src: Source<'_>, max_texels: u64) -> Result<Contents> {
+        read(path, src, max_texels).map(|(rgb, source)| Contents::Image(rgb, source))
+    }
+
+    fn dimensions(&self, path: &Path, src: Source<'_>) -> Result<(u32, u32)> {
+        image_dimensions(path, src, FileFormat::Hdr)
+    }
+
+    fn write_image(
+        &self,
+        path: &Path,
+        view: View<'_>,
+        _opts: &SaveOptions,
+        out: &mut TempWriter<'_>,
+    ) -> Result<()> {
+        encode(path, view, out)
+    }
+}
 
 /// Reads a Radiance file as linear RGB; refuses images above `max_texels`
 /// before allocating their pixels.
-pub(super) fn read(
-    path: &Path,
-    file: Source<'_>,
-    max_texels: u64,
-) -> Result<(RgbImage, SourceFormat)> {
+fn read(path: &Path, file: Source<'_>, max_texels: u64) -> Result<(RgbImage, SourceFormat)> {
     let format = FileFormat::Hdr;
     let decoded = decode_with_image(path, file, format, max_texels)?;
     let (width, height) = (decoded.width(), decoded.height());
@@ -51,7 +72,7 @@ pub(super) fn read(
 
 /// Writes `view` as a Radiance file; NaN and negative values become 0 (RGBE
 /// holds non-negative finite values only).
-pub(super) fn encode<W: Write>(path: &Path, view: View<'_>, out: &mut W) -> Result<()> {
+fn encode<W: Write>(path: &Path, view: View<'_>, out: &mut W) -> Result<()> {
     let px: Vec<::image::Rgb<f32>> = view
         .pixels
         .iter()

@@ -61,10 +61,8 @@
 //! kept or replaced by black as [`LoadOptions::non_finite`] says (see
 //! [`NonFinite`]).
 
-use std::fs::File;
-#[cfg(any(feature = "exr", feature = "image"))]
+#[cfg(feature = "image")]
 use std::io::BufReader;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
@@ -72,23 +70,22 @@ use std::sync::atomic::AtomicBool;
 use ::image::{DynamicImage, ImageDecoder, ImageReader};
 use envmap_core::{AnyMapping, Atlas};
 
-use crate::cancel::{self, Cancellable};
+use crate::cancel;
 use crate::error::{Error, Result};
 use crate::image::atomic::TempWriter;
 use crate::image::convention::FileAxes;
 #[cfg(feature = "image")]
 use crate::image::envimage::check_size;
 use crate::image::envimage::{EnvImage, RgbImage, RowSource, DEFAULT_MAX_TEXELS};
-#[cfg(feature = "exr")]
-use crate::image::exr;
 use crate::image::face_ops::FaceTransforms;
+use crate::image::format::{self, Contents, FileFormat};
+#[cfg(feature = "image")]
+use crate::image::format::{decode_error, Source};
 use crate::image::layout::{resolve, Layout, Representation};
 use crate::image::metadata::FileMetadata;
 use crate::image::texel::Clamped;
 use crate::image::texture::{self, Texture, TextureKind, TextureOptions};
 use crate::image::{faces, metadata};
-#[cfg(feature = "image")]
-use crate::image::{hdr, png_jpeg};
 use crate::par::*;
 
 pub use crate::image::atomic::{MemoryFile, Outputs};
@@ -255,126 +252,6 @@ impl std::str::FromStr for SyncPolicy {
                 expected: "replacing, always, never".to_owned(),
             }),
         }
-    }
-}
-
-/// An image file format, chosen by extension.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum FileFormat {
-    /// PNG (`.png`): 8- or 16-bit sRGB.
-    Png,
-    /// JPEG (`.jpg`, `.jpeg`): 8-bit sRGB.
-    Jpeg,
-    /// Radiance RGBE (`.hdr`): linear floating point, shared exponent.
-    Hdr,
-    /// OpenEXR (`.exr`): linear f16 or f32.
-    Exr,
-    /// KTX 2.0 (`.ktx2`): GPU texture with mip levels.
-    Ktx2,
-    /// DDS (`.dds`): GPU texture with mip levels, DX10 header.
-    Dds,
-    /// KTX 1 (`.ktx`): GPU texture with mip levels, as Filament reads it
-    /// (written only).
-    Ktx,
-}
-
-impl FileFormat {
-    /// The accepted extensions, as listed in error messages.
-    pub const EXTENSIONS: &'static str = "png, jpg, jpeg, hdr, exr, ktx2, dds, ktx";
-
-    /// The format of a path's extension (case-insensitive); an error naming
-    /// the file and the accepted extensions otherwise.
-    pub fn from_path(path: &Path) -> Result<FileFormat> {
-        let ext = path.extension().map(|e| e.to_string_lossy().into_owned());
-        let format = match ext.as_deref().map(str::to_ascii_lowercase).as_deref() {
-            Some("png") => FileFormat::Png,
-            Some("jpg" | "jpeg") => FileFormat::Jpeg,
-            Some("hdr") => FileFormat::Hdr,
-            Some("exr") => FileFormat::Exr,
-            Some("ktx2") => FileFormat::Ktx2,
-            Some("dds") => FileFormat::Dds,
-            Some("ktx") => FileFormat::Ktx,
-            _ => {
-                return Err(Error::UnknownExtension {
-                    path: path.to_path_buf(),
-                    extension: ext,
-                    accepted: Self::EXTENSIONS,
-                })
-            }
-        };
-        Ok(format)
-    }
-
-    /// The format's usual name (`"PNG"`, `"OpenEXR"`, ...).
-    #[must_use]
-    pub const fn name(self) -> &'static str {
-        match self {
-            FileFormat::Png => "PNG",
-            FileFormat::Jpeg => "JPEG",
-            FileFormat::Hdr => "Radiance HDR",
-            FileFormat::Exr => "OpenEXR",
-            FileFormat::Ktx2 => "KTX2",
-            FileFormat::Dds => "DDS",
-            FileFormat::Ktx => "KTX 1",
-        }
-    }
-
-    /// The Cargo feature of `envmap-render` that reads and writes the
-    /// format: `image` (PNG, JPEG, Radiance), `exr`, `ktx2`, `dds`, `ktx1`.
-    #[must_use]
-    pub const fn feature(self) -> &'static str {
-        match self {
-            FileFormat::Png | FileFormat::Jpeg | FileFormat::Hdr => "image",
-            FileFormat::Exr => "exr",
-            FileFormat::Ktx2 => "ktx2",
-            FileFormat::Dds => "dds",
-            FileFormat::Ktx => "ktx1",
-        }
-    }
-
-    /// Whether this build reads and writes the format (its
-    /// [`FileFormat::feature`] on).
-    #[must_use]
-    pub(crate) const fn is_enabled(self) -> bool {
-        match self {
-            FileFormat::Png | FileFormat::Jpeg | FileFormat::Hdr => cfg!(feature = "image"),
-            FileFormat::Exr => cfg!(feature = "exr"),
-            FileFormat::Ktx2 => cfg!(feature = "ktx2"),
-            FileFormat::Dds => cfg!(feature = "dds"),
-            FileFormat::Ktx => cfg!(feature = "ktx1"),
-        }
-    }
-
-    /// [`Error::FormatDisabled`] for `path` unless the format
-    /// [`is enabled`](FileFormat::is_enabled).
-    ///
-    /// # Errors
-    ///
-    /// The format's feature is off.
-    pub(crate) fn check_enabled(self, path: &Path) -> Result<()> {
-        if self.is_enabled() {
-            Ok(())
-        } else {
-            Err(Error::FormatDisabled {
-                path: path.to_path_buf(),
-                format: self.name(),
-                feature: self.feature(),
-            })
-        }
-    }
-
-    /// Whether the format is a GPU texture file with mip levels (KTX2, DDS,
-    /// KTX 1; see [`crate::image::texture`]).
-    #[must_use]
-    pub const fn is_texture(self) -> bool {
-        matches!(self, FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx)
-    }
-
-    /// Whether the format stores linear floating-point values (HDR, EXR)
-    /// rather than 8- or 16-bit sRGB.
-    #[must_use]
-    pub const fn is_float(self) -> bool {
-        matches!(self, FileFormat::Hdr | FileFormat::Exr) || self.is_texture()
     }
 }
 
@@ -545,104 +422,13 @@ pub(super) fn apply_non_finite(pixels: &mut [[f32; 3]], policy: NonFinite) -> u6
     n
 }
 
-pub(super) fn decode_error(path: &Path, format: FileFormat, message: impl ToString) -> Error {
-    Error::Decode {
-        path: path.to_path_buf(),
-        format: format.name(),
-        message: message.to_string(),
-    }
-}
-
-/// Runs a decoder, turning a panic inside it into an error naming the file.
-fn guarded<T>(path: &Path, format: FileFormat, f: impl FnOnce() -> Result<T>) -> Result<T> {
-    catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|_| {
-        Err(decode_error(
-            path,
-            format,
-            "the decoder failed on this file (corrupt data)",
-        ))
-    })
-}
-
-/// What the readers read: the file (or the caller's bytes), failing once
-/// the cancel flag is set.
-pub(super) type Source<'a> = Cancellable<'a, Input<'a>>;
-
-/// A reader's bytes: a file, or a buffer in memory ([`load_from_memory`]).
-#[derive(Debug)]
-pub(crate) enum Input<'a> {
-    /// An open file.
-    File(File),
-    /// The caller's bytes.
-    Memory(std::io::Cursor<&'a [u8]>),
-}
-
-impl std::io::Read for Input<'_> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        match self {
-            Input::File(f) => f.read(buf),
-            Input::Memory(m) => m.read(buf),
-        }
-    }
-}
-
-impl std::io::Seek for Input<'_> {
-    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
-        match self {
-            Input::File(f) => f.seek(pos),
-            Input::Memory(m) => m.seek(pos),
-        }
-    }
-}
-
-fn open<'a>(path: &Path, cancel: Option<&'a AtomicBool>) -> Result<Source<'a>> {
-    let file = File::open(path).map_err(|e| Error::read(path, e))?;
-    let file = match file.metadata() {
-        Ok(m) if m.is_dir() => Err(Error::read(
-            path,
-            std::io::Error::new(std::io::ErrorKind::InvalidInput, "is a directory"),
-        )),
-        _ => Ok(file),
-    }?;
-    Ok(Cancellable::new(Input::File(file), cancel))
-}
-
 /// The size of an image file, from its header alone.
 pub(crate) fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
-    let format = FileFormat::from_path(path)?;
-    if format.is_texture() {
-        let t = texture::read(path, u64::MAX, None)?;
-        return Ok(level0_size(&t));
-    }
-    format.check_enabled(path)?;
-    let file = open(path, None)?;
-    #[allow(unreachable_patterns)]
-    guarded(path, format, || match format {
-        #[cfg(feature = "exr")]
-        FileFormat::Exr => {
-            let meta = ::exr::meta::MetaData::read_from_buffered(BufReader::new(file), false)
-                .map_err(|e| decode_error(path, format, e))?;
-            let header = exr::rgb_header(path, &meta)?;
-            exr::exr_size(path, header)
-        }
-        #[cfg(feature = "image")]
-        FileFormat::Png | FileFormat::Jpeg | FileFormat::Hdr => {
-            let reader = ImageReader::with_format(BufReader::new(file), image_format(format));
-            reader
-                .into_dimensions()
-                .map_err(|e| decode_error(path, format, e))
-        }
-        _ => {
-            drop(file);
-            Err(Error::unsupported(format!(
-                "{}: no decoder",
-                path.display()
-            )))
-        }
-    })
+    format::dimensions(path)
 }
 
-/// Reads an image file as linear RGB, with no representation attached.
+/// Reads an image file as linear RGB, with no representation attached (a
+/// texture file's level 0).
 ///
 /// Refuses images above `max_texels` before allocating their pixels; stops
 /// with [`Error::Cancelled`] once `cancel` is set.
@@ -653,85 +439,75 @@ pub fn read_rgb(
 ) -> Result<(RgbImage, SourceFormat)> {
     cancel::check(cancel)?;
     let format = FileFormat::from_path(path)?;
-    if format.is_texture() {
-        let t = guarded(path, format, || texture::read(path, max_texels, cancel))?;
-        return Ok(texture_level0(t, format));
-    }
-    let file = open(path, cancel)?;
-    decode_rgb(path, format, file, max_texels, cancel)
+    let src = format::open(path, cancel)?;
+    read_level0(path, format, src, max_texels)
 }
 
-/// Decodes an image file's bytes from `file` (named `path` in errors).
-fn decode_rgb(
+/// Reads `src` (named `path`) as `format`: an image as it is, a texture's
+/// level 0.
+fn read_level0(
     path: &Path,
     format: FileFormat,
-    file: Source<'_>,
+    src: format::Source<'_>,
     max_texels: u64,
-    cancel: Option<&AtomicBool>,
 ) -> Result<(RgbImage, SourceFormat)> {
-    format.check_enabled(path)?;
-    #[allow(unreachable_patterns)]
-    let read = guarded(path, format, || match format {
-        #[cfg(feature = "exr")]
-        FileFormat::Exr => exr::read(path, file, max_texels),
-        #[cfg(feature = "image")]
-        FileFormat::Hdr => hdr::read(path, file, max_texels),
-        #[cfg(feature = "image")]
-        FileFormat::Png | FileFormat::Jpeg => png_jpeg::read(path, file, format, max_texels),
-        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => Err(Error::usage(format!(
-            "{}: texture files are read whole (texture::decode)",
-            path.display()
-        ))),
-        _ => {
-            drop((file, max_texels));
-            Err(Error::unsupported(format!(
-                "{}: no decoder",
-                path.display()
-            )))
-        }
-    });
-    cancel::or_cancelled(read, cancel)
+    Ok(match format::read(path, format, src, max_texels)? {
+        Contents::Image(rgb, source) => (rgb, source),
+        Contents::Chain(t) => texture_level0(t, format),
+    })
 }
 
 /// Loads an environment map from a file's bytes already in memory (an
 /// asset packed in a game, a download): the format from `name`'s extension
-/// (`"studio.hdr"`), which also names it in errors; everything else as
+/// (`"studio.hdr"`), which also names it in errors, or, when `name` has no
+/// extension envmap knows, from the bytes themselves; everything else as
 /// [`load_detailed`] (the representation from `opts`, the file's own tags,
 /// else its aspect ratio). Nothing on disk is read. A six-file cube is not
 /// read this way (load each face and assemble them, or use files).
 ///
 /// ```
-/// use envmap_render::image::io::{load_from_memory, LoadOptions};
+/// use envmap_render::{load_from_memory, LoadOptions};
 /// // A 2 × 1 Radiance file: a latlong of two texels.
 /// let mut hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n".to_vec();
 /// hdr.extend_from_slice(&[128, 128, 128, 129, 128, 128, 128, 129]);
 /// let loaded = load_from_memory(&hdr, "tiny.hdr", &LoadOptions::default())?;
 /// assert_eq!((loaded.image.width(), loaded.image.height()), (2, 1));
 /// assert_eq!(loaded.image.pixels()[0], [1.0, 1.0, 1.0]);
+/// // The same bytes under a name that says nothing: recognised by their start.
+/// let again = load_from_memory(&hdr, "download", &LoadOptions::default())?;
+/// assert_eq!(again.image.pixels(), loaded.image.pixels());
 /// # Ok::<(), envmap_render::Error>(())
 /// ```
 ///
 /// # Errors
 ///
-/// As [`load_detailed`]: an unknown extension, a file that does not decode
-/// or is larger than `opts.max_texels`, a size no mapping fits,
-/// [`Error::Cancelled`].
+/// As [`load_detailed`]: an unknown extension on bytes of no known format,
+/// a file that does not decode or is larger than `opts.max_texels`, a size
+/// no mapping fits, [`Error::Cancelled`].
 pub fn load_from_memory(bytes: &[u8], name: &str, opts: &LoadOptions) -> Result<Loaded> {
     let path = Path::new(name);
     cancel::check(opts.cancel)?;
-    let format = FileFormat::from_path(path)?;
-    let (rgb, source) = if format.is_texture() {
-        let t = guarded(path, format, || {
-            texture::decode(path, bytes, opts.max_texels)
-        })?;
-        texture_level0(t, format)
-    } else {
-        let source = Cancellable::new(Input::Memory(std::io::Cursor::new(bytes)), opts.cancel);
-        decode_rgb(path, format, source, opts.max_texels, opts.cancel)?
+    let format = match FileFormat::from_path(path) {
+        Ok(f) => f,
+        Err(e) => FileFormat::from_bytes(bytes).ok_or(e)?,
     };
+    let src = format::memory(bytes, opts.cancel);
+    let (rgb, source) = read_level0(path, format, src, opts.max_texels)?;
     let mut loaded = finish_load(path, rgb, source, opts)?;
     loaded.files.clear();
     Ok(loaded)
+}
+
+/// The size of a PNG, JPEG or Radiance file from its header.
+#[cfg(feature = "image")]
+pub(super) fn image_dimensions(
+    path: &Path,
+    src: Source<'_>,
+    format: FileFormat,
+) -> Result<(u32, u32)> {
+    ImageReader::with_format(BufReader::new(src), image_format(format))
+        .into_dimensions()
+        .map_err(|e| decode_error(path, format, e))
 }
 
 #[cfg(feature = "image")]
@@ -739,21 +515,8 @@ fn image_format(format: FileFormat) -> ::image::ImageFormat {
     match format {
         FileFormat::Png => ::image::ImageFormat::Png,
         FileFormat::Jpeg => ::image::ImageFormat::Jpeg,
-        FileFormat::Hdr => ::image::ImageFormat::Hdr,
-        // Texture files never reach the `image` crate; OpenEXR is a
-        // harmless stand-in that keeps this total.
-        FileFormat::Exr | FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => {
-            ::image::ImageFormat::OpenExr
-        }
-    }
-}
-
-/// Level 0's size as a plain image: a cube's faces side by side.
-fn level0_size(t: &texture::TextureFile) -> (u32, u32) {
-    let (w, h) = t.texture.size();
-    match t.texture.kind() {
-        TextureKind::Cube => (6 * w, h),
-        TextureKind::Flat => (w, h),
+        // The `image` crate reads Radiance; nothing else reaches it.
+        _ => ::image::ImageFormat::Hdr,
     }
 }
 
@@ -921,24 +684,24 @@ fn finish_load(
 /// A borrowed RGB image to encode.
 #[derive(Clone, Copy)]
 #[cfg_attr(not(any(feature = "exr", feature = "image")), allow(dead_code))]
-pub(super) struct View<'a> {
-    pub(super) width: u32,
-    pub(super) height: u32,
-    pub(super) pixels: &'a [[f32; 3]],
+pub(crate) struct View<'a> {
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) pixels: &'a [[f32; 3]],
     /// Instead of `pixels` (then empty): the rows made on demand, for a
     /// format that writes rows as it goes (OpenEXR); see
     /// [`Outputs::stage_streamed`]. Only OpenEXR reads it.
     #[cfg_attr(not(feature = "exr"), allow(dead_code))]
-    pub(super) stream: Option<&'a dyn RowSource>,
+    pub(crate) stream: Option<&'a dyn RowSource>,
     /// The atlas the texels are laid out in, if the image is an
     /// environment map (where its empty cells are: OpenEXR's `auto`
     /// compresses only the rows that cross one).
     #[cfg_attr(not(feature = "exr"), allow(dead_code))]
-    pub(super) atlas: Option<Atlas>,
+    pub(crate) atlas: Option<Atlas>,
     /// What the file says about itself where its format has a place
     /// ([`crate::image::metadata`]): the `envmap.*` tags and a description.
-    pub(super) tags: &'a [(String, String)],
-    pub(super) description: &'a str,
+    pub(crate) tags: &'a [(String, String)],
+    pub(crate) description: &'a str,
 }
 
 /// Saves an environment map; returns the files written (one, or six faces
@@ -1152,7 +915,7 @@ impl Outputs<'_> {
     }
 }
 
-/// Encodes `view` in `format` into `out`.
+/// Encodes `view` in `format` into `out`, through the format's codec.
 pub(super) fn encode(
     path: &Path,
     format: FileFormat,
@@ -1160,29 +923,7 @@ pub(super) fn encode(
     opts: &SaveOptions,
     out: &mut TempWriter<'_>,
 ) -> Result<()> {
-    format.check_enabled(path)?;
-    #[allow(unreachable_patterns)]
-    match format {
-        #[cfg(feature = "image")]
-        FileFormat::Png | FileFormat::Jpeg => {
-            png_jpeg::encode(path, format, view, opts.exposure, out)
-        }
-        #[cfg(feature = "image")]
-        FileFormat::Hdr => hdr::encode(path, view, out),
-        #[cfg(feature = "exr")]
-        FileFormat::Exr => exr::encode(path, view, opts.exr_precision, opts.exr_compression, out),
-        FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx => Err(Error::usage(
-            "texture files are staged whole (Outputs::stage_texture)",
-        )
-        .in_file(path)),
-        _ => {
-            let _ = (view, opts, out);
-            Err(Error::unsupported(format!(
-                "{}: no encoder",
-                path.display()
-            )))
-        }
-    }
+    format.codec(path)?.write_image(path, view, opts, out)
 }
 
 /// An encoder's error: a write error when it was I/O, an encoding one otherwise.

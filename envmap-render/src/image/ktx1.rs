@@ -15,12 +15,39 @@
 //! faces need no padding). Rows run top-down, faces exactly as
 //! `glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + i)` takes them.
 
+use std::path::Path;
+
 use crate::error::{Error, Result};
+use crate::image::format::{Codec, Contents, Source};
 use crate::image::texel::{Clamped, TexelFormat};
-use crate::image::texture::Texture;
+use crate::image::texture::{no_zstd, Texture, TextureOptions};
+
+/// KTX 1's codec: written, not read.
+pub(crate) struct Ktx1;
+
+impl Codec for Ktx1 {
+    fn read(&self, path: &Path, _src: Source<'_>, _max_texels: u64) -> Result<Contents> {
+        Err(ktx1_is_written(path))
+    }
+
+    fn write_chain(&self, tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
+        no_zstd(opts, "KTX 1")?;
+        encode(tex, opts.format, &[])
+    }
+}
+
+/// The error for reading a KTX 1 file.
+pub(crate) fn ktx1_is_written(path: &Path) -> Error {
+    Error::Decode {
+        path: path.to_path_buf(),
+        format: "KTX 1",
+        message: "KTX 1 files are written (for Filament), not read; read its KTX2 or DDS twin"
+            .into(),
+    }
+}
 
 /// The file identifier: «KTX 11»\r\n\x1A\n.
-pub const IDENTIFIER: [u8; 12] = [
+pub(crate) const IDENTIFIER: [u8; 12] = [
     0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A,
 ];
 
@@ -59,7 +86,7 @@ pub(crate) const fn gl_format(format: TexelFormat) -> [u32; 5] {
 /// # Errors
 ///
 /// A format envmap does not write.
-pub fn encode(
+pub(crate) fn encode(
     tex: &Texture,
     format: TexelFormat,
     key_values: &[(&str, &[u8])],

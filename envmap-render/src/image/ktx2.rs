@@ -43,14 +43,29 @@ use crate::par::*;
 
 use crate::error::{Error, Result};
 use crate::image::envimage::RgbImage;
+use crate::image::format::{whole, Codec, Contents, FileFormat, Source};
 use crate::image::texel::{Clamped, TexelFormat};
 use crate::image::texture::{
     check_texels, full_chain, level_bytes, level_size, Texture, TextureFile, TextureInfo,
     TextureKind, TextureOptions,
 };
 
+/// KTX2's codec.
+pub(crate) struct Ktx2;
+
+impl Codec for Ktx2 {
+    fn read(&self, path: &Path, src: Source<'_>, max_texels: u64) -> Result<Contents> {
+        let bytes = whole(path, FileFormat::Ktx2, src, max_texels)?;
+        decode(path, &bytes, max_texels).map(Contents::Chain)
+    }
+
+    fn write_chain(&self, tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
+        encode(tex, opts)
+    }
+}
+
 /// The file identifier: «KTX 20»\r\n\x1A\n.
-pub const IDENTIFIER: [u8; 12] = [
+pub(crate) const IDENTIFIER: [u8; 12] = [
     0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A,
 ];
 
@@ -87,7 +102,7 @@ fn sample(offset: u32, bits: u32, channel: u32, lower: u32, upper: u32) -> [u32;
 /// 256 at exponent 16 — and its exponents 15 and 31, the KDFS example
 /// `exampledescriptor_e5b9g9r9`).
 #[must_use]
-pub fn dfd(format: TexelFormat) -> Vec<u8> {
+pub(crate) fn dfd(format: TexelFormat) -> Vec<u8> {
     let float_rgba = |bits: u32, n: u32| {
         (0..n)
             .map(|i| {
@@ -151,7 +166,7 @@ fn key_values(entries: &[(&str, &str)]) -> Vec<u8> {
 /// lcm(texel size, 4): the alignment of every level without
 /// supercompression (§"mipPadding").
 #[must_use]
-pub fn level_alignment(format: TexelFormat) -> usize {
+pub(crate) fn level_alignment(format: TexelFormat) -> usize {
     let t = format.bytes();
     let gcd = |mut a: usize, mut b: usize| {
         while b != 0 {
@@ -174,7 +189,7 @@ pub(crate) fn writer_name() -> String {
 /// # Errors
 ///
 /// A read-only format, or a zstd level outside 1–22.
-pub fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
+pub(crate) fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
     let format = opts.format;
     if !format.is_writable() {
         return Err(Error::unsupported(format!(
@@ -462,7 +477,7 @@ fn parse_key_values(kvd: &[u8]) -> std::result::Result<Vec<(String, String)>, St
 /// [`Error::Decode`] for anything malformed or unsupported (see the
 /// [module docs](self)); [`Error::TooLarge`] above `max_texels` (all
 /// levels and faces), before decoding.
-pub fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile> {
+pub(crate) fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile> {
     decode_inner(bytes, max_texels).map_err(|e| match e {
         Failure::Message(m) => Error::Decode {
             path: path.to_path_buf(),

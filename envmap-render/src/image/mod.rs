@@ -17,12 +17,14 @@
 //!   [`io::save`].
 //! * One file per format: `png_jpeg.rs`, `hdr.rs`, `exr.rs`, and
 //!   `faces.rs` for cubes as six files; the GPU texture files with mip
-//!   levels [`ktx2`], [`dds`] and [`ktx1`], around [`texture::Texture`]
+//!   levels `ktx2.rs`, `dds.rs` and `ktx1.rs`, around [`texture::Texture`]
 //!   and the texel formats and packers of [`texel`]; `srgb.rs` holds the sRGB transfer
 //!   functions and `atomic.rs` the safe-write helper every output goes
 //!   through (a temporary file renamed into place).
 //!
-//! Adding a format is one new file here plus its arm in [`io::FileFormat`].
+//! Every format is a [`FileFormat`], read and written through one registry
+//! (`format.rs`): adding one is a new file here implementing its `Codec`,
+//! plus one entry in that registry's table (CONTRIBUTING.md).
 //!
 //! This folder uses only `envmap-core`, the image-file crates and the
 //! crate's [`Error`](crate::Error); nothing from `filter`, `scene` or `cli`.
@@ -30,19 +32,20 @@
 mod atomic;
 pub mod convention;
 #[cfg(feature = "dds")]
-pub mod dds;
+mod dds;
 mod envimage;
 #[cfg(feature = "exr")]
 mod exr;
 pub mod face_ops;
 mod faces;
+mod format;
 #[cfg(feature = "image")]
 mod hdr;
 pub mod io;
 #[cfg(feature = "ktx1")]
-pub mod ktx1;
+pub(crate) mod ktx1;
 #[cfg(feature = "ktx2")]
-pub mod ktx2;
+mod ktx2;
 pub mod layout;
 pub mod metadata;
 #[cfg(feature = "image")]
@@ -55,6 +58,7 @@ pub use convention::{Convention, FileAxes, World};
 pub use envimage::{
     luminance, EnvImage, InAtlas, RgbImage, RowSource, Stats, BYTES_PER_TEXEL, DEFAULT_MAX_TEXELS,
 };
+pub use format::FileFormat;
 pub use layout::{Layout, Representation};
 pub use texel::{Clamped, TexelFormat};
 pub use texture::{

@@ -12,16 +12,46 @@ use std::path::Path;
 use ::image::{DynamicImage, ImageEncoder};
 
 use crate::error::{Error, Result};
+use crate::image::atomic::TempWriter;
 use crate::image::envimage::RgbImage;
+use crate::image::format::{Codec, Contents, FileFormat, Source};
 use crate::image::io::{
-    decode_with_image, encode_error, expand, FileFormat, Source, SourceFormat, View,
+    decode_with_image, encode_error, expand, image_dimensions, SaveOptions, SourceFormat, View,
 };
 use crate::image::metadata;
 use crate::image::srgb::{linear_to_srgb8, srgb16_lut, srgb8_lut};
 
+/// The PNG or JPEG codec (one value per format).
+pub(crate) struct PngJpeg(FileFormat);
+
+/// PNG's codec.
+pub(crate) const PNG: PngJpeg = PngJpeg(FileFormat::Png);
+/// JPEG's codec.
+pub(crate) const JPEG: PngJpeg = PngJpeg(FileFormat::Jpeg);
+
+impl Codec for PngJpeg {
+    fn read(&self, path: &Path, src: Source<'_>, max_texels: u64) -> Result<Contents> {
+        read(path, src, self.0, max_texels).map(|(rgb, source)| Contents::Image(rgb, source))
+    }
+
+    fn dimensions(&self, path: &Path, src: Source<'_>) -> Result<(u32, u32)> {
+        image_dimensions(path, src, self.0)
+    }
+
+    fn write_image(
+        &self,
+        path: &Path,
+        view: View<'_>,
+        opts: &SaveOptions,
+        out: &mut TempWriter<'_>,
+    ) -> Result<()> {
+        encode(path, self.0, view, opts.exposure, out)
+    }
+}
+
 /// Reads a PNG or JPEG file as linear RGB; refuses images above
 /// `max_texels` before allocating their pixels.
-pub(super) fn read(
+fn read(
     path: &Path,
     file: Source<'_>,
     format: FileFormat,
@@ -75,7 +105,7 @@ pub(super) fn read(
 /// A PNG also gets its tags, description and envmap's name as `tEXt`
 /// chunks (`Description`, `Software`), written with the `png` crate at the
 /// compression and filter the `image` crate's encoder uses by default.
-pub(super) fn encode<W: Write>(
+fn encode<W: Write>(
     path: &Path,
     format: FileFormat,
     view: View<'_>,

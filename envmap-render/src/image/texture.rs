@@ -18,7 +18,7 @@ use envmap_core::{AnyMapping, Atlas};
 
 use crate::error::{Error, Result};
 use crate::image::envimage::{EnvImage, RgbImage};
-use crate::image::io::FileFormat;
+use crate::image::format::{self, Contents, FileFormat};
 use crate::image::layout::{resolve, Representation};
 use crate::image::texel::{Clamped, TexelFormat};
 
@@ -555,73 +555,24 @@ impl Default for TextureOptions {
     }
 }
 
-/// The texture format of a path's extension, if it is one.
-#[must_use]
-pub(crate) fn container_of(path: &Path) -> Option<&'static str> {
-    match path
-        .extension()?
-        .to_string_lossy()
-        .to_ascii_lowercase()
-        .as_str()
-    {
-        "ktx2" => Some("KTX2"),
-        "dds" => Some("DDS"),
-        "ktx" => Some("KTX 1"),
-        _ => None,
-    }
-}
-
-/// The largest file a texture within `max_texels` can be: every texel at
-/// 16 bytes, plus 1 MiB for headers and metadata. Larger files are refused
-/// before they are read.
-#[must_use]
-pub(crate) fn max_file_bytes(max_texels: u64) -> u64 {
-    max_texels.saturating_mul(16).saturating_add(1 << 20)
-}
-
-/// Reads a KTX2 or DDS file (by extension): checks its size on disk
-/// against `max_file_bytes` before reading it, then decodes it.
+/// Reads a KTX2 or DDS file (by extension) through the format registry:
+/// checks its size on disk against the limit before reading it, then
+/// decodes every level.
 ///
 /// # Errors
 ///
-/// Unreadable files, another extension (KTX 1 is written, not read),
-/// anything [`ktx2::decode`](crate::image::ktx2::decode) or
-/// [`dds::decode`](crate::image::dds::decode) refuses; [`Error::Cancelled`].
+/// Unreadable files, another extension (KTX 1 is written, not read), what
+/// the container's decoder finds wrong, a texture above `max_texels`;
+/// [`Error::Cancelled`].
 pub fn read(
     path: &Path,
     max_texels: u64,
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<TextureFile> {
     crate::cancel::check(cancel)?;
-    let container = container_of(path);
-    if container == Some("KTX 1") {
-        return Err(ktx1_is_written(path));
-    }
-    let len = std::fs::metadata(path)
-        .map_err(|e| Error::read(path, e))?
-        .len();
-    if len > max_file_bytes(max_texels) {
-        return Err(Error::Decode {
-            path: path.to_path_buf(),
-            format: container.unwrap_or("texture"),
-            message: format!(
-                "the file is {len} bytes, more than any texture within the limit of {max_texels} texels can be"
-            ),
-        });
-    }
-    let bytes = std::fs::read(path).map_err(|e| Error::read(path, e))?;
-    crate::cancel::check(cancel)?;
-    decode(path, &bytes, max_texels)
-}
-
-/// The error for reading a KTX 1 file.
-fn ktx1_is_written(path: &Path) -> Error {
-    Error::Decode {
-        path: path.to_path_buf(),
-        format: "KTX 1",
-        message: "KTX 1 files are written (for Filament), not read; read its KTX2 or DDS twin"
-            .into(),
-    }
+    let format = chain_format(path)?;
+    let src = format::open(path, cancel)?;
+    chain(path, format::read(path, format, src, max_texels)?)
 }
 
 /// Decodes a KTX2 or DDS file's `bytes` (the container from `path`'s
@@ -629,30 +580,35 @@ fn ktx1_is_written(path: &Path) -> Error {
 ///
 /// # Errors
 ///
-/// Another extension (KTX 1 included: written, not read); what the
-/// container's decoder finds wrong; a texture above `max_texels`.
+/// As [`read`].
 pub fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile> {
-    let _ = (bytes, max_texels);
-    match container_of(path) {
-        #[cfg(feature = "ktx2")]
-        Some("KTX2") => crate::image::ktx2::decode(path, bytes, max_texels),
-        #[cfg(feature = "dds")]
-        Some("DDS") => crate::image::dds::decode(path, bytes, max_texels),
-        Some("KTX 1") => Err(ktx1_is_written(path)),
-        Some(_) => Err(disabled(path)),
-        None => Err(Error::unsupported(format!(
+    let format = chain_format(path)?;
+    chain(
+        path,
+        format::read(path, format, format::memory(bytes, None), max_texels)?,
+    )
+}
+
+/// The texture format `path` names; an error for another.
+fn chain_format(path: &Path) -> Result<FileFormat> {
+    match FileFormat::from_path(path) {
+        Ok(f) if f.is_texture() => Ok(f),
+        _ => Err(Error::unsupported(format!(
             "{}: not a KTX2 or DDS file name",
             path.display()
         ))),
     }
 }
 
-/// [`Error::FormatDisabled`] for a texture file whose feature is off.
-fn disabled(path: &Path) -> Error {
-    FileFormat::from_path(path)
-        .and_then(|f| f.check_enabled(path))
-        .err()
-        .unwrap_or_else(|| Error::unsupported(format!("{}: no codec", path.display())))
+/// The chain a file held.
+fn chain(path: &Path, contents: Contents) -> Result<TextureFile> {
+    match contents {
+        Contents::Chain(t) => Ok(t),
+        Contents::Image(..) => Err(Error::unsupported(format!(
+            "{}: not a KTX2 or DDS file name",
+            path.display()
+        ))),
+    }
 }
 
 /// The bytes of `tex` as the file `path` names (KTX2, DDS or KTX 1 by
@@ -662,28 +618,18 @@ fn disabled(path: &Path) -> Error {
 ///
 /// Another extension; what the format's encoder refuses.
 pub fn encode(tex: &Texture, path: &Path, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
-    let _ = (tex, opts);
-    let r = match container_of(path) {
-        #[cfg(feature = "ktx2")]
-        Some("KTX2") => crate::image::ktx2::encode(tex, opts),
-        #[cfg(feature = "dds")]
-        Some("DDS") => {
-            no_zstd(opts, "DDS")?;
-            crate::image::dds::encode(tex, opts.format)
-        }
-        #[cfg(feature = "ktx1")]
-        Some("KTX 1") => {
-            no_zstd(opts, "KTX 1")?;
-            crate::image::ktx1::encode(tex, opts.format, &[])
-        }
-        Some(_) => return Err(disabled(path)),
-        None => Err(Error::unsupported("not a KTX2, DDS or KTX file name")),
-    };
-    r.map_err(|e| e.in_file(path))
+    let format = FileFormat::from_path(path)
+        .map_err(|_| Error::unsupported("not a KTX2, DDS or KTX file name").in_file(path))?;
+    format
+        .codec(path)?
+        .write_chain(tex, opts)
+        .map_err(|e| e.in_file(path))
 }
 
+/// An error unless `opts` asks for no supercompression (a container
+/// without it).
 #[cfg(any(feature = "dds", feature = "ktx1"))]
-fn no_zstd(opts: TextureOptions, container: &str) -> Result<()> {
+pub(crate) fn no_zstd(opts: TextureOptions, container: &str) -> Result<()> {
     match opts.zstd {
         Some(_) => Err(Error::options(format!(
             "{container} has no supercompression; zstd is for KTX2"
