@@ -32,11 +32,13 @@ fn bench(c: &mut Criterion) {
         Frame::IDENTITY,
     )
     .unwrap();
-    let opts = ConvertOptions {
-        filter: Filter::Bilinear,
-        samples: Some(1),
-        rotation: None,
-        cancel: None,
+    let opts = {
+        let mut o = ConvertOptions::default();
+        o.filter = Filter::Bilinear;
+        o.samples = Some(1);
+        o.rotation = None;
+        o.cancel = None;
+        o
     };
     let mut g = c.benchmark_group("convert/latlong4096-cube1024");
     g.sample_size(20);
@@ -60,9 +62,10 @@ fn bench(c: &mut Criterion) {
     }
     let pool = common::pool(2);
     let never = std::sync::atomic::AtomicBool::new(false);
-    let with_flag = ConvertOptions {
-        cancel: Some(&never),
-        ..opts
+    let with_flag = {
+        let mut o = opts;
+        o.cancel = Some(&never);
+        o
     };
     g.bench_function("bilinear-cancel-flag/2-threads", |b| {
         b.iter(|| {

@@ -155,9 +155,10 @@ fn bench(c: &mut Criterion) {
         ExrCompression::Zip,
         ExrCompression::Piz,
     ] {
-        let opts = SaveOptions {
-            exr_compression: codec,
-            ..SaveOptions::default()
+        let opts = {
+            let mut o = SaveOptions::default();
+            o.exr_compression = codec;
+            o
         };
         fresh(&out);
         save(&cube, &out, &opts).expect("save");

@@ -64,20 +64,22 @@ fn bench(c: &mut Criterion) {
     g.bench_function("mip-levels-rebuilt/2-threads", |b| {
         b.iter(|| pool.install(|| again.rebuild(black_box(&env)).expect("levels")))
     });
-    let opts = RenderOptions {
-        width,
-        height,
-        samples: 1,
-        mip: true,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = width;
+        o.height = height;
+        o.samples = 1;
+        o.mip = true;
+        o
     };
     g.bench_function("per-pixel-mip-rebuilt/2-threads", |b| {
         b.iter(|| {
             pool.install(|| {
                 again.rebuild(black_box(&env)).expect("levels");
-                let opts = RenderOptions {
-                    mip_levels: Some(&again),
-                    ..opts
+                let opts = {
+                    let mut o = opts;
+                    o.mip_levels = Some(&again);
+                    o
                 };
                 render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts).expect("render")
             })
@@ -91,14 +93,15 @@ fn bench(c: &mut Criterion) {
         ("per-vertex", Mode::PerVertex, 2, false, false),
     ] {
         let pool = common::pool(threads);
-        let opts = RenderOptions {
-            width,
-            height,
-            mode,
-            samples: 1,
-            mip,
-            mip_levels: prebuilt.then_some(&levels),
-            ..RenderOptions::default()
+        let opts = {
+            let mut o = RenderOptions::default();
+            o.width = width;
+            o.height = height;
+            o.mode = mode;
+            o.samples = 1;
+            o.mip = mip;
+            o.mip_levels = prebuilt.then_some(&levels);
+            o
         };
         g.bench_function(format!("{name}/{threads}-threads"), |b| {
             b.iter(|| {
@@ -121,11 +124,12 @@ fn bench(c: &mut Criterion) {
         ("plastic-r0.5-split-sum/2-threads", &mip),
         ("plastic-r0.5-envmap-chain/2-threads", &own),
     ] {
-        let opts = RenderOptions {
-            width,
-            height,
-            samples: 1,
-            shading: envmap_render::scene::render::Shading::SplitSum {
+        let opts = {
+            let mut o = RenderOptions::default();
+            o.width = width;
+            o.height = height;
+            o.samples = 1;
+            o.shading = envmap_render::scene::render::Shading::SplitSum {
                 env: lit,
                 material: envmap_render::scene::material::Material {
                     roughness: 0.5,
@@ -133,8 +137,8 @@ fn bench(c: &mut Criterion) {
                 },
                 multiscatter: false,
                 dominant: true,
-            },
-            ..RenderOptions::default()
+            };
+            o
         };
         g.bench_function(name, |b| {
             b.iter(|| {

@@ -108,13 +108,17 @@ fn bench(c: &mut Criterion) {
         .flatten()
         .map(|i| i.pixels.len() as u64)
         .sum();
-    let rgb9e5_zstd = TextureOptions {
-        format: TexelFormat::E5b9g9r9,
-        zstd: Some(ZSTD_LEVEL),
+    let rgb9e5_zstd = {
+        let mut o = TextureOptions::default();
+        o.format = TexelFormat::E5b9g9r9;
+        o.zstd = Some(ZSTD_LEVEL);
+        o
     };
-    let rgba16f = TextureOptions {
-        format: TexelFormat::Rgba16f,
-        zstd: None,
+    let rgba16f = {
+        let mut o = TextureOptions::default();
+        o.format = TexelFormat::Rgba16f;
+        o.zstd = None;
+        o
     };
     let (ktx2_zstd, ktx2_half, dds_half) = (OnceLock::new(), OnceLock::new(), OnceLock::new());
 
@@ -173,14 +177,12 @@ fn bench(c: &mut Criterion) {
     g.bench_function("rgba16f", |b| {
         b.iter(|| {
             pool.install(|| {
-                texture::encode(
-                    black_box(&tex),
-                    Path::new("chain.dds"),
-                    TextureOptions {
-                        format: TexelFormat::Rgba16f,
-                        zstd: None,
-                    },
-                )
+                texture::encode(black_box(&tex), Path::new("chain.dds"), {
+                    let mut o = TextureOptions::default();
+                    o.format = TexelFormat::Rgba16f;
+                    o.zstd = None;
+                    o
+                })
                 .expect("DDS")
             })
         })
@@ -193,14 +195,12 @@ fn bench(c: &mut Criterion) {
     let path = Path::new("chain.dds");
     g.bench_function("rgba16f", |b| {
         let bytes = file(&dds_half, "DDS RGBA16F", || {
-            texture::encode(
-                &tex,
-                Path::new("chain.dds"),
-                TextureOptions {
-                    format: TexelFormat::Rgba16f,
-                    zstd: None,
-                },
-            )
+            texture::encode(&tex, Path::new("chain.dds"), {
+                let mut o = TextureOptions::default();
+                o.format = TexelFormat::Rgba16f;
+                o.zstd = None;
+                o
+            })
             .expect("DDS")
             .0
         });

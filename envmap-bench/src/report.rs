@@ -631,11 +631,13 @@ pub fn convert_and_render(s: &Settings) -> Vec<Row> {
         Frame::IDENTITY,
     )
     .expect("cube strip");
-    let opts = ConvertOptions {
-        filter: Filter::Bilinear,
-        samples: Some(1),
-        rotation: None,
-        cancel: None,
+    let opts = {
+        let mut o = ConvertOptions::default();
+        o.filter = Filter::Bilinear;
+        o.samples = Some(1);
+        o.rotation = None;
+        o.cancel = None;
+        o
     };
     let mut out = convert(&src, repr, 6 * face, face, &opts, None).expect("cube image");
     let texels = 6 * (face as usize) * (face as usize);
@@ -671,11 +673,12 @@ pub fn convert_and_render(s: &Settings) -> Vec<Row> {
         )
         .expect("sky cube");
     let mesh = Mesh::teapot(10);
-    let ropts = RenderOptions {
-        width: rw,
-        height: rh,
-        samples: 1,
-        ..RenderOptions::default()
+    let ropts = {
+        let mut o = RenderOptions::default();
+        o.width = rw;
+        o.height = rh;
+        o.samples = 1;
+        o
     };
     let cam = Camera::default();
     let render_ms = timed(&mut || {

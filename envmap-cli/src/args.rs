@@ -158,14 +158,14 @@ impl TextureFlags {
         &self,
         base: envmap_render::image::TextureOptions,
     ) -> envmap_render::image::TextureOptions {
-        envmap_render::image::TextureOptions {
-            format: self.format.unwrap_or(base.format),
-            zstd: if self.no_zstd {
-                None
-            } else {
-                self.zstd.or(base.zstd)
-            },
-        }
+        let mut o = base;
+        o.format = self.format.unwrap_or(base.format);
+        o.zstd = if self.no_zstd {
+            None
+        } else {
+            self.zstd.or(base.zstd)
+        };
+        o
     }
 }
 
@@ -186,11 +186,10 @@ impl WriteFlags {
         &self,
         base: envmap_render::image::io::SaveOptions<'a>,
     ) -> envmap_render::image::io::SaveOptions<'a> {
-        envmap_render::image::io::SaveOptions {
-            exr_compression: self.exr_compression.unwrap_or(base.exr_compression),
-            sync: self.sync.unwrap_or(base.sync),
-            ..base
-        }
+        let mut o = base;
+        o.exr_compression = self.exr_compression.unwrap_or(o.exr_compression);
+        o.sync = self.sync.unwrap_or(o.sync);
+        o
     }
 }
 

@@ -242,13 +242,14 @@ fn source(
             a.from_frame.unwrap_or_default(),
         )
     });
-    let opts = LoadOptions {
-        mapping: a.from,
-        axes,
-        non_finite: NonFinite::Zero,
-        max_texels: a.max_megatexels.saturating_mul(1_000_000),
-        cancel: Some(stop),
-        ..LoadOptions::default()
+    let opts = {
+        let mut o = LoadOptions::default();
+        o.mapping = a.from;
+        o.axes = axes;
+        o.non_finite = NonFinite::Zero;
+        o.max_texels = a.max_megatexels.saturating_mul(1_000_000);
+        o.cancel = Some(stop);
+        o
     };
     let loaded = load_detailed(&a.input, &opts).map_err(|e| {
         if Path::new(&a.input).exists() {
@@ -327,10 +328,11 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
             ));
         }
     };
-    let save = SaveOptions {
-        inputs: inputs.clone(),
-        cancel: Some(stop),
-        ..a.write.over(SaveOptions::default())
+    let save = {
+        let mut o = a.write.over(SaveOptions::default());
+        o.inputs = inputs.clone();
+        o.cancel = Some(stop);
+        o
     };
     // The bake takes the input (its working copy is the input itself) and
     // writes each level of an OpenEXR chain while it makes the next.

@@ -200,14 +200,16 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
     };
     stage(format!("loading {}", a.input.display()));
     let t0 = Instant::now();
-    let opts = LoadOptions {
-        mapping: a.from,
-        layout: a.from_layout,
-        axes: input_axes(a),
-        face_transforms: a.from_face_transform.unwrap_or_default(),
-        max_texels: a.max_megatexels.saturating_mul(1_000_000),
-        non_finite: NonFinite::Zero,
-        cancel: Some(stop),
+    let opts = {
+        let mut o = LoadOptions::default();
+        o.mapping = a.from;
+        o.layout = a.from_layout;
+        o.axes = input_axes(a);
+        o.face_transforms = a.from_face_transform.unwrap_or_default();
+        o.max_texels = a.max_megatexels.saturating_mul(1_000_000);
+        o.non_finite = NonFinite::Zero;
+        o.cancel = Some(stop);
+        o
     };
     let loaded = load_detailed(&a.input, &opts).map_err(|e| load_error(&e))?;
     warn_replaced(&a.input, loaded.replaced);
@@ -234,11 +236,13 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         )
         .into());
     }
-    let copts = ConvertOptions {
-        filter: a.filter,
-        samples: a.samples,
-        rotation: a.rotate,
-        cancel: Some(stop),
+    let copts = {
+        let mut o = ConvertOptions::default();
+        o.filter = a.filter;
+        o.samples = a.samples;
+        o.rotation = a.rotate;
+        o.cancel = Some(stop);
+        o
     };
     let samples = a
         .samples
@@ -262,22 +266,23 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
             bar.set_position(n);
         }
     };
-    let sopts = SaveOptions {
-        exposure: a.exposure,
-        exr_precision: if a.half {
+    let sopts = {
+        let mut o = a.write.over(SaveOptions::default());
+        o.exposure = a.exposure;
+        o.exr_precision = if a.half {
             ExrPrecision::F16
         } else {
             ExrPrecision::F32
-        },
-        six_files: six,
-        inputs,
-        overwrite_input: a.overwrite_input,
-        face_names: a.face_names,
-        face_transforms: a.face_transform.unwrap_or_default(),
-        content: None,
-        texture: a.texture.over(TextureOptions::default()),
-        cancel: Some(stop),
-        ..a.write.over(SaveOptions::default())
+        };
+        o.six_files = six;
+        o.inputs = inputs;
+        o.overwrite_input = a.overwrite_input;
+        o.face_names = a.face_names;
+        o.face_transforms = a.face_transform.unwrap_or_default();
+        o.content = None;
+        o.texture = a.texture.over(TextureOptions::default());
+        o.cancel = Some(stop);
+        o
     };
     let (src_w, src_h, src_mapping) = (src.width(), src.height(), src.mapping());
     let src_axes = metadata::identify(src_mapping, src.representation().frame);

@@ -51,14 +51,15 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
             a.frame.unwrap_or_default(),
         )
     });
-    let opts = LoadOptions {
-        mapping: a.from,
-        layout: a.layout,
-        axes: given,
-        face_transforms: a.face_transform.unwrap_or_default(),
-        max_texels: a.max_megatexels.saturating_mul(1_000_000),
-        cancel: Some(stop),
-        ..LoadOptions::default()
+    let opts = {
+        let mut o = LoadOptions::default();
+        o.mapping = a.from;
+        o.layout = a.layout;
+        o.axes = given;
+        o.face_transforms = a.face_transform.unwrap_or_default();
+        o.max_texels = a.max_megatexels.saturating_mul(1_000_000);
+        o.cancel = Some(stop);
+        o
     };
     let loaded = load_detailed(&a.file, &opts).map_err(|e| load_error(&e))?;
     // A GPU texture's levels, format and metadata (the rest below is of level 0).

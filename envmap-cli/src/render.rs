@@ -186,13 +186,14 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
                 )
                 .into());
             }
-            let opts = LoadOptions {
-                mapping: a.from,
-                axes: given,
-                non_finite: NonFinite::Zero,
-                max_texels: a.max_megatexels.saturating_mul(1_000_000),
-                cancel: Some(stop),
-                ..LoadOptions::default()
+            let opts = {
+                let mut o = LoadOptions::default();
+                o.mapping = a.from;
+                o.axes = given;
+                o.non_finite = NonFinite::Zero;
+                o.max_texels = a.max_megatexels.saturating_mul(1_000_000);
+                o.cancel = Some(stop);
+                o
             };
             let loaded = load_detailed(&a.env, &opts).map_err(|e| {
                 if Path::new(&a.env).exists() {
@@ -339,20 +340,22 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         },
         _ => Shading::Mirror,
     };
-    let opts = RenderOptions {
-        width: a.width,
-        height: a.height,
-        mode: a.mode,
-        samples: a.samples,
-        filter: a.filter,
-        fresnel_f0: a.fresnel,
-        tint: [1.0; 3],
-        background: true,
-        shading,
-        cancel: Some(stop),
-        mip: !a.no_mip,
-        mip_levels: None,
-        progress: None,
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = a.width;
+        o.height = a.height;
+        o.mode = a.mode;
+        o.samples = a.samples;
+        o.filter = a.filter;
+        o.fresnel_f0 = a.fresnel;
+        o.tint = [1.0; 3];
+        o.background = true;
+        o.shading = shading;
+        o.cancel = Some(stop);
+        o.mip = !a.no_mip;
+        o.mip_levels = None;
+        o.progress = None;
+        o
     };
     // The reference takes seconds to minutes: a progress bar (drawn only
     // when standard error is a terminal).
@@ -379,18 +382,20 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         bar.set_length(u64::from(total));
         bar.set_position(u64::from(done));
     };
-    let opts = RenderOptions {
-        progress: slow.then_some(Progress(&tick)),
-        ..opts
+    let opts = {
+        let mut o = opts;
+        o.progress = slow.then_some(Progress(&tick));
+        o
     };
     let t = Instant::now();
     let img = render(&mesh, source, &cam, &opts)?;
     bar.finish_and_clear();
     let elapsed = t.elapsed();
-    let sopts = SaveOptions {
-        exposure: a.exposure,
-        cancel: Some(stop),
-        ..a.write.over(SaveOptions::default())
+    let sopts = {
+        let mut o = a.write.over(SaveOptions::default());
+        o.exposure = a.exposure;
+        o.cancel = Some(stop);
+        o
     };
     envmap_render::image::io::write_rgb(&img, &a.output, &sopts)?;
     note!(

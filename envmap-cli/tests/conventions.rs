@@ -72,13 +72,11 @@ fn a_bright_sky_lands_on_the_plus_y_face_by_default_and_on_plus_z_in_the_seeds_f
         d,
     );
     assert!(o.status.success(), "{}", text(&o.stderr));
-    let cube = load(
-        d.join("cube_z.exr"),
-        &LoadOptions {
-            axes: Some(FileAxes::Z_UP),
-            ..LoadOptions::default()
-        },
-    )
+    let cube = load(d.join("cube_z.exr"), &{
+        let mut o = LoadOptions::default();
+        o.axes = Some(FileAxes::Z_UP);
+        o
+    })
     .unwrap();
     assert!(face_mean(&cube, 4) > 9.99 && face_mean(&cube, 5) < 0.01);
 }
@@ -141,11 +139,12 @@ fn every_naming_scheme_and_face_transform_round_trips() {
         let transforms = FaceTransforms::default()
             .with(envmap_core::CubeFace::PosX, turns[k])
             .with(envmap_core::CubeFace::NegZ, turns[(k + 2) % turns.len()]);
-        let opts = SaveOptions {
-            six_files: true,
-            face_names: Some(scheme),
-            face_transforms: transforms,
-            ..SaveOptions::default()
+        let opts = {
+            let mut o = SaveOptions::default();
+            o.six_files = true;
+            o.face_names = Some(scheme);
+            o.face_transforms = transforms;
+            o
         };
         let written = save(&cube, sub.join("sky.exr"), &opts).unwrap();
         let names = face_paths_named(&sub.join("sky.exr"), scheme).unwrap();
@@ -162,13 +161,11 @@ fn every_naming_scheme_and_face_transform_round_trips() {
         // Read back from any one face's name, with the transforms undone:
         // the same cube, texel for texel.
         for name in &names {
-            let back = load(
-                name,
-                &LoadOptions {
-                    face_transforms: transforms,
-                    ..LoadOptions::default()
-                },
-            )
+            let back = load(name, &{
+                let mut o = LoadOptions::default();
+                o.face_transforms = transforms;
+                o
+            })
             .unwrap();
             assert_eq!(
                 back.pixels(),
@@ -221,13 +218,11 @@ fn every_naming_scheme_and_face_transform_round_trips() {
     for f in ["posx", "negx", "posy", "negy", "posz", "negz"] {
         assert!(d.join("out").join(format!("{f}.exr")).is_file(), "{f}");
     }
-    let back = load(
-        d.join("out/negy.exr"),
-        &LoadOptions {
-            face_transforms: "+y:rot90,-y:flipx".parse().unwrap(),
-            ..LoadOptions::default()
-        },
-    )
+    let back = load(d.join("out/negy.exr"), &{
+        let mut o = LoadOptions::default();
+        o.face_transforms = "+y:rot90,-y:flipx".parse().unwrap();
+        o
+    })
     .unwrap();
     // Conversion is cube → cube at the same size: exact up to the bilinear
     // filter at texel centres.

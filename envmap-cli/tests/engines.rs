@@ -365,18 +365,23 @@ fn a_baked_chain_survives_export_and_import_within_the_format_precision() {
     assert_eq!((tex.kind(), tex.level_count()), (TextureKind::Cube, 4));
     for format in TexelFormat::WRITABLE {
         for zstd in [None, Some(3)] {
-            let (bytes, clamped) =
-                texture::encode(&tex, Path::new("c.ktx2"), TextureOptions { format, zstd })
-                    .unwrap();
+            let (bytes, clamped) = texture::encode(&tex, Path::new("c.ktx2"), {
+                let mut o = TextureOptions::default();
+                o.format = format;
+                o.zstd = zstd;
+                o
+            })
+            .unwrap();
             assert!(clamped.is_empty(), "{format:?} {clamped:?}");
             let back = texture::decode(Path::new("c.ktx2"), &bytes, 1 << 20).unwrap();
             let dds_back = (zstd.is_none())
                 .then(|| {
-                    let (b, _) = texture::encode(
-                        &tex,
-                        Path::new("c.dds"),
-                        TextureOptions { format, zstd: None },
-                    )
+                    let (b, _) = texture::encode(&tex, Path::new("c.dds"), {
+                        let mut o = TextureOptions::default();
+                        o.format = format;
+                        o.zstd = None;
+                        o
+                    })
                     .unwrap();
                     texture::decode(Path::new("c.dds"), &b, 1 << 20).unwrap()
                 })

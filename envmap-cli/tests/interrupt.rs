@@ -292,10 +292,11 @@ fn the_cancel_flag_stops_a_conversion_within_one_band() {
         rows.fetch_add(k, Ordering::SeqCst);
         stop.store(true, Ordering::SeqCst);
     };
-    let opts = ConvertOptions {
-        samples: Some(1),
-        cancel: Some(&stop),
-        ..ConvertOptions::default()
+    let opts = {
+        let mut o = ConvertOptions::default();
+        o.samples = Some(1);
+        o.cancel = Some(&stop);
+        o
     };
     // 1024 rows on two threads: bands of 1024 / 8 = 128 rows.
     let r = pool.install(|| convert(&src, cube, 6 * 1024, 1024, &opts, Some(&progress)));
@@ -313,9 +314,10 @@ fn the_cancel_flag_stops_a_conversion_within_one_band() {
     let count = |k: u32| {
         all.fetch_add(k, Ordering::SeqCst);
     };
-    let no_stop = ConvertOptions {
-        cancel: None,
-        ..opts
+    let no_stop = {
+        let mut o = opts;
+        o.cancel = None;
+        o
     };
     pool.install(|| convert(&src, cube, 6 * 1024, 1024, &no_stop, Some(&count)))
         .unwrap();
@@ -332,22 +334,21 @@ fn the_cancel_flag_stops_a_render_and_a_load() {
         )
         .unwrap();
     let stop = AtomicBool::new(true);
-    let opts = RenderOptions {
-        width: 64,
-        height: 48,
-        cancel: Some(&stop),
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = 64;
+        o.height = 48;
+        o.cancel = Some(&stop);
+        o
     };
     let mesh = envmap_render::scene::mesh::Mesh::sphere(1.0, 16, 8);
     let r = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts);
     assert!(matches!(r, Err(Error::Cancelled)));
-    let l = envmap_render::load(
-        big_input(),
-        &envmap_render::LoadOptions {
-            cancel: Some(&stop),
-            ..envmap_render::LoadOptions::default()
-        },
-    );
+    let l = envmap_render::load(big_input(), &{
+        let mut o = envmap_render::LoadOptions::default();
+        o.cancel = Some(&stop);
+        o
+    });
     assert!(matches!(l, Err(Error::Cancelled)), "{l:?}");
 }
 
@@ -378,9 +379,10 @@ fn a_rename_failing_midway_puts_the_earlier_targets_back() {
     assert_eq!(entries(dir.path()), ["a.txt", "b.txt", "c.txt"]);
     // A cancel before the renames: nothing renamed, nothing left.
     let stop = AtomicBool::new(false);
-    let opts = SaveOptions {
-        cancel: Some(&stop),
-        ..SaveOptions::default()
+    let opts = {
+        let mut o = SaveOptions::default();
+        o.cancel = Some(&stop);
+        o
     };
     let mut run = Outputs::new(&opts);
     run.stage_bytes(p("a.txt"), b"newer a").unwrap();

@@ -80,14 +80,15 @@ fn draw(env: EnvSource<'_>, shading: Shading<'_>, size: u32) -> RgbImage {
 }
 
 fn draw_in(env: EnvSource<'_>, shading: Shading<'_>, size: u32, mode: Mode) -> RgbImage {
-    let opts = RenderOptions {
-        width: size,
-        height: size,
-        mode,
-        samples: 1,
-        background: false,
-        shading,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = size;
+        o.height = size;
+        o.mode = mode;
+        o.samples = 1;
+        o.background = false;
+        o.shading = shading;
+        o
     };
     render(&sphere(), env, &cam(), &opts).unwrap()
 }

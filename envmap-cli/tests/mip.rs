@@ -31,13 +31,14 @@ fn cube(b: Builtin, face: u32) -> EnvImage {
 }
 
 fn teapot(env: EnvSource<'_>, samples: u32, mip: bool, background: bool) -> RgbImage {
-    let opts = RenderOptions {
-        width: 320,
-        height: 240,
-        samples,
-        mip,
-        background,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = 320;
+        o.height = 240;
+        o.samples = samples;
+        o.mip = mip;
+        o.background = background;
+        o
     };
     render(&Mesh::teapot(10), env, &Camera::default(), &opts).unwrap()
 }
@@ -167,18 +168,19 @@ fn mip_leaves_a_smooth_mirror_close_and_materials_alone() {
     println!("smooth cube 128²: plain vs mip mirror {p:.1} dB");
     assert!(p > 35.0, "{p}");
     let lit = |mip: bool| {
-        let opts = RenderOptions {
-            width: 80,
-            height: 60,
-            mip,
-            background: false,
-            shading: Shading::Reference {
+        let opts = {
+            let mut o = RenderOptions::default();
+            o.width = 80;
+            o.height = 60;
+            o.mip = mip;
+            o.background = false;
+            o.shading = Shading::Reference {
                 material: Material::default(),
                 samples: 2,
                 light: None,
                 seed: 0,
-            },
-            ..RenderOptions::default()
+            };
+            o
         };
         render(
             &Mesh::teapot(6),
@@ -246,12 +248,13 @@ fn every_lookup_on_a_shrinking_mirror_reads_the_levels() {
     }
     let white = fill(repr, 4 * 8, 3 * 8, |_| [1.0; 3]).unwrap();
     let draw = |env: &EnvImage, mip: bool, background: bool| {
-        let opts = RenderOptions {
-            width: 40,
-            height: 30,
-            mip,
-            background,
-            ..RenderOptions::default()
+        let opts = {
+            let mut o = RenderOptions::default();
+            o.width = 40;
+            o.height = 30;
+            o.mip = mip;
+            o.background = background;
+            o
         };
         render(
             &Mesh::teapot(6),
@@ -309,12 +312,13 @@ fn draw_mip(
         &Mesh::teapot(6),
         EnvSource::Map(env),
         &Camera::default(),
-        &RenderOptions {
-            width: 80,
-            height: 60,
-            mip: true,
-            mip_levels: levels,
-            ..RenderOptions::default()
+        &{
+            let mut o = RenderOptions::default();
+            o.width = 80;
+            o.height = 60;
+            o.mip = true;
+            o.mip_levels = levels;
+            o
         },
     )
     .unwrap()

@@ -76,9 +76,10 @@ fn non_finite_texels_are_kept_or_replaced_as_asked() {
     assert!(!finite(&out));
 
     // Replaced by black at load time: nothing reaches the filter.
-    let opts = LoadOptions {
-        non_finite: NonFinite::Zero,
-        ..LoadOptions::default()
+    let opts = {
+        let mut o = LoadOptions::default();
+        o.non_finite = NonFinite::Zero;
+        o
     };
     let zeroed = load_detailed(&path, &opts).unwrap();
     assert_eq!(zeroed.replaced, 3);
@@ -95,9 +96,10 @@ fn non_finite_texels_are_kept_or_replaced_as_asked() {
     let mut c = convert(&zeroed.image, cube, w, h, &ConvertOptions::default(), None).unwrap();
     assert!(c.set_chart_texel(1, 2, 3, [f32::NAN; 3]));
     assert!(c.set_chart_texel(5, 0, 0, [0.0, f32::INFINITY, 0.0]));
-    let six = SaveOptions {
-        six_files: true,
-        ..SaveOptions::default()
+    let six = {
+        let mut o = SaveOptions::default();
+        o.six_files = true;
+        o
     };
     save(&c, &faces, &six).unwrap();
     let loaded = load_detailed(dir.path().join("c_+x.exr"), &opts).unwrap();

@@ -55,13 +55,11 @@ fn main() {
         "smooth" => fill(latlong, 4096, 2048, smooth).unwrap(),
         "smooth-sun" => fill(latlong, 4096, 2048, sunny).unwrap(),
         "small-sun" => fill(latlong, 4096, 2048, small_sun).unwrap(),
-        path => load(
-            path,
-            &LoadOptions {
-                non_finite: NonFinite::Zero,
-                ..LoadOptions::default()
-            },
-        )
+        path => load(path, &{
+            let mut o = LoadOptions::default();
+            o.non_finite = NonFinite::Zero;
+            o
+        })
         .unwrap_or_else(|e| panic!("{path}: {e}")),
     };
     if let Ok(out) = std::env::var("WRITE") {

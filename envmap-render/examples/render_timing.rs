@@ -44,15 +44,16 @@ fn main() {
         },
         None => envmap_render::scene::render::Shading::Mirror,
     };
-    let opts = RenderOptions {
-        shading,
-        width: 1920,
-        height: 1080,
-        samples: 1,
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.shading = shading;
+        o.width = 1920;
+        o.height = 1080;
+        o.samples = 1;
         // MIP=1: the mip-aware lookups (`envmap render`'s default).
-        mip: std::env::var("MIP").is_ok(),
-        mip_levels: levels.as_ref(),
-        ..RenderOptions::default()
+        o.mip = std::env::var("MIP").is_ok();
+        o.mip_levels = levels.as_ref();
+        o
     };
     // REBUILD=1 (with MIP=1): the levels made again in every render, into
     // the memory of the last (`MipLevels::rebuild`).
@@ -68,9 +69,10 @@ fn main() {
         if let Some(l) = again.as_mut() {
             l.rebuild(&env).expect("levels");
         }
-        let opts = RenderOptions {
-            mip_levels: again.as_ref().or(opts.mip_levels),
-            ..opts
+        let opts = {
+            let mut o = opts;
+            o.mip_levels = again.as_ref().or(opts.mip_levels);
+            o
         };
         let img = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts).expect("render");
         println!(

@@ -46,13 +46,11 @@ fn load_map(name: &str, env_size: u32) -> EnvImage {
     if matches!(name.parse::<Builtin>(), Ok(Builtin::Sky)) {
         return builtin_sky(env_size);
     }
-    load(
-        Path::new(name),
-        &LoadOptions {
-            non_finite: NonFinite::Zero,
-            ..LoadOptions::default()
-        },
-    )
+    load(Path::new(name), &{
+        let mut o = LoadOptions::default();
+        o.non_finite = NonFinite::Zero;
+        o
+    })
     .unwrap()
 }
 

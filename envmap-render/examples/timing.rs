@@ -56,14 +56,16 @@ fn main() {
         (repr, 6 * e, e)
     };
     let mut out = EnvImage::new(w, h, repr).expect("the output fits the size limit");
-    let opts = ConvertOptions {
-        filter,
-        samples: match std::env::var("SAMPLES") {
+    let opts = {
+        let mut o = ConvertOptions::default();
+        o.filter = filter;
+        o.samples = match std::env::var("SAMPLES") {
             Ok(v) => v.parse().ok(),
             Err(_) => Some(1),
-        },
-        rotation: None,
-        cancel: None,
+        };
+        o.rotation = None;
+        o.cancel = None;
+        o
     };
     let mut ms: Vec<f64> = (0..iters)
         .map(|_| {

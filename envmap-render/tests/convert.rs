@@ -212,11 +212,13 @@ fn nearest_and_explicit_samples_work() {
     let src = fill(rl, 256, 128, smooth).unwrap();
     let ro = Representation::default_for(AnyMapping::Octahedral);
     for (filter, samples) in [(Filter::Nearest, Some(1)), (Filter::Bilinear, Some(3))] {
-        let opts = ConvertOptions {
-            filter,
-            samples,
-            rotation: None,
-            cancel: None,
+        let opts = {
+            let mut o = ConvertOptions::default();
+            o.filter = filter;
+            o.samples = samples;
+            o.rotation = None;
+            o.cancel = None;
+            o
         };
         let got = convert(&src, ro, 64, 64, &opts, None).unwrap();
         let want = fill(ro, 64, 64, smooth).unwrap();
@@ -231,9 +233,10 @@ fn rotation_on_the_way() {
     let rl = Representation::default_for(AnyMapping::LatLong);
     let src = fill(rl, 512, 256, direction_colour).unwrap();
     let rot = Frame::from_yaw_pitch_roll(std::f32::consts::FRAC_PI_2, 0.0, 0.0);
-    let opts = ConvertOptions {
-        rotation: Some(rot),
-        ..ConvertOptions::default()
+    let opts = {
+        let mut o = ConvertOptions::default();
+        o.rotation = Some(rot);
+        o
     };
     let got = convert(&src, rl, 512, 256, &opts, None).unwrap();
     let want = fill(rl, 512, 256, |d| direction_colour(rot.to_canonical(d))).unwrap();
@@ -357,9 +360,10 @@ fn odd_sizes_and_sub_samples_match_a_texel_by_texel_reference() {
     ];
     for (repr, cell, n) in cases {
         let (w, h) = repr.atlas.image_size_for_cell_width(cell).unwrap();
-        let opts = ConvertOptions {
-            samples: Some(n),
-            ..ConvertOptions::default()
+        let opts = {
+            let mut o = ConvertOptions::default();
+            o.samples = Some(n);
+            o
         };
         let got = convert(&src, repr, w, h, &opts, None).unwrap();
         let want = reference(&src, repr, w, h, n);

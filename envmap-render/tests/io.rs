@@ -83,9 +83,10 @@ fn exr_f16_round_trip_within_half_precision() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("sky.EXR");
     let img = latlong(16, 0.01, 5000.0);
-    let opts = SaveOptions {
-        exr_precision: ExrPrecision::F16,
-        ..SaveOptions::default()
+    let opts = {
+        let mut o = SaveOptions::default();
+        o.exr_precision = ExrPrecision::F16;
+        o
     };
     save(&img, &path, &opts).unwrap();
     let loaded = load_detailed(&path, &LoadOptions::default()).unwrap();
@@ -167,9 +168,10 @@ fn png_exposure_scales_by_powers_of_two_and_clamps() {
     let mut img = latlong(4, 0.0, 0.0);
     img.set(0, 0, [0.1, 0.2, 5000.0]);
     img.set(1, 0, [f32::NAN, -1.0, f32::INFINITY]);
-    let opts = SaveOptions {
-        exposure: 2.0,
-        ..SaveOptions::default()
+    let opts = {
+        let mut o = SaveOptions::default();
+        o.exposure = 2.0;
+        o
     };
     save(&img, &path, &opts).unwrap();
     let back = image::open(&path).unwrap().into_rgb8();
@@ -241,9 +243,10 @@ fn six_files_save_each_face_as_gl_expects_and_load_back() {
     let dir = tempfile::tempdir().unwrap();
     let img = cube(Atlas::CUBE_VERTICAL_CROSS, 4);
     let base = dir.path().join("sky.exr");
-    let opts = SaveOptions {
-        six_files: true,
-        ..SaveOptions::default()
+    let opts = {
+        let mut o = SaveOptions::default();
+        o.six_files = true;
+        o
     };
     let written = save(&img, &base, &opts).unwrap();
     let expected: Vec<PathBuf> = CubeFace::ALL
@@ -282,9 +285,10 @@ fn six_files_save_each_face_as_gl_expects_and_load_back() {
     assert_eq!(from_face.files, expected);
     let from_pattern = load(dir.path().join("sky_{face}.exr"), &LoadOptions::default()).unwrap();
     assert_eq!(from_pattern, strip);
-    let faces = LoadOptions {
-        layout: Some(Layout::Faces),
-        ..LoadOptions::default()
+    let faces = {
+        let mut o = LoadOptions::default();
+        o.layout = Some(Layout::Faces);
+        o
     };
     assert_eq!(load(&base, &faces).unwrap(), strip);
     // A pattern in the output name writes six files too.
@@ -302,9 +306,10 @@ fn six_files_save_each_face_as_gl_expects_and_load_back() {
 fn six_files_with_a_face_of_another_size_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let img = cube(Atlas::CUBE_HORIZONTAL_STRIP, 4);
-    let opts = SaveOptions {
-        six_files: true,
-        ..SaveOptions::default()
+    let opts = {
+        let mut o = SaveOptions::default();
+        o.six_files = true;
+        o
     };
     save(&img, dir.path().join("sky.png"), &opts).unwrap();
     let odd = dir.path().join("sky_-y.png");
@@ -327,9 +332,10 @@ fn six_files_with_a_face_of_another_size_are_refused() {
 #[test]
 fn only_cubes_are_saved_as_six_files() {
     let dir = tempfile::tempdir().unwrap();
-    let opts = SaveOptions {
-        six_files: true,
-        ..SaveOptions::default()
+    let opts = {
+        let mut o = SaveOptions::default();
+        o.six_files = true;
+        o
     };
     let m = message(&save(&latlong(8, 0.0, 1.0), dir.path().join("a.exr"), &opts).unwrap_err());
     assert!(m.contains("only a cube"), "{m}");
@@ -438,18 +444,20 @@ fn load_applies_explicit_mapping_and_names_the_file_on_mismatch() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("para.exr");
     save(&latlong(16, 0.0, 1.0), &path, &SaveOptions::default()).unwrap();
-    let opts = LoadOptions {
-        mapping: Some(AnyMapping::DualParaboloid),
-        axes: Some(envmap_render::image::FileAxes::Frame(Frame::Y_UP_RH)),
-        ..LoadOptions::default()
+    let opts = {
+        let mut o = LoadOptions::default();
+        o.mapping = Some(AnyMapping::DualParaboloid);
+        o.axes = Some(envmap_render::image::FileAxes::Frame(Frame::Y_UP_RH));
+        o
     };
     let img = load(&path, &opts).unwrap();
     assert_eq!(img.mapping(), AnyMapping::DualParaboloid);
     assert_eq!(img.atlas(), &Atlas::PARABOLOID_SIDE_BY_SIDE);
     assert_eq!(img.representation().frame, Frame::Y_UP_RH);
-    let opts = LoadOptions {
-        layout: Some(Layout::Cross),
-        ..LoadOptions::default()
+    let opts = {
+        let mut o = LoadOptions::default();
+        o.layout = Some(Layout::Cross);
+        o
     };
     let m = message(&load(&path, &opts).unwrap_err());
     assert_eq!(
@@ -568,18 +576,20 @@ fn images_above_the_limit_are_refused_before_decoding() {
     for ext in ["png", "exr", "hdr"] {
         let path = dir.path().join(format!("big.{ext}"));
         save(&img, &path, &SaveOptions::default()).unwrap();
-        let opts = LoadOptions {
-            max_texels: 1000,
-            ..LoadOptions::default()
+        let opts = {
+            let mut o = LoadOptions::default();
+            o.max_texels = 1000;
+            o
         };
         let m = message(&load(&path, &opts).unwrap_err());
         assert!(m.starts_with(&format!("{}:", path.display())), "{m}");
         assert!(m.contains("64×32") && m.contains("1000 texels"), "{m}");
     }
     // Six faces count together.
-    let faces = SaveOptions {
-        six_files: true,
-        ..SaveOptions::default()
+    let faces = {
+        let mut o = SaveOptions::default();
+        o.six_files = true;
+        o
     };
     save(
         &cube(Atlas::CUBE_HORIZONTAL_CROSS, 10),
@@ -587,9 +597,10 @@ fn images_above_the_limit_are_refused_before_decoding() {
         &faces,
     )
     .unwrap();
-    let opts = LoadOptions {
-        max_texels: 500,
-        ..LoadOptions::default()
+    let opts = {
+        let mut o = LoadOptions::default();
+        o.max_texels = 500;
+        o
     };
     let m = message(&load(dir.path().join("c_+x.exr"), &opts).unwrap_err());
     assert!(m.contains("600 texels"), "{m}");
@@ -611,9 +622,10 @@ fn writing_over_the_input_is_refused_unless_asked() {
     // The same file, spelled another way.
     let other_spelling = dir.path().join("sub").join("..").join("in.exr");
     for target in [input.clone(), other_spelling] {
-        let opts = SaveOptions {
-            inputs: loaded.files.clone(),
-            ..SaveOptions::default()
+        let opts = {
+            let mut o = SaveOptions::default();
+            o.inputs = loaded.files.clone();
+            o
         };
         let m = message(&save(&changed, &target, &opts).unwrap_err());
         assert!(m.starts_with(&format!("{}:", target.display())), "{m}");
@@ -622,16 +634,18 @@ fn writing_over_the_input_is_refused_unless_asked() {
     }
     // Six-file outputs are checked face by face.
     let faces_in = dir.path().join("c.exr");
-    let faces = SaveOptions {
-        six_files: true,
-        ..SaveOptions::default()
+    let faces = {
+        let mut o = SaveOptions::default();
+        o.six_files = true;
+        o
     };
     let cube_img = cube(Atlas::CUBE_HORIZONTAL_CROSS, 2);
     save(&cube_img, &faces_in, &faces).unwrap();
     let cube_loaded = load_detailed(dir.path().join("c_+y.exr"), &LoadOptions::default()).unwrap();
-    let opts = SaveOptions {
-        inputs: cube_loaded.files.clone(),
-        ..faces.clone()
+    let opts = {
+        let mut o = faces.clone();
+        o.inputs = cube_loaded.files.clone();
+        o
     };
     assert!(matches!(
         save(&cube_img, &faces_in, &opts),
@@ -639,10 +653,11 @@ fn writing_over_the_input_is_refused_unless_asked() {
     ));
 
     // Asked for: replaced.
-    let opts = SaveOptions {
-        inputs: loaded.files,
-        overwrite_input: true,
-        ..SaveOptions::default()
+    let opts = {
+        let mut o = SaveOptions::default();
+        o.inputs = loaded.files;
+        o.overwrite_input = true;
+        o
     };
     save(&changed, &input, &opts).unwrap();
     assert_eq!(load(&input, &LoadOptions::default()).unwrap(), changed);
@@ -679,9 +694,10 @@ fn failed_writes_leave_no_temporary_file_and_no_damage() {
     assert_eq!(entries(&as_dir), ["keep"]);
 
     // One of six faces is a directory: nothing is written, not even the others.
-    let faces = SaveOptions {
-        six_files: true,
-        ..SaveOptions::default()
+    let faces = {
+        let mut o = SaveOptions::default();
+        o.six_files = true;
+        o
     };
     let cube_img = cube(Atlas::CUBE_HORIZONTAL_CROSS, 2);
     fs::create_dir(dir.path().join("sky_-z.exr")).unwrap();
@@ -757,9 +773,10 @@ fn a_streamed_conversion_saves_what_convert_then_save_saves() {
         run.stage_streamed(&stream, &b, opts).unwrap();
         let b_files = run.commit().unwrap();
         assert_eq!(a_files.len(), b_files.len(), "{name}");
-        let load_opts = LoadOptions {
-            face_transforms: opts.face_transforms,
-            ..LoadOptions::default()
+        let load_opts = {
+            let mut o = LoadOptions::default();
+            o.face_transforms = opts.face_transforms;
+            o
         };
         let x = load(&a_files[0], &load_opts).unwrap();
         let y = load(&b_files[0], &load_opts).unwrap();
@@ -795,24 +812,27 @@ fn a_streamed_conversion_saves_what_convert_then_save_saves() {
             ExrCompression::Piz,
         ] {
             for precision in [ExrPrecision::F32, ExrPrecision::F16] {
-                let opts = SaveOptions {
-                    exr_compression: compression,
-                    exr_precision: precision,
-                    ..SaveOptions::default()
+                let opts = {
+                    let mut o = SaveOptions::default();
+                    o.exr_compression = compression;
+                    o.exr_precision = precision;
+                    o
                 };
                 let name = format!("{}-{compression:?}-{precision:?}.exr", repr.mapping);
                 check(repr, size, &name, &opts);
             }
         }
     }
-    let turned = SaveOptions {
-        face_transforms: FaceTransforms::default().with(CubeFace::PosY, FaceTurn::ROT90),
-        ..SaveOptions::default()
+    let turned = {
+        let mut o = SaveOptions::default();
+        o.face_transforms = FaceTransforms::default().with(CubeFace::PosY, FaceTurn::ROT90);
+        o
     };
     check(cube, cube_size, "turned.exr", &turned);
-    let six = SaveOptions {
-        six_files: true,
-        ..SaveOptions::default()
+    let six = {
+        let mut o = SaveOptions::default();
+        o.six_files = true;
+        o
     };
     check(cube, cube_size, "six-{face}.exr", &six);
     check(cube, cube_size, "cube.hdr", &SaveOptions::default());

@@ -46,13 +46,11 @@ fn committed_path(name: &str) -> PathBuf {
 
 /// Loads `path` as the bake's command does (NaN and infinite texels black).
 fn load_hdri(path: &Path) -> EnvImage {
-    load(
-        path,
-        &LoadOptions {
-            non_finite: NonFinite::Zero,
-            ..LoadOptions::default()
-        },
-    )
+    load(path, &{
+        let mut o = LoadOptions::default();
+        o.non_finite = NonFinite::Zero;
+        o
+    })
     .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 

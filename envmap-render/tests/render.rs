@@ -34,10 +34,11 @@ fn mirror_sphere_reflects_known_directions() {
         direction_colour,
     )
     .unwrap();
-    let opts = RenderOptions {
-        width: 101,
-        height: 101,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = 101;
+        o.height = 101;
+        o
     };
     let img = render(&mesh, EnvSource::Map(&env), &cam, &opts).unwrap();
     let px = |x: u32, y: u32| Vec3::from(img.pixels[(y * 101 + x) as usize]);
@@ -89,11 +90,12 @@ fn mirror_sphere_reflects_known_directions() {
 #[test]
 fn per_pixel_renders_match_the_reference() {
     let (mesh, cam) = sphere_scene();
-    let opts = RenderOptions {
-        width: 96,
-        height: 96,
-        samples: 1,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = 96;
+        o.height = 96;
+        o.samples = 1;
+        o
     };
     let reference = render(&mesh, EnvSource::Analytic(&smooth), &cam, &opts).unwrap();
     for m in AnyMapping::ALL {
@@ -132,22 +134,19 @@ fn per_vertex_differs_at_the_latlong_seam_only() {
         direction_colour,
     )
     .unwrap();
-    let base = RenderOptions {
-        width: 121,
-        height: 121,
-        background: false,
-        ..RenderOptions::default()
+    let base = {
+        let mut o = RenderOptions::default();
+        o.width = 121;
+        o.height = 121;
+        o.background = false;
+        o
     };
     let pp = render(&mesh, EnvSource::Map(&env), &cam, &base).unwrap();
-    let pv = render(
-        &mesh,
-        EnvSource::Map(&env),
-        &cam,
-        &RenderOptions {
-            mode: Mode::PerVertex,
-            ..base
-        },
-    )
+    let pv = render(&mesh, EnvSource::Map(&env), &cam, &{
+        let mut o = base;
+        o.mode = Mode::PerVertex;
+        o
+    })
     .unwrap();
     // The latlong seam is the half plane y = 0, x > 0 (u = 0 ≡ 1). On the
     // sphere seen from −y, reflections point along +x (R.x > 0, R.y ≈ 0)
@@ -186,20 +185,17 @@ fn progress_counts_every_band() {
     let sky = |d: Vec3| direction_colour(d);
     let seen = Mutex::new(Vec::new());
     let tick = |done: u32, total: u32| seen.lock().unwrap().push((done, total));
-    let opts = RenderOptions {
-        width: 40,
-        height: 70,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = 40;
+        o.height = 70;
+        o
     };
-    let with = render(
-        &mesh,
-        EnvSource::Analytic(&sky),
-        &cam,
-        &RenderOptions {
-            progress: Some(envmap_render::scene::render::Progress(&tick)),
-            ..opts
-        },
-    )
+    let with = render(&mesh, EnvSource::Analytic(&sky), &cam, &{
+        let mut o = opts;
+        o.progress = Some(envmap_render::scene::render::Progress(&tick));
+        o
+    })
     .unwrap();
     let without = render(&mesh, EnvSource::Analytic(&sky), &cam, &opts).unwrap();
     assert_eq!(with.pixels, without.pixels);
@@ -216,10 +212,11 @@ fn progress_counts_every_band() {
 fn a_bad_mesh_is_an_error_not_a_panic() {
     use envmap_render::Error;
     let (mut mesh, cam) = sphere_scene();
-    let opts = RenderOptions {
-        width: 16,
-        height: 16,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = 16;
+        o.height = 16;
+        o
     };
     let env = EnvSource::Analytic(&direction_colour);
     let last = mesh.triangles.len() - 1;

@@ -336,9 +336,11 @@ fn check_ktx2(format: TexelFormat, kind: TextureKind, levels: usize, zstd: bool)
     let (w, h) = size;
     let faces = kind.faces();
     let tex = texture(kind, size, levels);
-    let opts = TextureOptions {
-        format,
-        zstd: zstd.then_some(3),
+    let opts = {
+        let mut o = TextureOptions::default();
+        o.format = format;
+        o.zstd = zstd.then_some(3);
+        o
     };
     let (bytes, clamped) =
         texture::encode(&tex, Path::new("t.ktx2"), opts).unwrap_or_else(|e| panic!("{what}: {e}"));
@@ -542,11 +544,12 @@ fn check_ktx2(format: TexelFormat, kind: TextureKind, levels: usize, zstd: bool)
     // decompresses to the bytes of the uncompressed file's level.
     let plain = if zstd {
         Some(
-            texture::encode(
-                &tex,
-                Path::new("t.ktx2"),
-                TextureOptions { format, zstd: None },
-            )
+            texture::encode(&tex, Path::new("t.ktx2"), {
+                let mut o = TextureOptions::default();
+                o.format = format;
+                o.zstd = None;
+                o
+            })
             .unwrap()
             .0,
         )
@@ -686,14 +689,12 @@ fn ktx2_worked_example_256_cube_with_9_levels() {
         "the example assumes this KTXwriter"
     );
 
-    let (b, _) = texture::encode(
-        &tex,
-        Path::new("t.ktx2"),
-        TextureOptions {
-            format: TexelFormat::Rgba16f,
-            zstd: None,
-        },
-    )
+    let (b, _) = texture::encode(&tex, Path::new("t.ktx2"), {
+        let mut o = TextureOptions::default();
+        o.format = TexelFormat::Rgba16f;
+        o.zstd = None;
+        o
+    })
     .unwrap();
     assert_eq!([u32_at(&b, 48), u32_at(&b, 52)], [296, 92], "RGBA16F DFD");
     assert_eq!([u32_at(&b, 56), u32_at(&b, 60)], [388, 52], "RGBA16F KVD");
@@ -706,14 +707,12 @@ fn ktx2_worked_example_256_cube_with_9_levels() {
     assert_eq!(b.len(), 4_194_728, "RGBA16F file size");
     ::ktx2::Reader::new(&b[..]).expect("ktx2 crate reads it");
 
-    let (b, _) = texture::encode(
-        &tex,
-        Path::new("t.ktx2"),
-        TextureOptions {
-            format: TexelFormat::Rgba32f,
-            zstd: None,
-        },
-    )
+    let (b, _) = texture::encode(&tex, Path::new("t.ktx2"), {
+        let mut o = TextureOptions::default();
+        o.format = TexelFormat::Rgba32f;
+        o.zstd = None;
+        o
+    })
     .unwrap();
     assert_eq!([u32_at(&b, 48), u32_at(&b, 52)], [296, 92], "RGBA32F DFD");
     assert_eq!([u32_at(&b, 56), u32_at(&b, 60)], [388, 52], "RGBA32F KVD");
@@ -722,14 +721,12 @@ fn ktx2_worked_example_256_cube_with_9_levels() {
     // 448 + 6·16·(4⁹ − 1)/3, every level a multiple of 16 bytes.
     assert_eq!(b.len(), 448 + 96 * 87_381, "RGBA32F file size");
 
-    let (b, _) = texture::encode(
-        &tex,
-        Path::new("t.ktx2"),
-        TextureOptions {
-            format: TexelFormat::E5b9g9r9,
-            zstd: None,
-        },
-    )
+    let (b, _) = texture::encode(&tex, Path::new("t.ktx2"), {
+        let mut o = TextureOptions::default();
+        o.format = TexelFormat::E5b9g9r9;
+        o.zstd = None;
+        o
+    })
     .unwrap();
     assert_eq!([u32_at(&b, 48), u32_at(&b, 52)], [296, 124], "RGB9E5 DFD");
     assert_eq!([u32_at(&b, 56), u32_at(&b, 60)], [420, 52], "RGB9E5 KVD");
@@ -761,11 +758,12 @@ fn check_dds(format: TexelFormat, kind: TextureKind, levels: usize) {
     let cube = kind == TextureKind::Cube;
     let faces = kind.faces();
     let tex = texture(kind, size, levels);
-    let (bytes, clamped) = texture::encode(
-        &tex,
-        Path::new("t.dds"),
-        TextureOptions { format, zstd: None },
-    )
+    let (bytes, clamped) = texture::encode(&tex, Path::new("t.dds"), {
+        let mut o = TextureOptions::default();
+        o.format = format;
+        o.zstd = None;
+        o
+    })
     .unwrap_or_else(|e| panic!("{what}: {e}"));
     assert!(clamped.is_empty(), "{what}: clamped {clamped:?}");
     let d = ddsfile::Dds::read(&bytes[..]).unwrap_or_else(|e| panic!("{what}: ddsfile: {e}"));
@@ -876,11 +874,12 @@ fn dds_cube_caps2_has_cubemap_and_all_six_face_bits() {
         for kind in [TextureKind::Flat, TextureKind::Cube] {
             for levels in level_counts(test_size(kind)) {
                 let tex = texture(kind, test_size(kind), levels);
-                let (bytes, _) = texture::encode(
-                    &tex,
-                    Path::new("t.dds"),
-                    TextureOptions { format, zstd: None },
-                )
+                let (bytes, _) = texture::encode(&tex, Path::new("t.dds"), {
+                    let mut o = TextureOptions::default();
+                    o.format = format;
+                    o.zstd = None;
+                    o
+                })
                 .unwrap();
                 // magic, then the header: caps2 is its 28th word.
                 let caps2 = u32_at(&bytes, 4 + 27 * 4);
@@ -934,9 +933,11 @@ fn cross_cube(face: u32) -> EnvImage {
 fn save_and_load_detailed_round_trip_a_cube_through_ktx2_and_dds() {
     let dir = tempfile::tempdir().unwrap();
     let img = cross_cube(8);
-    let f32_opts = |zstd| TextureOptions {
-        format: TexelFormat::Rgba32f,
-        zstd,
+    let f32_opts = |zstd| {
+        let mut o = TextureOptions::default();
+        o.format = TexelFormat::Rgba32f;
+        o.zstd = zstd;
+        o
     };
     let cases: [(&str, TextureOptions, FileFormat); 4] = [
         ("x.ktx2", f32_opts(None), FileFormat::Ktx2),
@@ -946,9 +947,10 @@ fn save_and_load_detailed_round_trip_a_cube_through_ktx2_and_dds() {
     ];
     for (name, texture, container) in cases {
         let path = dir.path().join(name);
-        let opts = SaveOptions {
-            texture,
-            ..SaveOptions::default()
+        let opts = {
+            let mut o = SaveOptions::default();
+            o.texture = texture;
+            o
         };
         let written = save(&img, &path, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(written, vec![path.clone()], "{name}");
@@ -1022,14 +1024,12 @@ fn assert_mentions(e: &Error, words: &[&str], what: &str) {
 /// zstd.
 fn small_ktx2(zstd: bool) -> Vec<u8> {
     let tex = texture(TextureKind::Cube, (8, 8), 3);
-    let bytes = texture::encode(
-        &tex,
-        Path::new("t.ktx2"),
-        TextureOptions {
-            format: TexelFormat::Rgba16f,
-            zstd: zstd.then_some(3),
-        },
-    )
+    let bytes = texture::encode(&tex, Path::new("t.ktx2"), {
+        let mut o = TextureOptions::default();
+        o.format = TexelFormat::Rgba16f;
+        o.zstd = zstd.then_some(3);
+        o
+    })
     .unwrap()
     .0;
     texture::decode(Path::new("good.ktx2"), &bytes, DEFAULT_MAX_TEXELS)
@@ -1090,7 +1090,12 @@ fn envmap_dfd(format: TexelFormat) -> Vec<u8> {
         }]],
     )
     .unwrap();
-    let opts = TextureOptions { format, zstd: None };
+    let opts = {
+        let mut o = TextureOptions::default();
+        o.format = format;
+        o.zstd = None;
+        o
+    };
     let (bytes, _) = texture::encode(&tex, Path::new("t.ktx2"), opts).unwrap();
     let off = u32_at(&bytes, 48) as usize;
     let len = u32_at(&bytes, 52) as usize;
@@ -1294,14 +1299,12 @@ fn ktx2_corrupt_zstd_levels_are_errors_not_panics() {
 /// A small valid DDS: an 8² RGBA16F cube with 3 levels.
 fn small_dds() -> Vec<u8> {
     let tex = texture(TextureKind::Cube, (8, 8), 3);
-    let bytes = texture::encode(
-        &tex,
-        Path::new("t.dds"),
-        TextureOptions {
-            format: TexelFormat::Rgba16f,
-            zstd: None,
-        },
-    )
+    let bytes = texture::encode(&tex, Path::new("t.dds"), {
+        let mut o = TextureOptions::default();
+        o.format = TexelFormat::Rgba16f;
+        o.zstd = None;
+        o
+    })
     .unwrap()
     .0;
     texture::decode(Path::new("good.dds"), &bytes, DEFAULT_MAX_TEXELS)

@@ -33,20 +33,22 @@ fuzz_target!(|data: &[u8]| {
     let mapping = AnyMapping::ALL
         .get(usize::from((selector >> 2) & 15))
         .copied();
-    let opts = LoadOptions {
-        mapping,
-        layout: None,
-        axes: None,
+    let opts = {
+        let mut o = LoadOptions::default();
+        o.mapping = mapping;
+        o.layout = None;
+        o.axes = None;
         // Small enough that the fuzzer cannot ask for gigabytes.
-        max_texels: 1 << 18,
+        o.max_texels = 1 << 18;
         // Bit 6: replace NaN and infinite texels.
-        non_finite: if selector & 0x40 == 0 {
+        o.non_finite = if selector & 0x40 == 0 {
             NonFinite::Keep
         } else {
             NonFinite::Zero
-        },
-        face_transforms: Default::default(),
-        cancel: None,
+        };
+        o.face_transforms = Default::default();
+        o.cancel = None;
+        o
     };
     let Ok(loaded) = load_detailed(&path, &opts) else {
         return;
@@ -77,15 +79,17 @@ fuzz_target!(|data: &[u8]| {
         repr,
         w,
         h,
-        &ConvertOptions {
-            filter: if selector & 0x80 == 0 {
+        &{
+            let mut o = ConvertOptions::default();
+            o.filter = if selector & 0x80 == 0 {
                 Filter::Bilinear
             } else {
                 Filter::Nearest
-            },
-            samples: Some(1),
-            rotation: None,
-            cancel: None,
+            };
+            o.samples = Some(1);
+            o.rotation = None;
+            o.cancel = None;
+            o
         },
         None,
     )

@@ -98,24 +98,20 @@ fn main() -> Result<(), Error> {
     }
     let cam = Camera::default();
     // The CPU: envmap render --material, one sample per pixel, no mip.
-    let cpu = render(
-        &mesh,
-        EnvSource::Map(&levels[0]),
-        &cam,
-        &RenderOptions {
-            width: WIDTH,
-            height: HEIGHT,
-            samples: 1,
-            mip: false,
-            shading: Shading::SplitSum {
-                env: &env,
-                material,
-                multiscatter: false,
-                dominant: true,
-            },
-            ..RenderOptions::default()
-        },
-    )?;
+    let cpu = render(&mesh, EnvSource::Map(&levels[0]), &cam, &{
+        let mut o = RenderOptions::default();
+        o.width = WIDTH;
+        o.height = HEIGHT;
+        o.samples = 1;
+        o.mip = false;
+        o.shading = Shading::SplitSum {
+            env: &env,
+            material,
+            multiscatter: false,
+            dominant: true,
+        };
+        o
+    })?;
     // The GPU.
     let (gpu, info) = gpu_render(&env, &mesh, &cam, &material)?;
     println!("GPU: {info}");

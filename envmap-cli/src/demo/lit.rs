@@ -122,37 +122,29 @@ fn compare(
 ) -> Result<Compared> {
     let env = EnvSource::Analytic(scene.analytic);
     let t = Instant::now();
-    let split = render(
-        mesh,
-        env,
-        cam,
-        &RenderOptions {
-            shading: Shading::SplitSum {
-                env: &scene.lit,
-                material: m,
-                multiscatter: false,
-                dominant: true,
-            },
-            ..*base
-        },
-    )?;
+    let split = render(mesh, env, cam, &{
+        let mut o = *base;
+        o.shading = Shading::SplitSum {
+            env: &scene.lit,
+            material: m,
+            multiscatter: false,
+            dominant: true,
+        };
+        o
+    })?;
     let split_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
     let half = |seed| {
-        render(
-            mesh,
-            env,
-            cam,
-            &RenderOptions {
-                shading: Shading::Reference {
-                    material: m,
-                    samples: (opts.reference_samples / 2).max(1),
-                    light: Some(&scene.light),
-                    seed,
-                },
-                ..*base
-            },
-        )
+        render(mesh, env, cam, &{
+            let mut o = *base;
+            o.shading = Shading::Reference {
+                material: m,
+                samples: (opts.reference_samples / 2).max(1),
+                light: Some(&scene.light),
+                seed,
+            };
+            o
+        })
     };
     let (a, b) = (half(1)?, half(2)?);
     let reference_ms = t.elapsed().as_secs_f64() * 1e3;
@@ -234,13 +226,14 @@ pub(crate) fn run(
     let out = |name: &str| opts.out.join(name);
     let width = opts.width.max(16);
     let cell = (width / 5).max(8);
-    let base = RenderOptions {
-        width: cell,
-        height: cell,
-        samples: 1,
-        background: false,
-        cancel: opts.cancel,
-        ..RenderOptions::default()
+    let base = {
+        let mut o = RenderOptions::default();
+        o.width = cell;
+        o.height = cell;
+        o.samples = 1;
+        o.background = false;
+        o.cancel = opts.cancel;
+        o
     };
     let sphere = Mesh::sphere(1.0, 64, 32);
     let sphere_cam = Camera {
@@ -331,10 +324,11 @@ pub(crate) fn run(
     let teapot = Mesh::teapot(10);
     let cam = Camera::default();
     let tw = (width / 2).max(16);
-    let tbase = RenderOptions {
-        width: tw,
-        height: (tw * 3 / 4).max(12),
-        ..base
+    let tbase = {
+        let mut o = base;
+        o.width = tw;
+        o.height = (tw * 3 / 4).max(12);
+        o
     };
     let (mut split, mut reference, mut error) = (Vec::new(), Vec::new(), Vec::new());
     for name in ["diffuse", "plastic", "chrome"] {
@@ -371,23 +365,19 @@ pub(crate) fn run(
     for mapping in [AnyMapping::LatLong, AnyMapping::SphereMapGl] {
         let lit = resampled(&sky.lit, mapping)?;
         for m in seed_materials {
-            seed.push(render(
-                &teapot,
-                EnvSource::Analytic(&sky_fn),
-                &cam,
-                &RenderOptions {
-                    mode: Mode::PerVertex,
-                    background: true,
-                    samples: opts.samples.clamp(1, 8),
-                    shading: Shading::SplitSum {
-                        env: &lit,
-                        material: m,
-                        multiscatter: false,
-                        dominant: true,
-                    },
-                    ..tbase
-                },
-            )?);
+            seed.push(render(&teapot, EnvSource::Analytic(&sky_fn), &cam, &{
+                let mut o = tbase;
+                o.mode = Mode::PerVertex;
+                o.background = true;
+                o.samples = opts.samples.clamp(1, 8);
+                o.shading = Shading::SplitSum {
+                    env: &lit,
+                    material: m,
+                    multiscatter: false,
+                    dominant: true,
+                };
+                o
+            })?);
         }
     }
     save_png(

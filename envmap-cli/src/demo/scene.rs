@@ -182,9 +182,10 @@ pub(crate) fn save_png(
     path: &Path,
     exposure: f32,
 ) -> Result<()> {
-    let opts = SaveOptions {
-        exposure,
-        ..SaveOptions::default()
+    let opts = {
+        let mut o = SaveOptions::default();
+        o.exposure = exposure;
+        o
     };
     run.stage_rgb(img, path, &opts)
 }
@@ -227,12 +228,13 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
     let mesh = Mesh::teapot(10);
     let cam = Camera::default();
     let (w, h) = (opts.width.max(16), (opts.width.max(16) * 3 / 4).max(12));
-    let ropts = RenderOptions {
-        width: w,
-        height: h,
-        samples: opts.samples.clamp(1, 8),
-        cancel: opts.cancel,
-        ..RenderOptions::default()
+    let ropts = {
+        let mut o = RenderOptions::default();
+        o.width = w;
+        o.height = h;
+        o.samples = opts.samples.clamp(1, 8);
+        o.cancel = opts.cancel;
+        o
     };
     progress(0, total, "reference");
     let sky = |d: Vec3| Builtin::Sky.radiance(d);
@@ -247,15 +249,11 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
     // The object's pixels: where a render without background is not black
     // (the sky has no black). PSNR and heat maps cover the teapot only, so
     // the background, the same map seen directly, does not drown it.
-    let silhouette = render(
-        &mesh,
-        EnvSource::Analytic(&sky),
-        &cam,
-        &RenderOptions {
-            background: false,
-            ..ropts
-        },
-    )?;
+    let silhouette = render(&mesh, EnvSource::Analytic(&sky), &cam, &{
+        let mut o = ropts;
+        o.background = false;
+        o
+    })?;
     let mask: Vec<bool> = silhouette
         .pixels
         .iter()
@@ -268,26 +266,19 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
         let (aw, ah) = size_for_budget(m, opts.texels);
         let env = Builtin::Sky.image(Representation::for_file(m, FileAxes::default()), aw, ah)?;
         let pp = render(&mesh, EnvSource::Map(&env), &cam, &ropts)?;
-        let pv = render(
-            &mesh,
-            EnvSource::Map(&env),
-            &cam,
-            &RenderOptions {
-                mode: Mode::PerVertex,
-                ..ropts
-            },
-        )?;
+        let pv = render(&mesh, EnvSource::Map(&env), &cam, &{
+            let mut o = ropts;
+            o.mode = Mode::PerVertex;
+            o
+        })?;
         let seconds = t.elapsed().as_secs_f64();
         let name = m.name();
         // The atlas as an environment map file, saying what it holds.
-        run.stage_image(
-            &env,
-            opts.out.join(format!("atlas_{name}.png")),
-            &SaveOptions {
-                exposure: opts.exposure - 1.0,
-                ..SaveOptions::default()
-            },
-        )?;
+        run.stage_image(&env, opts.out.join(format!("atlas_{name}.png")), &{
+            let mut o = SaveOptions::default();
+            o.exposure = opts.exposure - 1.0;
+            o
+        })?;
         save_png(
             &mut run,
             &pp,

@@ -112,6 +112,7 @@ impl<D: Mapping8, S: Mapping8> RowContext<'_, D, S> {
 
 /// How to convert.
 #[derive(Clone, Copy, Debug, Default)]
+#[non_exhaustive]
 pub struct ConvertOptions<'a> {
     /// Reconstruction filter in the input.
     pub filter: Filter,

@@ -270,6 +270,7 @@ pub struct SourceFormat {
 
 /// How to load an environment map.
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct LoadOptions<'a> {
     /// The mapping, if known; detected from the aspect ratio otherwise
     /// (see [`crate::image::layout::resolve`]).
@@ -332,6 +333,7 @@ impl Default for LoadOptions<'_> {
 
 /// How to save an environment map.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct SaveOptions<'a> {
     /// Exposure in stops for 8-bit outputs (PNG, JPEG): values are scaled by
     /// 2^`exposure` before encoding. Float outputs keep their values.

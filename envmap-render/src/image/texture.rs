@@ -537,6 +537,7 @@ pub struct TextureFile {
 
 /// How to write a texture file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct TextureOptions {
     /// The texel format. Default RGBA16F (every engine loads it; DDS and
     /// KTX2 alike).

@@ -144,6 +144,7 @@ pub enum Mode {
 
 /// Rendering options.
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct RenderOptions<'a> {
     /// Image width in pixels.
     pub width: u32,

@@ -45,13 +45,14 @@ pub(crate) fn metal(r: f32) -> Material {
 /// `shading` of the sphere in `env`, `px`² pixels, no background.
 pub(crate) fn draw(env: &EnvImage, shading: Shading<'_>, px: u32) -> RgbImage {
     let (mesh, cam) = scene();
-    let opts = RenderOptions {
-        width: px,
-        height: px,
-        samples: 1,
-        background: false,
-        shading,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = px;
+        o.height = px;
+        o.samples = 1;
+        o.background = false;
+        o.shading = shading;
+        o
     };
     render(&mesh, EnvSource::Map(env), &cam, &opts).expect("render")
 }
@@ -60,12 +61,13 @@ pub(crate) fn draw(env: &EnvImage, shading: Shading<'_>, px: u32) -> RgbImage {
 pub(crate) fn mask(px: u32) -> Vec<bool> {
     let (mesh, cam) = scene();
     let white = |_: Vec3| [1.0f32; 3];
-    let opts = RenderOptions {
-        width: px,
-        height: px,
-        samples: 1,
-        background: false,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = px;
+        o.height = px;
+        o.samples = 1;
+        o.background = false;
+        o
     };
     render(&mesh, EnvSource::Analytic(&white), &cam, &opts)
         .expect("render")
@@ -124,13 +126,11 @@ pub(crate) fn measure(a: &RgbImage, e: &RgbImage, mask: &[bool]) -> (f64, f64) {
 pub(crate) fn committed(name: &str) -> EnvImage {
     let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../test-data/hdri"))
         .join(format!("{name}.exr"));
-    load(
-        &path,
-        &LoadOptions {
-            non_finite: NonFinite::Zero,
-            ..LoadOptions::default()
-        },
-    )
+    load(&path, &{
+        let mut o = LoadOptions::default();
+        o.non_finite = NonFinite::Zero;
+        o
+    })
     .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 

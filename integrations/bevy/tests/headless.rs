@@ -71,10 +71,11 @@ fn envmap_background(env: &EnvImage, view: View, size: u32) -> RgbImage {
         up: envmap_core::glam::Vec3::Z,
         fov_y_deg: view.fov_y_deg,
     };
-    let opts = RenderOptions {
-        width: size,
-        height: size,
-        ..RenderOptions::default()
+    let opts = {
+        let mut o = RenderOptions::default();
+        o.width = size;
+        o.height = size;
+        o
     };
     render(&sphere, EnvSource::Map(env), &cam, &opts).expect("envmap render")
 }
@@ -417,16 +418,17 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
         for k in 0..=5 {
             let roughness = k as f32 / 5.0;
             let material = Material::new(base, metallic, roughness);
-            let opts = RenderOptions {
-                width: S,
-                height: S,
-                shading: Shading::SplitSum {
+            let opts = {
+                let mut o = RenderOptions::default();
+                o.width = S;
+                o.height = S;
+                o.shading = Shading::SplitSum {
                     env: &lit,
                     material,
                     multiscatter: true,
                     dominant: true,
-                },
-                ..RenderOptions::default()
+                };
+                o
             };
             let want = render(&sphere, EnvSource::Map(&env), &cam, &opts).expect("envmap");
             let images =
@@ -638,16 +640,17 @@ impl ModelReference {
         seed: u64,
     ) -> Vec<[f32; 3]> {
         use envmap_render::scene::render::Shading;
-        let opts = RenderOptions {
-            width: s,
-            height: s,
-            shading: Shading::Reference {
+        let opts = {
+            let mut o = RenderOptions::default();
+            o.width = s;
+            o.height = s;
+            o.shading = Shading::Reference {
                 material,
                 samples: self.samples,
                 light: Some(&self.light),
                 seed,
-            },
-            ..RenderOptions::default()
+            };
+            o
         };
         let sphere = EnvMesh::sphere(1.0, 128, 64);
         render(
