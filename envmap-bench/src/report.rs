@@ -610,7 +610,7 @@ pub fn mappings(s: &Settings) -> Vec<Row> {
 #[must_use]
 pub fn convert_and_render(s: &Settings) -> Vec<Row> {
     use envmap_render::filter::convert::{convert, convert_into, ConvertOptions};
-    use envmap_render::filter::sample::Filter;
+    use envmap_render::filter::Filter;
     use envmap_render::image::Representation;
     use envmap_render::scene::environments::Builtin;
     use envmap_render::scene::mesh::Mesh;

@@ -197,14 +197,12 @@ impl WriteFlags {
 pub(crate) fn parse_exr_compression(
     s: &str,
 ) -> Result<envmap_render::image::io::ExrCompression, String> {
-    s.parse()
-        .map_err(|e: envmap_render::error::Error| e.to_string())
+    s.parse().map_err(|e: envmap_render::Error| e.to_string())
 }
 
 /// `--sync`: a sync policy's name.
 pub(crate) fn parse_sync(s: &str) -> Result<envmap_render::image::io::SyncPolicy, String> {
-    s.parse()
-        .map_err(|e: envmap_render::error::Error| e.to_string())
+    s.parse().map_err(|e: envmap_render::Error| e.to_string())
 }
 
 /// `--format`: a texel format's name.

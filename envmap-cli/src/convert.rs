@@ -15,7 +15,7 @@ use crate::args::{
 };
 use envmap_render::filter::convert::{auto_samples, convert, ConvertOptions, Streamed};
 use envmap_render::filter::pyramid::Pyramid;
-use envmap_render::filter::sample::Filter;
+use envmap_render::filter::Filter;
 use envmap_render::image::convention::{Convention, FileAxes, World};
 use envmap_render::image::face_ops::FaceTransforms;
 use envmap_render::image::io::FaceNames;

@@ -12,11 +12,11 @@ use crate::args::{
     load_error, output_size, parse_convention, parse_mapping, parse_mode, parse_vec3, parse_world,
     warn_replaced, CliResult, WriteFlags,
 };
-use envmap_render::bake::read;
+use envmap_render::bake;
 use envmap_render::bake::{Preset, Target};
 use envmap_render::filter::bake::BakeOptions;
 use envmap_render::filter::oracle::Oracle;
-use envmap_render::filter::sample::Filter;
+use envmap_render::filter::Filter;
 use envmap_render::image::convention::{Convention, FileAxes, World};
 use envmap_render::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
 use envmap_render::image::Representation;
@@ -154,7 +154,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
     // A bake's directory or chain: the lit maps as baked; level 0 (the
     // sharpest) is the environment seen behind the object and in a mirror.
     let baked = match builtin {
-        None if read::is_candidate(Path::new(&a.env)) => read::open(
+        None if bake::is_candidate(Path::new(&a.env)) => bake::open(
             Path::new(&a.env),
             given,
             a.max_megatexels.saturating_mul(1_000_000),

@@ -20,7 +20,7 @@ use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_index;
 use envmap_core::{AnyMapping, Atlas, ChartUv, Frame, Framed, Mapping};
 
-use envmap_render::error::{Error, Result};
+use envmap_render::{Error, Result};
 
 /// Whether a line is skipped: empty, a `#` comment, or a line without any
 /// digit (a CSV header such as `chart,u,v`; a line like `nan 0 1` is data,

@@ -18,7 +18,8 @@
 //!
 //! let src = Builtin::Sky.image(Representation::default_for(AnyMapping::LatLong), 64, 32).unwrap();
 //! let stop = AtomicBool::new(true); // e.g. set by another thread, or a signal handler
-//! let opts = ConvertOptions { cancel: Some(&stop), ..ConvertOptions::default() };
+//! let mut opts = ConvertOptions::default();
+//! opts.cancel = Some(&stop);
 //! let cube = Representation::default_for(AnyMapping::Cube);
 //! let r = convert(&src, cube, 64, 48, &opts, None);
 //! assert!(matches!(r, Err(Error::Cancelled)));

@@ -7,7 +7,7 @@
 //! | folder | what lives there | may use |
 //! | --- | --- | --- |
 //! | [`image`] | [`EnvImage`] and its [`Representation`], layouts, every file format ([`image::io`]: PNG/JPEG, Radiance HDR, OpenEXR, six-file cubes, safe writes) | `envmap-core` |
-//! | [`filter`] | sampling with each representation's edge rule ([`filter::sample`]), the one conversion loop ([`filter::convert`]) | `image`, `envmap-simd` |
+//! | [`filter`] | sampling with each representation's edge rule (`filter::sample`), the one conversion loop ([`filter::convert`]) | `image`, `envmap-simd` |
 //! | [`scene`] | built-in environments, procedural environments, meshes, the renderer, the demo | `image`, `filter` |
 //! | [`bake`] | the one way to bake ([`bake::Baker`]), the engines' presets, a bake's files written to a directory or into memory, and read back | `image`, `filter`, `scene` |
 //!
@@ -32,7 +32,7 @@
 
 pub mod bake;
 pub mod cancel;
-pub mod error;
+mod error;
 pub mod filter;
 pub mod image;
 mod par;

@@ -9,7 +9,7 @@ use std::sync::OnceLock;
 
 use envmap_core::AnyMapping;
 use envmap_render::filter::convert::{convert, ConvertOptions};
-use envmap_render::filter::sample::Filter;
+use envmap_render::filter::Filter;
 use envmap_render::image::io::{load_detailed, LoadOptions, NonFinite};
 use envmap_render::image::Representation;
 use libfuzzer_sys::fuzz_target;

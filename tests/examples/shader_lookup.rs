@@ -40,7 +40,7 @@ use std::path::{Path, PathBuf};
 
 use envmap_core::shaders::ALL_WGSL;
 use envmap_core::AnyMapping;
-use envmap_render::bake::{read, Baker};
+use envmap_render::bake::{open, Baker};
 use envmap_render::filter::dfg::{DfgGrid, DfgTable};
 use envmap_render::image::io::{write_rgb, SaveOptions};
 use envmap_render::image::FileAxes;
@@ -71,7 +71,7 @@ fn main() -> Result<(), Error> {
     let material_name = args.get(1).map_or("gold", String::as_str);
     let material = Material::preset(material_name)?;
     // The baked chain, read as `envmap render --env DIR` reads it.
-    let lit = read::open(&dir, None, u64::MAX, None)?
+    let lit = open(&dir, None, u64::MAX, None)?
         .ok_or_else(|| format!("{}: not a bake directory", dir.display()))?;
     println!("{}", lit.description);
     // Read as an engine reads the files, which is what the WGSL does: the

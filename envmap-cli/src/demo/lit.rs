@@ -28,7 +28,6 @@ use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
 
 use crate::demo::scene::{displayed, heat_map, psnr_displayed, save_png, DemoOptions};
-use envmap_render::error::Result;
 use envmap_render::filter::convert::{convert, ConvertOptions};
 use envmap_render::image::io::Outputs;
 use envmap_render::image::{FileAxes, Representation, RgbImage};
@@ -39,6 +38,7 @@ use envmap_render::scene::mesh::Mesh;
 use envmap_render::scene::render::{
     light_table, render, Camera, EnvSource, Mode, RenderOptions, Shading,
 };
+use envmap_render::Result;
 
 /// The roughness of the sphere grid's columns.
 pub(crate) const GRID_ROUGHNESS: [f32; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];

@@ -11,12 +11,12 @@ use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Mapping};
 
-use envmap_render::error::{Error, Result};
 use envmap_render::image::io::{linear_to_srgb, Outputs, SaveOptions};
 use envmap_render::image::{FileAxes, Representation, RgbImage};
 use envmap_render::scene::environments::Builtin;
 use envmap_render::scene::mesh::Mesh;
 use envmap_render::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::{Error, Result};
 
 /// What the demo makes.
 #[derive(Clone, Debug)]

@@ -16,7 +16,7 @@
 //! | `<dir>_ibl.ktx`, `<dir>_skybox.ktx`, `sh.txt` | cmgen's files: the chain with the SH in its `sh` key, level 0, the SH as text | [`FileFormat::Ktx`](crate::image::FileFormat::Ktx) ([`Target::Filament`]) |
 //!
 //! A manifest names a level inside a texture as `"specular.ktx2 (level 3)"`
-//! ([`read::level_entry`]). Every value's convention (axes, E or E/π, which
+//! (`specular.ktx2 (level k)`). Every value's convention (axes, E or E/π, which
 //! mip is which roughness) is written beside it in the manifest.
 //!
 //! # Baking, writing and reading
@@ -31,7 +31,7 @@
 //!   together), [`Baked::files`] (the same files' bytes, nothing on disk
 //!   touched), [`Baked::textures`] (the maps' texels per level and face in
 //!   the preset's texel format, for an engine's own upload).
-//! * [`read::open`]: the maps back as a [`crate::scene::lit::LitEnvironment`].
+//! * [`open`]: the maps back as a [`crate::scene::lit::LitEnvironment`].
 //!
 //! ```
 //! use envmap_render::bake::{Baker, Target};
@@ -49,9 +49,10 @@
 
 mod builder;
 mod preset;
-pub mod read;
+mod read;
 mod write;
 
 pub use builder::{Baked, Baker, Progress};
 pub use preset::{Preset, Target, DEFAULT_ZSTD};
+pub use read::{is_candidate, open, OpenedLit};
 pub use write::{BakeFiles, EngineTextures, Provenance, Written};

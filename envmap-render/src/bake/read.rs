@@ -76,7 +76,7 @@ fn manifest_for(path: &Path) -> Option<PathBuf> {
 /// `"specular.ktx2 (level 3)"` (what `envmap bake` writes, and
 /// what the manifest reader reads back).
 #[must_use]
-pub fn level_entry(file: &str, k: usize) -> String {
+pub(crate) fn level_entry(file: &str, k: usize) -> String {
     format!("{file}{LEVEL_SEP}{k})")
 }
 
@@ -106,7 +106,7 @@ pub fn is_candidate(path: &Path) -> bool {
     path.is_dir() || matches!(format_of(path), Some(FileFormat::Ktx2 | FileFormat::Dds))
 }
 
-/// The lit maps at `path`; see the [module docs](self). `Ok(None)` when
+/// The lit maps at `path`; see the [module docs](crate::bake). `Ok(None)` when
 /// `path` is a texture file of one level that no manifest names: an
 /// environment to bake from, not a chain. `axes` are the cube files' axes
 /// where nothing says them (a chain file alone; default envmap's).

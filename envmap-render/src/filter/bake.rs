@@ -158,7 +158,7 @@ pub struct BakeOptions<'a> {
     /// Each level's face size, level 0 first, instead of sizes halving from
     /// `size` (then `size`, `levels` and `min_size` are not read): a chain
     /// that is not a mip chain, such as the one envmap's renderer bakes
-    /// ([`render_chain`]), whose levels follow their lobes. `None` (the
+    /// (`render_chain`), whose levels follow their lobes. `None` (the
     /// default): a mip chain, what engines load.
     pub sizes: Option<Vec<u32>>,
     /// Which roughness each level has.
@@ -284,7 +284,7 @@ pub struct LevelError {
 }
 
 /// Measures `level` (a cube, in its own axes) made at `roughness` against
-/// the oracle of the input ([`Oracle::prefiltered`]: the input as given,
+/// the oracle of the input (`Oracle::prefiltered`: the input as given,
 /// piecewise constant over its own texels, independent of the base cube and
 /// the pyramid the bake made) at `texels` of its texels picked by a fixed
 /// hash (`seed` varies the pick). The oracle's values are clamped at zero as
@@ -378,7 +378,7 @@ fn compare(pairs: impl Iterator<Item = ([f64; 3], [f64; 3])>) -> LevelError {
 }
 
 /// Measures an irradiance map (any representation, in its own axes; E or
-/// E/π as `scale` says) against the oracle's E ([`Oracle::irradiance`]),
+/// E/π as `scale` says) against the oracle's E (`Oracle::irradiance`),
 /// clamped at zero as the map is, at `texels` texels picked as in
 /// [`measure_level`].
 #[must_use]
@@ -626,7 +626,7 @@ impl ChainShape {
 
 /// A chain whose levels follow their lobes: level 0 the source at `size`,
 /// then levels from roughness `first` to 1 at equal steps of at most
-/// `step` in the logarithm of the lobe's width ([`lobe_width`]), each at
+/// `step` in the logarithm of the lobe's width (`specular::lobe_width`), each at
 /// the smallest face whose centre texel (2·atan(1/s) for s²) is at most
 /// 1/`texels` of its lobe's width, within [`min_size`, `max_size`]. Sizes
 /// need not be powers of two: this is not a mip chain.
@@ -677,7 +677,7 @@ pub fn lobe_chain(
 /// to 1 (`docs/design/lighting-method.md`, "How exact the lit renders are", has the
 /// measurements).
 #[must_use]
-pub fn render_chain(size: u32) -> ChainShape {
+pub(crate) fn render_chain(size: u32) -> ChainShape {
     let first = RENDER_FIRST_ROUGHNESS * (256.0 / size.max(1) as f32).sqrt();
     lobe_chain(
         size,
@@ -695,23 +695,23 @@ pub fn render_chain(size: u32) -> ChainShape {
 /// field (`scene::lit`'s `NearField`), which follows the input read
 /// bilinearly; a level lower than this, baked from the input's texels,
 /// differs from that reading near a one-texel sun.
-pub const RENDER_FIRST_ROUGHNESS: f32 = 0.13;
+pub(crate) const RENDER_FIRST_ROUGHNESS: f32 = 0.13;
 
 /// [`render_chain`]'s largest step in ln(lobe width) from one level to the
 /// next (the width grows by at most e^0.25 = 1.28 per level). Blended
 /// linearly in 1/α, two lobes this far apart stand for the lobe between
 /// them within about 1 % (L² over the sphere, a point light).
-pub const RENDER_WIDTH_STEP: f64 = 0.25;
+pub(crate) const RENDER_WIDTH_STEP: f64 = 0.25;
 
 /// Texels of [`render_chain`]'s levels per lobe width (at a face's
 /// centre), up to 1.5 × level 0's size: a level read at its own roughness
 /// is then within 0.4 % of the exact split sum, and more or fewer texels
 /// per lobe hardly change the worst error between levels.
-pub const RENDER_TEXELS_PER_LOBE: f64 = 4.0;
+pub(crate) const RENDER_TEXELS_PER_LOBE: f64 = 4.0;
 
 /// [`render_chain`]'s smallest face: roughness 1's level holds its lobe
 /// (a 2² level reads it several per cent too dark or bright).
-pub const RENDER_MIN_SIZE: u32 = 16;
+pub(crate) const RENDER_MIN_SIZE: u32 = 16;
 
 /// The specular chain and what was done to make it.
 #[derive(Clone, Debug)]
@@ -1170,7 +1170,7 @@ pub fn bake(
 /// # Errors
 ///
 /// As [`bake`].
-pub fn bake_owned(
+pub(crate) fn bake_owned(
     src: EnvImage,
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -1178,7 +1178,7 @@ pub fn bake_owned(
     bake_input(Cow::Owned(src), opts, progress, None)
 }
 
-/// What [`bake_owned_streaming`] hands each level of the specular chain
+/// What `bake_owned_streaming` hands each level of the specular chain
 /// to, as soon as the level is final: its index (0: the input resampled),
 /// the level as [`SpecularChain::levels`] will hold it, and its report.
 pub type LevelSink<'s> = dyn Fn(usize, &EnvImage, &LevelReport) -> Result<()> + Sync + 's;
@@ -1198,7 +1198,7 @@ pub type LevelSink<'s> = dyn Fn(usize, &EnvImage, &LevelReport) -> Result<()> + 
 ///
 /// As [`bake`]; an error `sink` returns stops the bake before its next
 /// level and is the bake's error.
-pub fn bake_owned_streaming(
+pub(crate) fn bake_owned_streaming(
     src: EnvImage,
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),

@@ -5,13 +5,13 @@
 //! a time), carried from the output's axes through the world (z up) into the
 //! input's axes (with an optional rotation on the way; see
 //! [`Representation::frame`]), forward-mapped into the input's charts and
-//! filtered there ([`Sampler`]); only the ray matters, so the output's
+//! filtered there (`Sampler`); only the ray matters, so the output's
 //! [`Mapping8::inverse8_ray`] feeds the input's [`Mapping8::forward8_ray`].
 //! Texels outside every chart (cross corners, the corners around a disk) are
 //! black. Bands of up to 128 rows run in parallel (rayon), each walked in
 //! tiles of 32 columns; within a band, batches are mapped two at a time and
 //! addressed 32 ahead of filtering while their texels load (see the
-//! [`crate::filter::sample`] module). With one sample per
+//! `crate::filter::sample` module). With one sample per
 //! texel, samples go straight into the output; N×N sub-samples, and every
 //! sample on a disk chart, go into a scratch tile and are averaged (on a disk,
 //! over the sub-samples inside it).

@@ -78,10 +78,8 @@
 //! use envmap_render::image::io::{write_rgb, ExrPrecision, SaveOptions};
 //!
 //! let table = DfgTable::new(DEFAULT_SIZE)?;
-//! let half = SaveOptions {
-//!     exr_precision: ExrPrecision::F16,
-//!     ..SaveOptions::default()
-//! };
+//! let mut half = SaveOptions::default();
+//! half.exr_precision = ExrPrecision::F16;
 //! // R = bias, G = scale + bias (Filament's); or single_scatter_image():
 //! // R = scale, G = bias. Column i: μ = (i + 0.5)/128; row j (top first):
 //! // r = (j + 0.5)/128.
@@ -915,14 +913,14 @@ impl DfgTable {
     /// ((size − 1)·x + ½)/size. The arguments are clamped to the outermost
     /// texels; NaN is taken as 0.
     #[must_use]
-    pub fn sample_single_scatter(&self, mu: f32, r: f32) -> [f32; 2] {
+    pub(crate) fn sample_single_scatter(&self, mu: f32, r: f32) -> [f32; 2] {
         bilinear(&self.single, self.size, self.grid, mu, r)
     }
 
     /// [`DfgTable::sample_single_scatter`] at each of `mu` and one `r`,
     /// into `out` (as many as both have): the r axis found once, each
     /// value the single lookup's bit for bit.
-    pub fn sample_single_scatter_at(&self, mu: &[f32], r: f32, out: &mut [[f32; 2]]) {
+    pub(crate) fn sample_single_scatter_at(&self, mu: &[f32], r: f32, out: &mut [[f32; 2]]) {
         let (n, r_axis) = (self.size as usize, axis(self.grid, self.size, r));
         let empty = n == 0 || self.single.len() < n * n;
         for (o, &m) in out.iter_mut().zip(mu) {

@@ -41,7 +41,7 @@
 //!   angle ([`Mapping::solid_angle`]) and its centre's direction, m chosen so
 //!   that each part passes the same test (at most 64).
 //!
-//! s(θ) is max(θ, W) for GGX, W = [`crate::filter::specular::lobe_width`]
+//! s(θ) is max(θ, W) for GGX, W = `crate::filter::specular::lobe_width`
 //! (near the peak the lobe changes over its own width, in the tail w falls
 //! as θ⁻⁴, changing by a fixed fraction over a fixed fraction of θ), and 1 rad
 //! for the cosine. Texels brighter than 64 × the map's mean (by the largest

@@ -8,7 +8,7 @@
 //! width follows the chart's shape (a cube face stays square, a latlong
 //! 2:1). Each texel of a level is the average of the texels of the level
 //! above that it covers, weighted by their exact solid angles
-//! ([`TexelWeights`]): a cube face's 2 × 2 texels by their own solid angles, a
+//! (`TexelWeights`): a cube face's 2 × 2 texels by their own solid angles, a
 //! latlong's by their rows'. Where a size is odd, a texel covers parts of
 //! texels; each part is weighted by the exact solid angle of the part
 //! ([`Mapping::solid_angle`] of the overlap). So every level keeps the
@@ -21,7 +21,7 @@
 //!
 //! [`Trilinear`] samples at a chart point and a fractional level `lod`:
 //! bilinear at levels ⌊lod⌋ and ⌊lod⌋ + 1, each with its representation's
-//! edge rule ([`Sampler`]: the cube seamless across faces and corners, the
+//! edge rule (`Sampler`: the cube seamless across faces and corners, the
 //! latlong wrapping and crossing its poles, read from a copy of each chart
 //! with a one-texel border that holds them), blended as
 //! `a + f·(b − a)`, f = lod − ⌊lod⌋. `lod` is clamped to the levels (NaN is
@@ -886,7 +886,7 @@ impl PreparedLevels {
     ///
     /// If `atlas` is not an atlas of `map`'s mapping, or a level cannot be
     /// made (see `downsample`).
-    pub fn below(map: &EnvImage, weights: &TexelWeights, atlas: Atlas) -> Result<Self> {
+    pub(crate) fn below(map: &EnvImage, weights: &TexelWeights, atlas: Atlas) -> Result<Self> {
         let mapping = map.mapping();
         if mapping.has_disk_charts() {
             return Ok(Self::new(Pyramid::new(
@@ -1043,7 +1043,7 @@ impl<'a> Trilinear<'a> {
     }
 
     /// A sampler whose level 0 is `base`, read in place through its plain
-    /// bilinear [`Sampler`] (no copy), and whose levels 1, 2, … are `below`'s
+    /// bilinear `Sampler` (no copy), and whose levels 1, 2, … are `below`'s
     /// levels, `below` being the pyramid of `base` one level down
     /// (`Pyramid::new(downsample(base, …)?, …)`). It saves the renderer a
     /// copy of the full-size map per render: the base, three quarters of a
@@ -1166,7 +1166,7 @@ impl<'a> Trilinear<'a> {
     /// (a hint only: results never depend on it), so that a batch asked
     /// for some batches ahead of its sampling rarely waits for memory.
     #[inline]
-    pub fn prefetch8(&self, q: &Uv8, lod: f32x8) {
+    pub(crate) fn prefetch8(&self, q: &Uv8, lod: f32x8) {
         let lods = lod.to_array();
         // A bit per lane for each level read.
         let mut read = [0u32; 32];

@@ -38,7 +38,7 @@
 //! # The projection
 //!
 //! L_lm = Σ over texels of L·Y_lm(d)·Ω: d the direction at the texel's
-//! centre, Ω the texel's exact solid angle ([`TexelWeights`]; texels of a
+//! centre, Ω the texel's exact solid angle (`TexelWeights`; texels of a
 //! disk whose centre is outside it weigh 0). The sum is made in the map's own
 //! axes and then taken to canonical axes through the image's frame
 //! ([`Representation::frame`], exactly: see Frames). Texels go eight at a time:
@@ -118,7 +118,7 @@
 //! window for all, so colours do not shift), between 1 (band 0 alone,
 //! non-negative unless a channel's mean is negative) and 13 (doubled while
 //! still non-negative), to 10⁻⁶ relative. The minimum over the sphere
-//! ([`Sh9::irradiance_minimum`]) is searched over 1024 Fibonacci points
+//! (`Sh9::irradiance_minimum`) is searched over 1024 Fibonacci points
 //! (≈ 0.11 rad apart), the 8 lowest refined by Newton's method on the sphere
 //! (E is a quadratic there: E(n) = c + b·n + nᵀQn); tests check it against
 //! a dense Fibonacci grid and a zonal closed form.
@@ -503,12 +503,13 @@ impl Sh9 {
         Some(lo)
     }
 
+    #[cfg(test)]
     /// The minimum over the sphere of the irradiance E these coefficients
     /// give (convolved first if they are radiance), per channel, with
     /// where it is (canonical axes); see the [module docs](self) for how it
     /// is found.
     #[must_use]
-    pub fn irradiance_minimum(&self) -> [(f64, [f64; 3]); 3] {
+    pub(crate) fn irradiance_minimum(&self) -> [(f64, [f64; 3]); 3] {
         let e = self.irradiance();
         [0, 1, 2].map(|c| {
             let (v, d) = Quadric::of(&e, c).minimum();

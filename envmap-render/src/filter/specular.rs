@@ -19,9 +19,9 @@
 //!
 //! [`Method::Exact`] sums the integral by brute force over every texel of a
 //! pyramid level, each texel l_j with its exact solid angle Ω_j
-//! ([`TexelWeights`]): LD(R) = Σ w(R·l_j) Ω_j L_j / Σ w(R·l_j) Ω_j. The level
+//! (`TexelWeights`): LD(R) = Σ w(R·l_j) Ω_j L_j / Σ w(R·l_j) Ω_j. The level
 //! is the coarsest whose texels are at most an eighth of the lobe's width
-//! ([`lobe_width`]), or the base.
+//! (`lobe_width`), or the base.
 //!
 //! # Importance-sampled
 //!
@@ -223,7 +223,7 @@ pub fn lobe_normalizer(alpha: f64) -> f64 {
 /// An angular width of the GGX lobe in l (radians): twice the half angle at
 /// which D falls to half its peak, 2·atan(α·√(√2 − 1)).
 #[must_use]
-pub fn lobe_width(alpha: f64) -> f64 {
+pub(crate) fn lobe_width(alpha: f64) -> f64 {
     2.0 * (alpha * (std::f64::consts::SQRT_2 - 1.0).sqrt()).atan()
 }
 
@@ -495,7 +495,7 @@ pub(crate) fn texel_pitch(img: &EnvImage) -> f64 {
 }
 
 /// The pyramid level an exact sum at roughness `r` uses: the coarsest whose
-/// texels are at most an eighth of [`lobe_width`] across (a cube face of s
+/// texels are at most an eighth of `lobe_width` across (a cube face of s
 /// texels: π/2 / s), or level 0.
 #[must_use]
 pub fn exact_level(p: &Pyramid, roughness: f32) -> usize {

@@ -306,7 +306,7 @@ const DETECTED: [((u32, u32), AnyMapping, Layout, &str); 6] = [
 
 /// `w : h` reduced to lowest terms (`(0, 0)` for an empty image).
 #[must_use]
-pub fn aspect_ratio(width: u32, height: u32) -> (u32, u32) {
+pub(crate) fn aspect_ratio(width: u32, height: u32) -> (u32, u32) {
     let (mut a, mut b) = (width, height);
     while b != 0 {
         (a, b) = (b, a % b);

@@ -139,7 +139,7 @@ pub fn identify(mapping: AnyMapping, frame: Frame) -> FileAxes {
 /// The tags envmap writes for an image of `repr` (`layout` as stored;
 /// `face` for one file of a six-file cube).
 #[must_use]
-pub fn tags(
+pub(crate) fn tags(
     repr: &Representation,
     layout: Option<Layout>,
     face: Option<&str>,
@@ -158,7 +158,7 @@ pub fn tags(
 
 /// The words envmap writes beside the tags.
 #[must_use]
-pub fn description(repr: &Representation, layout: Option<Layout>, face: Option<&str>) -> String {
+pub(crate) fn description(repr: &Representation, layout: Option<Layout>, face: Option<&str>) -> String {
     let axes = identify(repr.mapping, repr.frame);
     let what = match (layout.or_else(|| repr.layout()), face) {
         (_, Some(f)) => format!("face {f} of a cube written as six files"),
@@ -190,7 +190,7 @@ pub(crate) fn ascii(s: &str) -> String {
 
 /// `envmap` and its version, for the software tag.
 #[must_use]
-pub fn software() -> String {
+pub(crate) fn software() -> String {
     format!("envmap {}", env!("CARGO_PKG_VERSION"))
 }
 

@@ -220,7 +220,8 @@ impl TexelFormat {
 
     /// The format of a `VkFormat` number, if envmap reads it.
     #[must_use]
-    pub const fn from_vk_format(vk: u32) -> Option<Self> {
+    #[cfg_attr(not(feature = "ktx2"), allow(dead_code))]
+    pub(crate) const fn from_vk_format(vk: u32) -> Option<Self> {
         Some(match vk {
             97 => TexelFormat::Rgba16f,
             109 => TexelFormat::Rgba32f,
@@ -247,7 +248,8 @@ impl TexelFormat {
 
     /// The format of a `DXGI_FORMAT` number, if envmap reads it.
     #[must_use]
-    pub const fn from_dxgi_format(dxgi: u32) -> Option<Self> {
+    #[cfg_attr(not(feature = "dds"), allow(dead_code))]
+    pub(crate) const fn from_dxgi_format(dxgi: u32) -> Option<Self> {
         Some(match dxgi {
             10 => TexelFormat::Rgba16f,
             2 => TexelFormat::Rgba32f,
@@ -273,7 +275,8 @@ impl TexelFormat {
     /// KTX2's `typeSize`: the size of one component, or of the packed word
     /// for the `_PACK32` formats.
     #[must_use]
-    pub const fn type_size(self) -> u32 {
+    #[cfg_attr(not(feature = "ktx2"), allow(dead_code))]
+    pub(crate) const fn type_size(self) -> u32 {
         match self {
             TexelFormat::Rgba16f | TexelFormat::Rgb16f => 2,
             _ => 4,
@@ -478,13 +481,6 @@ fn clamp_counted(v: f32, lo: f32, hi: f32, c: &mut Clamped) -> f32 {
     }
 }
 
-/// One binary16 component: clamped to ±65504 (counted), then rounded to
-/// nearest even (`half`).
-#[must_use]
-pub fn pack_f16(v: f32, c: &mut Clamped) -> u16 {
-    f16::from_f32(clamp_counted(v, -F16_MAX, F16_MAX, c))
-}
-
 /// binary16 conversions (IEEE 754-2008 §3.6; rounding to nearest, ties to
 /// even): the `half` crate's, which use the CPU's F16C where it has it,
 /// in builds with a format that stores half floats (`exr`, `ktx2`, `dds`,
@@ -495,6 +491,7 @@ pub(crate) mod f16 {
     mod imp {
         use half::slice::{HalfBitsSliceExt, HalfFloatSliceExt};
 
+        #[cfg(test)]
         pub(crate) fn from_f32(v: f32) -> u16 {
             half::f16::from_f32(v).to_bits()
         }
@@ -512,6 +509,7 @@ pub(crate) mod f16 {
 
     #[cfg(not(any(feature = "exr", feature = "ktx2", feature = "dds", feature = "ktx1")))]
     mod imp {
+        #[cfg(test)]
         pub(crate) fn from_f32(v: f32) -> u16 {
             super::own_from_f32(v)
         }
@@ -529,7 +527,9 @@ pub(crate) mod f16 {
         }
     }
 
-    pub(crate) use imp::{from_f32, from_f32_slice, to_f32_slice};
+    #[cfg(test)]
+    pub(crate) use imp::from_f32;
+    pub(crate) use imp::{from_f32_slice, to_f32_slice};
 
     /// f32 → binary16 bits, rounded to nearest, ties to even; beyond
     /// 65504 (after rounding) infinite; NaN stays NaN.

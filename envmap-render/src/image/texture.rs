@@ -140,7 +140,7 @@ impl Texture {
     /// them in their key/value data; DDS has no place for them. Empty for a
     /// texture of plain images, or a file that does not say.
     #[must_use]
-    pub fn tags(&self) -> &[(String, String)] {
+    pub(crate) fn tags(&self) -> &[(String, String)] {
         &self.tags
     }
 
@@ -290,7 +290,7 @@ impl Texture {
     /// Level `p` as one plain image: a cube's six faces side by side (a
     /// horizontal strip, +X … −Z), a 2D level as it is.
     #[must_use]
-    pub fn level_rgb(&self, p: usize) -> Option<RgbImage> {
+    pub(crate) fn level_rgb(&self, p: usize) -> Option<RgbImage> {
         let level = self.levels.get(p)?;
         if self.kind == TextureKind::Flat {
             return Some(level[0].clone());

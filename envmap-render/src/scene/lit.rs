@@ -22,7 +22,7 @@
 //! split sum ("Real Shading in Unreal Engine 4", 2013): the prefiltered
 //! radiance assumes N = V = R.
 //!
-//! [`exact_split_sum`] is the same sum with nothing baked: the prefiltered
+//! `exact_split_sum` is the same sum with nothing baked: the prefiltered
 //! integral of the input itself at r, the DFG integral at (N·V, r) and the
 //! exact irradiance. The render's distance from it is what the chain and
 //! the table cost (`tests/split_sum.rs`, `docs/design/lighting-method.md`).
@@ -113,7 +113,7 @@ impl LevelBlend {
     /// smoother (`lo`) at roughness `r` between them, in [0, 1].
     #[inline]
     #[must_use]
-    pub fn weight(self, lo: f32, hi: f32, r: f32) -> f32 {
+    pub(crate) fn weight(self, lo: f32, hi: f32, r: f32) -> f32 {
         let (a, b, x) = (self.key(lo), self.key(hi), self.key(r));
         let t = if a.is_finite() {
             (x - a) / (b - a)
@@ -275,7 +275,7 @@ impl LitEnvironment {
     }
 
     /// What envmap's split-sum render reads, baked from `src` in its own
-    /// axes: the renderer's chain ([`render_chain`]: level 0 at `size`²,
+    /// axes: the renderer's chain (`render_chain`: level 0 at `size`²,
     /// then levels from roughness 0.13 to 1 spaced evenly in the logarithm
     /// of the lobe's width, each as large as its lobe needs, the smallest
     /// 16²), a 32² irradiance cube of E/π from the SH9, and a 128² DFG
@@ -476,12 +476,12 @@ fn split_sum(
 ///   direction as the render's (R, or with `dominant` the lobe's dominant
 ///   direction mix(R, N, r²)) with N = V = that direction as the split sum
 ///   assumes, by brute force over every texel of the input
-///   ([`Oracle::prefiltered`]: the input as given, read between texel
-///   centres as `oracle` does, [`Oracle::bilinear`] for what renderers
+///   (`Oracle::prefiltered`: the input as given, read between texel
+///   centres as `oracle` does, `Oracle::bilinear` for what renderers
 ///   sample; never a chain), clamped at zero as the chain's levels are;
 /// * (A, B): the DFG integral at the point's own N·V and r
 ///   ([`dfg_integral`], f64 quadrature, no table);
-/// * E/π: the exact cosine integral of the input ([`Oracle::irradiance`]),
+/// * E/π: the exact cosine integral of the input (`Oracle::irradiance`),
 ///   only when the material has a diffuse part.
 ///
 /// Combined as the split sum combines them (the [module docs](self)). The
@@ -491,7 +491,7 @@ fn split_sum(
 /// Slow: an oracle integral per point; the measure the renders are held
 /// to.
 #[must_use]
-pub fn exact_split_sum(
+pub(crate) fn exact_split_sum(
     oracle: &Oracle<'_>,
     m: &Material,
     n: &[Vec3],

@@ -78,7 +78,7 @@ impl Material {
     /// The reflectance at normal incidence: mix(dielectric F0, base colour,
     /// metallic).
     #[must_use]
-    pub fn f0(&self) -> [f32; 3] {
+    pub(crate) fn f0(&self) -> [f32; 3] {
         let m = self.metallic.clamp(0.0, 1.0);
         self.base_color
             .map(|b| self.dielectric_f0 * (1.0 - m) + b.clamp(0.0, 1.0) * m)

@@ -207,7 +207,7 @@ impl Mesh {
     ///
     /// It spans x from −3.0 (handle) to about 3.434 (spout tip; the control
     /// points reach 3.525) and z from 0 to 3.15. `subdivisions` is raised to at least 1. Built from
-    /// [`teapot_patches`]; see [`Mesh::from_patches`].
+    /// `teapot_patches`; see `Mesh::from_patches`.
     #[must_use]
     pub fn teapot(subdivisions: u32) -> Mesh {
         Mesh::from_patches(teapot_patches(), subdivisions)
@@ -221,7 +221,7 @@ impl Mesh {
     ///
     /// `subdivisions` is raised to at least 1.
     #[must_use]
-    pub fn from_patches(patches: &[BezierPatch], subdivisions: u32) -> Mesh {
+    pub(crate) fn from_patches(patches: &[BezierPatch], subdivisions: u32) -> Mesh {
         let n = subdivisions.max(1);
         let flips = outward_flips(patches);
         let mut welder = Welder::default();
@@ -267,7 +267,7 @@ impl Mesh {
 /// this would give no patches (and [`Mesh::teapot`] an empty mesh) rather
 /// than panic.
 #[must_use]
-pub fn teapot_patches() -> &'static [BezierPatch] {
+pub(crate) fn teapot_patches() -> &'static [BezierPatch] {
     static PATCHES: OnceLock<Vec<BezierPatch>> = OnceLock::new();
     PATCHES.get_or_init(|| parse_bpt(TEAPOT_BPT).unwrap_or_default())
 }

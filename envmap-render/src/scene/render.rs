@@ -45,7 +45,7 @@
 //!    silhouette or from another part of the object. For a background pixel
 //!    it is the view ray's own angular size.
 //! 2. **Texel size** where the lookup lands: the square root of the base
-//!    texel's exact solid angle ([`TexelWeights`], one lookup per pixel), so
+//!    texel's exact solid angle (`TexelWeights`, one lookup per pixel), so
 //!    a cube face's corners (texels 5.2 times smaller in solid angle than
 //!    its centre) or a latlong's poles get their own scale.
 //! 3. **Level** λ = log2(footprint / texel) − 1, at least 0 (the base),
@@ -69,7 +69,7 @@
 //! as level 0 (`Trilinear::over_prepared`); the levels below it (every level down
 //! to 1², about a third of the map's texels) are made from it, each in one
 //! parallel pass over the level above, written straight into its copy with
-//! a one-texel border (each but a disk map's; [`PreparedLevels::below`]: no
+//! a one-texel border (each but a disk map's; `PreparedLevels::below`: no
 //! level image made, none copied), which [`MipLevels`] keeps: renders from
 //! prebuilt levels copy nothing. Building them is the option's main cost, timed
 //! beside the plain render in the render bench (`envmap-bench`,
@@ -225,7 +225,7 @@ impl MipLevels {
     ///
     /// # Errors
     ///
-    /// Only if a level cannot be made (see [`PreparedLevels::below`]).
+    /// Only if a level cannot be made (see `PreparedLevels::below`).
     pub fn new(map: &EnvImage) -> Result<Self> {
         let (cw, ch) = map.cell_size();
         let mapping = map.mapping();
@@ -409,7 +409,7 @@ pub enum Shading<'a> {
     /// material's own roughness around the same lookup direction, the DFG
     /// integral at the pixel's own N·V and roughness, and the exact
     /// irradiance, combined as the split sum combines them
-    /// ([`crate::scene::lit::exact_split_sum`]); no chain, table or
+    /// (`crate::scene::lit::exact_split_sum`); no chain, table or
     /// irradiance map. Slow (an oracle integral per pixel); per-vertex mode
     /// shades per pixel.
     ExactSplitSum {
