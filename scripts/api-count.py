@@ -7,8 +7,9 @@
 
 Walks the items reachable from the crate root: public functions and
 methods (inherent impls and traits; trait impls not counted), public
-modules (the root included), re-exports (`pub use` items; a glob counts
-once), public struct fields, and modules reachable by two paths. Exits 1
+modules (the root included; a private module whose items a glob
+re-exports is not one), re-exports (`pub use` items; a glob counts once,
+and the re-exports inside the module it brings in count too), public struct fields, and modules reachable by two paths. Exits 1
 when a count is above its --max, or any module has two paths.
 """
 import json, sys
@@ -41,7 +42,33 @@ def visit_module(mid, path):
             if tgt is not None and str(tgt) in idx:
                 t = idx[str(tgt)]
                 if inner_kind(t) == "module" and t.get("crate_id",0)==0:
-                    visit_module(tgt, path + "::" + c["inner"]["use"]["name"])
+                    if c["inner"]["use"].get("is_glob"):
+                        # `pub use m::*`: m's public items are reachable
+                        # here; m itself is not a public path.
+                        visit_glob(tgt, path)
+                    else:
+                        visit_module(tgt, path + "::" + c["inner"]["use"]["name"])
+                else:
+                    visit_item(tgt)
+        else:
+            visit_item(child)
+def visit_glob(mid, path):
+    # The items a glob re-export brings into `path`: each public item of the
+    # module (public submodules as modules of `path`, re-exports followed).
+    for child in idx[str(mid)]["inner"]["module"]["items"]:
+        c = idx.get(str(child))
+        if c is None or c.get("crate_id", 0) != 0: continue
+        k = inner_kind(c)
+        if c["visibility"] != "public": continue
+        if k == "module":
+            visit_module(child, path + "::" + c["name"])
+        elif k == "use":
+            reexports.append(path + "::" + c["inner"]["use"]["name"])
+            tgt = c["inner"]["use"].get("id")
+            if tgt is not None and str(tgt) in idx:
+                t = idx[str(tgt)]
+                if inner_kind(t) == "module" and t.get("crate_id",0)==0:
+                    visit_glob(tgt, path) if c["inner"]["use"].get("is_glob") else visit_module(tgt, path + "::" + c["inner"]["use"]["name"])
                 else:
                     visit_item(tgt)
         else:

@@ -19,8 +19,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use envmap_core::AnyMapping;
 use envmap_render::filter::bake::{bake, specular_chain, BakeOptions};
 use envmap_render::image::{FileAxes, Representation};
-use envmap_render::scene::lit::LitEnvironment;
-use envmap_render::scene::procedural::{fill, small_sun, smooth};
+use envmap_render::scene::LitEnvironment;
+use envmap_render::scene::{fill, small_sun, smooth};
 
 fn bench(c: &mut Criterion) {
     let pool = common::pool(2);

@@ -13,10 +13,10 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use envmap_core::{AnyMapping, Atlas, Frame};
-use envmap_render::filter::convert::{convert, convert_into, ConvertOptions};
 use envmap_render::filter::sample::Filter;
+use envmap_render::filter::{convert, convert_into, ConvertOptions};
 use envmap_render::image::Representation;
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::scene::{fill, smooth};
 
 fn bench(c: &mut Criterion) {
     let src = fill(

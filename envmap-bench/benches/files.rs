@@ -40,10 +40,10 @@ use std::path::{Path, PathBuf};
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use envmap_core::AnyMapping;
 use envmap_render::bake::Baker;
-use envmap_render::filter::convert::{convert, ConvertOptions, Streamed};
-use envmap_render::image::io::{load, save, ExrCompression, LoadOptions, Outputs, SaveOptions};
+use envmap_render::filter::{convert, ConvertOptions, Streamed};
+use envmap_render::image::{load, save, ExrCompression, LoadOptions, Outputs, SaveOptions};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::scene::{fill, smooth};
 
 /// A scratch directory, removed when dropped.
 struct Scratch(PathBuf);

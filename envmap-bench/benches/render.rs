@@ -27,9 +27,9 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use envmap_core::AnyMapping;
 use envmap_render::image::Representation;
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::mesh::Mesh;
-use envmap_render::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::Mesh;
+use envmap_render::scene::{render, Camera, EnvSource, Mode, RenderOptions};
 
 fn bench(c: &mut Criterion) {
     let env = Builtin::Sky
@@ -48,14 +48,12 @@ fn bench(c: &mut Criterion) {
     });
     // The mip levels made once, as a program rendering one map many times
     // would (the `per-pixel-mip` case builds them in every render).
-    let levels = envmap_render::scene::render::MipLevels::new(&env).expect("mip levels");
+    let levels = envmap_render::scene::MipLevels::new(&env).expect("mip levels");
     // What the `per-pixel-mip` case adds to the prebuilt one: the levels.
     let pool = common::pool(2);
     g.bench_function("mip-levels/2-threads", |b| {
         b.iter(|| {
-            pool.install(|| {
-                envmap_render::scene::render::MipLevels::new(black_box(&env)).expect("levels")
-            })
+            pool.install(|| envmap_render::scene::MipLevels::new(black_box(&env)).expect("levels"))
         })
     });
     // Levels made again for each render into the memory of the last
@@ -114,7 +112,7 @@ fn bench(c: &mut Criterion) {
     // Lit: the split sum from the sky's bake, as engines read a mip chain
     // and as envmap's renderer reads its own.
     use envmap_render::filter::bake::BakeOptions;
-    use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
+    use envmap_render::scene::{LevelBlend, LitEnvironment};
     let mip = LitEnvironment::bake_with(&env, &BakeOptions::default())
         .expect("bake")
         .with_blend(LevelBlend::Roughness);
@@ -129,11 +127,11 @@ fn bench(c: &mut Criterion) {
             o.width = width;
             o.height = height;
             o.samples = 1;
-            o.shading = envmap_render::scene::render::Shading::SplitSum {
+            o.shading = envmap_render::scene::Shading::SplitSum {
                 env: lit,
-                material: envmap_render::scene::material::Material {
+                material: envmap_render::scene::Material {
                     roughness: 0.5,
-                    ..envmap_render::scene::material::Material::default()
+                    ..envmap_render::scene::Material::default()
                 },
                 multiscatter: false,
                 dominant: true,

@@ -22,7 +22,7 @@ use envmap_render::filter::sh::{
     IrradianceScale, Sh9,
 };
 use envmap_render::image::Representation;
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::scene::{fill, smooth};
 
 fn bench(c: &mut Criterion) {
     let src = fill(

@@ -609,13 +609,13 @@ pub fn mappings(s: &Settings) -> Vec<Row> {
 /// If the images cannot be made (sizes are fixed and valid).
 #[must_use]
 pub fn convert_and_render(s: &Settings) -> Vec<Row> {
-    use envmap_render::filter::convert::{convert, convert_into, ConvertOptions};
     use envmap_render::filter::Filter;
+    use envmap_render::filter::{convert, convert_into, ConvertOptions};
     use envmap_render::image::Representation;
-    use envmap_render::scene::environments::Builtin;
-    use envmap_render::scene::mesh::Mesh;
-    use envmap_render::scene::procedural::{fill, smooth};
-    use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions};
+    use envmap_render::scene::Builtin;
+    use envmap_render::scene::Mesh;
+    use envmap_render::scene::{fill, smooth};
+    use envmap_render::scene::{render, Camera, EnvSource, RenderOptions};
 
     let (w, face) = s.convert_size;
     let src = fill(

@@ -5,12 +5,12 @@ use std::path::Path;
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, Frame};
 
-use envmap_render::image::convention::{Convention, World};
-use envmap_render::image::face_ops::FaceTransforms;
-use envmap_render::image::io::FaceNames;
-use envmap_render::image::layout::Layout;
+use envmap_render::image::FaceNames;
+use envmap_render::image::FaceTransforms;
+use envmap_render::image::Layout;
 use envmap_render::image::Representation;
-use envmap_render::scene::render::Mode;
+use envmap_render::image::{Convention, World};
+use envmap_render::scene::Mode;
 
 pub(crate) type CliResult = Result<(), crate::Failure>;
 
@@ -174,18 +174,18 @@ impl TextureFlags {
 pub(crate) struct WriteFlags {
     /// Compression of .exr outputs: auto (the default: f32 uncompressed but for the lines through a cube cross's empty cells, which rle takes to a few bytes; rle for f16), none, rle, zips, zip, piz, pxr24 (lossy for f32), b44, b44a (lossy, f16 only). auto writes a cube cross at half the size of none for a little more write time; rle on every line costs more; the other lossless codecs shrink a real f32 photograph by a part at many times the write time (docs/performance.md).
     #[arg(long, value_parser = parse_exr_compression)]
-    pub(crate) exr_compression: Option<envmap_render::image::io::ExrCompression>,
+    pub(crate) exr_compression: Option<envmap_render::image::ExrCompression>,
     /// When outputs are flushed to the disk before they are renamed into place: replacing (the default: when an existing file is replaced, so that a power loss cannot leave neither), always, never. Every output is written to a temporary file and renamed either way.
     #[arg(long, value_parser = parse_sync)]
-    pub(crate) sync: Option<envmap_render::image::io::SyncPolicy>,
+    pub(crate) sync: Option<envmap_render::image::SyncPolicy>,
 }
 
 impl WriteFlags {
     /// `base` with these flags' choices.
     pub(crate) fn over<'a>(
         &self,
-        base: envmap_render::image::io::SaveOptions<'a>,
-    ) -> envmap_render::image::io::SaveOptions<'a> {
+        base: envmap_render::image::SaveOptions<'a>,
+    ) -> envmap_render::image::SaveOptions<'a> {
         let mut o = base;
         o.exr_compression = self.exr_compression.unwrap_or(o.exr_compression);
         o.sync = self.sync.unwrap_or(o.sync);
@@ -196,12 +196,12 @@ impl WriteFlags {
 /// `--exr-compression`: a codec's name.
 pub(crate) fn parse_exr_compression(
     s: &str,
-) -> Result<envmap_render::image::io::ExrCompression, String> {
+) -> Result<envmap_render::image::ExrCompression, String> {
     s.parse().map_err(|e: envmap_render::Error| e.to_string())
 }
 
 /// `--sync`: a sync policy's name.
-pub(crate) fn parse_sync(s: &str) -> Result<envmap_render::image::io::SyncPolicy, String> {
+pub(crate) fn parse_sync(s: &str) -> Result<envmap_render::image::SyncPolicy, String> {
     s.parse().map_err(|e: envmap_render::Error| e.to_string())
 }
 

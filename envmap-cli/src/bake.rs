@@ -18,12 +18,12 @@ use envmap_render::filter::bake::{chain_sizes, Bake, BakeOptions, Quality};
 use envmap_render::filter::dfg::DfgGrid;
 use envmap_render::filter::sh::{IrradianceScale, ShWindow};
 use envmap_render::filter::specular::RoughnessRule;
-use envmap_render::image::convention::{Convention, FileAxes, World};
-use envmap_render::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
-use envmap_render::image::layout::Layout;
 use envmap_render::image::FileFormat;
+use envmap_render::image::Layout;
+use envmap_render::image::{load_detailed, LoadOptions, NonFinite, SaveOptions};
+use envmap_render::image::{Convention, FileAxes, World};
 use envmap_render::image::{EnvImage, Representation};
-use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::Builtin;
 
 #[derive(Args)]
 pub(crate) struct BakeArgs {

@@ -13,20 +13,19 @@ use crate::args::{
     parse_layout, parse_mapping, parse_rotation, parse_world, set_threads, warn_clamped,
     warn_replaced, CliResult, TextureFlags, WriteFlags,
 };
-use envmap_render::filter::convert::{auto_samples, convert, ConvertOptions, Streamed};
 use envmap_render::filter::pyramid::Pyramid;
 use envmap_render::filter::Filter;
-use envmap_render::image::convention::{Convention, FileAxes, World};
-use envmap_render::image::face_ops::FaceTransforms;
-use envmap_render::image::io::FaceNames;
-use envmap_render::image::io::Outputs;
-use envmap_render::image::io::{
+use envmap_render::filter::{auto_samples, convert, ConvertOptions, Streamed};
+use envmap_render::image::FaceNames;
+use envmap_render::image::FaceTransforms;
+use envmap_render::image::FileFormat;
+use envmap_render::image::Layout;
+use envmap_render::image::Outputs;
+use envmap_render::image::Texture;
+use envmap_render::image::{
     load_detailed, save, ExrPrecision, LoadOptions, Loaded, NonFinite, SaveOptions,
 };
-use envmap_render::image::layout::Layout;
-use envmap_render::image::metadata;
-use envmap_render::image::FileFormat;
-use envmap_render::image::Texture;
+use envmap_render::image::{Convention, FileAxes, World};
 use envmap_render::image::{EnvImage, Representation, TextureOptions};
 
 #[derive(Args)]
@@ -285,7 +284,7 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         o
     };
     let (src_w, src_h, src_mapping) = (src.width(), src.height(), src.mapping());
-    let src_axes = metadata::identify(src_mapping, src.representation().frame);
+    let src_axes = envmap_render::image::identify(src_mapping, src.representation().frame);
     let streams = matches!(FileFormat::from_path(&a.output), Ok(FileFormat::Exr));
     let (times, written) = if streams {
         // OpenEXR is written as the rows are made: no whole converted image

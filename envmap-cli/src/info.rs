@@ -11,14 +11,13 @@ use crate::args::{
     load_error, parse_convention, parse_face_transforms, parse_layout, parse_mapping, parse_world,
     CliResult,
 };
-use envmap_render::image::convention::{Convention, FileAxes, World};
-use envmap_render::image::face_ops::FaceTransforms;
-use envmap_render::image::io::{load_detailed, LoadOptions};
-use envmap_render::image::layout::Layout;
-use envmap_render::image::metadata;
 use envmap_render::image::texture::{level_size, TextureFile, TextureKind};
 use envmap_render::image::EnvImage;
+use envmap_render::image::FaceTransforms;
 use envmap_render::image::FileFormat;
+use envmap_render::image::Layout;
+use envmap_render::image::{load_detailed, LoadOptions};
+use envmap_render::image::{Convention, FileAxes, World};
 
 #[derive(Args)]
 pub(crate) struct InfoArgs {
@@ -115,7 +114,7 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
             .source
             .tags
             .iter()
-            .find(|(k, _)| k == metadata::CONTENT)
+            .find(|(k, _)| k == envmap_render::image::FileMetadata::CONTENT_KEY)
         {
             p(&mut out, "content", c.clone())?;
         }
@@ -132,7 +131,7 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
             "axes",
             format!(
                 "{} ({whence})",
-                metadata::identify(repr.mapping, repr.frame).describe(repr.mapping)
+                envmap_render::image::identify(repr.mapping, repr.frame).describe(repr.mapping)
             ),
         )?;
         p(

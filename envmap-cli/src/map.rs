@@ -15,9 +15,9 @@ use crate::args::{
 };
 use crate::text::{MapLines, UnmapLines};
 use envmap_render::cancel;
-use envmap_render::image::convention::{Convention, World};
-use envmap_render::image::layout::Layout;
+use envmap_render::image::Layout;
 use envmap_render::image::Representation;
+use envmap_render::image::{Convention, World};
 use envmap_render::Error;
 
 #[derive(Args)]

@@ -17,16 +17,16 @@ use envmap_render::bake::{Preset, Target};
 use envmap_render::filter::bake::BakeOptions;
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::Filter;
-use envmap_render::image::convention::{Convention, FileAxes, World};
-use envmap_render::image::io::{load_detailed, LoadOptions, NonFinite, SaveOptions};
 use envmap_render::image::Representation;
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
-use envmap_render::scene::material::Material;
-use envmap_render::scene::mesh::Mesh;
-use envmap_render::scene::render::{
+use envmap_render::image::{load_detailed, LoadOptions, NonFinite, SaveOptions};
+use envmap_render::image::{Convention, FileAxes, World};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::Material;
+use envmap_render::scene::Mesh;
+use envmap_render::scene::{
     light_table, render, Camera, EnvSource, Mode, Progress, RenderOptions, Shading,
 };
+use envmap_render::scene::{LevelBlend, LitEnvironment};
 
 #[derive(Args)]
 pub(crate) struct RenderArgs {
@@ -397,7 +397,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         o.cancel = Some(stop);
         o
     };
-    envmap_render::image::io::write_rgb(&img, &a.output, &sopts)?;
+    envmap_render::image::write_rgb(&img, &a.output, &sopts)?;
     note!(
         "{} {}×{} ({} triangles, {} lookups, {}×{} samples): {:.0} ms",
         a.output.display(),

@@ -11,7 +11,7 @@ use envmap_core::AnyMapping;
 use envmap_render::bake::{Baker, Preset, Target};
 use envmap_render::image::FileFormat;
 use envmap_render::image::{FileAxes, Representation, TexelFormat};
-use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::Builtin;
 
 use common::{envmap, text};
 
@@ -193,7 +193,7 @@ fn engine_upload_data_is_the_ktx2_files_levels() {
 /// without a face black, in each cube layout a bake writes as one image.
 #[test]
 fn exr_levels_read_back_face_for_face_in_every_layout() {
-    use envmap_render::image::io::{load, LoadOptions};
+    use envmap_render::image::{load, LoadOptions};
     use envmap_render::Layout;
     let dir = tempfile::tempdir().expect("tempdir");
     let src = source();

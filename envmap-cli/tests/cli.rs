@@ -4,9 +4,9 @@ use std::path::Path;
 use std::process::Output;
 
 use envmap_core::AnyMapping;
-use envmap_render::image::io::{save, SaveOptions};
 use envmap_render::image::Representation;
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::image::{save, SaveOptions};
+use envmap_render::scene::{fill, smooth};
 
 mod common;
 use common::{envmap, envmap_stdin, text};
@@ -124,8 +124,7 @@ fn convert_and_info_happy_paths() {
         height: 8,
         pixels: vec![[0.5; 3]; 64],
     };
-    envmap_render::image::io::write_rgb(&plain, d.join("square.exr"), &SaveOptions::default())
-        .unwrap();
+    envmap_render::image::write_rgb(&plain, d.join("square.exr"), &SaveOptions::default()).unwrap();
     let o = envmap(&["info", "square.exr"], d);
     assert_fails(&o, 1, "square.exr");
     let o = envmap(&["info", "square.exr", "--from", "sphere"], d);
@@ -208,7 +207,7 @@ fn mistakes_get_clear_errors() {
         height: 30,
         pixels: img.pixels()[..1500].to_vec(),
     };
-    envmap_render::image::io::write_rgb(&rgb, d.join("odd.png"), &SaveOptions::default()).unwrap();
+    envmap_render::image::write_rgb(&rgb, d.join("odd.png"), &SaveOptions::default()).unwrap();
     let o = envmap(&["convert", "odd.png", "out.exr", "--to", "cube"], d);
     assert_fails(&o, 1, "odd.png");
     assert!(!d.join("out.exr").exists());

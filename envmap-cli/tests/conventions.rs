@@ -7,10 +7,10 @@ use std::fs;
 use std::path::Path;
 
 use envmap_core::{AnyMapping, Atlas, Frame};
-use envmap_render::image::face_ops::{FaceTransforms, FaceTurn};
-use envmap_render::image::io::{face_paths_named, load, load_detailed, FaceNames, LoadOptions};
+use envmap_render::image::{face_paths_named, load, load_detailed, FaceNames, LoadOptions};
 use envmap_render::image::{Convention, FileAxes, World};
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::image::{FaceTransforms, FaceTurn};
+use envmap_render::scene::{fill, smooth};
 use envmap_render::{save, EnvImage, Representation, SaveOptions};
 
 mod common;
@@ -150,7 +150,7 @@ fn every_naming_scheme_and_face_transform_round_trips() {
         let names = face_paths_named(&sub.join("sky.exr"), scheme).unwrap();
         assert_eq!(written, names.to_vec(), "{scheme}");
         // The stored +x face is the GL face turned.
-        let stored = envmap_render::image::io::read_rgb(&names[0], u64::MAX, None)
+        let stored = envmap_render::image::read_rgb(&names[0], u64::MAX, None)
             .unwrap()
             .0;
         assert_eq!(

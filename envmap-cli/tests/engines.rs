@@ -9,7 +9,7 @@ mod common;
 use std::path::Path;
 
 use common::{entries, envmap, text};
-use envmap_render::image::texel::{unpack_b10g11r11, TexelFormat};
+use envmap_render::image::{unpack_b10g11r11, TexelFormat};
 
 fn ok(o: &std::process::Output) -> String {
     assert!(
@@ -350,7 +350,7 @@ fn texture_flags_are_refused_where_they_mean_nothing() {
 fn a_baked_chain_survives_export_and_import_within_the_format_precision() {
     use envmap_render::filter::bake::{specular_chain, BakeOptions, Quality};
     use envmap_render::image::{texture, Texture, TextureKind, TextureOptions};
-    use envmap_render::scene::environments::Builtin;
+    use envmap_render::scene::Builtin;
     let repr = envmap_render::Representation::default_for(envmap_core::AnyMapping::Cube);
     let (w, h) = repr.atlas.image_size_for_cell_width(32).unwrap();
     let src = Builtin::Sky.image(repr, w, h).unwrap();

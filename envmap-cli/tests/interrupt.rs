@@ -17,10 +17,10 @@ use std::sync::{mpsc, OnceLock};
 use std::time::{Duration, Instant};
 
 use envmap_core::AnyMapping;
-use envmap_render::image::io::{Outputs, SaveOptions};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::procedural::{fill, smooth};
-use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions};
+use envmap_render::image::{Outputs, SaveOptions};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::{fill, smooth};
+use envmap_render::scene::{render, Camera, EnvSource, RenderOptions};
 use envmap_render::{convert, save, ConvertOptions, Error, Representation};
 
 mod common;
@@ -341,7 +341,7 @@ fn the_cancel_flag_stops_a_render_and_a_load() {
         o.cancel = Some(&stop);
         o
     };
-    let mesh = envmap_render::scene::mesh::Mesh::sphere(1.0, 16, 8);
+    let mesh = envmap_render::scene::Mesh::sphere(1.0, 16, 8);
     let r = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts);
     assert!(matches!(r, Err(Error::Cancelled)));
     let l = envmap_render::load(big_input(), &{

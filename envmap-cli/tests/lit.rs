@@ -9,11 +9,11 @@ use envmap_core::AnyMapping;
 use envmap_render::filter::bake::{bake, BakeOptions};
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::image::FileAxes;
-use envmap_render::scene::lit::LitEnvironment;
-use envmap_render::scene::material::Material;
-use envmap_render::scene::mesh::Mesh;
-use envmap_render::scene::procedural::{fill, psnr, smooth};
-use envmap_render::scene::render::{render, Camera, EnvSource, Mode, RenderOptions, Shading};
+use envmap_render::scene::LitEnvironment;
+use envmap_render::scene::Material;
+use envmap_render::scene::Mesh;
+use envmap_render::scene::{fill, psnr, smooth};
+use envmap_render::scene::{render, Camera, EnvSource, Mode, RenderOptions, Shading};
 use envmap_render::{EnvImage, Representation, RgbImage};
 
 /// `f` in a cube of `face`² texels (GL axes) and its bake at `size`.
@@ -389,7 +389,7 @@ fn per_vertex_lit_interpolates_the_lookups() {
 #[test]
 fn render_reads_the_maps_bake_wrote() {
     use common::{envmap, text};
-    use envmap_render::image::io::read_rgb;
+    use envmap_render::image::read_rgb;
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let small = [

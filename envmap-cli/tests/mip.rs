@@ -9,13 +9,13 @@
 
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
-use envmap_render::image::io::linear_to_srgb;
+use envmap_render::image::linear_to_srgb;
 use envmap_render::image::{EnvImage, Representation};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::material::Material;
-use envmap_render::scene::mesh::Mesh;
-use envmap_render::scene::procedural::{fill, psnr, smooth};
-use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions, Shading};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::Material;
+use envmap_render::scene::Mesh;
+use envmap_render::scene::{fill, psnr, smooth};
+use envmap_render::scene::{render, Camera, EnvSource, RenderOptions, Shading};
 use envmap_render::RgbImage;
 
 mod common;
@@ -290,7 +290,7 @@ fn every_lookup_on_a_shrinking_mirror_reads_the_levels() {
 /// set made from another map's size is not used (the render builds its own).
 #[test]
 fn prebuilt_mip_levels_render_the_same() {
-    use envmap_render::scene::render::MipLevels;
+    use envmap_render::scene::MipLevels;
     let env = cube(Builtin::Sky, 64);
     let other = cube(Builtin::Sky, 32);
     let (own, wrong) = (
@@ -304,10 +304,7 @@ fn prebuilt_mip_levels_render_the_same() {
 }
 
 /// A small mip-aware render of the teapot in `env`, from `levels` if given.
-fn draw_mip(
-    env: &EnvImage,
-    levels: Option<&envmap_render::scene::render::MipLevels>,
-) -> Vec<[f32; 3]> {
+fn draw_mip(env: &EnvImage, levels: Option<&envmap_render::scene::MipLevels>) -> Vec<[f32; 3]> {
     render(
         &Mesh::teapot(6),
         EnvSource::Map(env),
@@ -332,7 +329,7 @@ fn draw_mip(
 /// released).
 #[test]
 fn rebuilt_mip_levels_render_as_levels_made_anew() {
-    use envmap_render::scene::render::MipLevels;
+    use envmap_render::scene::MipLevels;
     let (sky, room) = (cube(Builtin::Sky, 64), cube(Builtin::Room, 64));
     let small = cube(Builtin::Room, 32);
     // 48² faces: 24, 12, 6, 3, 1: levels that cannot be made in place.
@@ -348,7 +345,7 @@ fn rebuilt_mip_levels_render_as_levels_made_anew() {
         assert!(again == anew, "rebuilt levels render otherwise");
         assert!(again == draw(env, None));
         if std::ptr::eq(env, &small) {
-            envmap_render::scene::render::release_kept_levels();
+            envmap_render::scene::release_kept_levels();
             assert!(again == draw(env, None));
         }
     }

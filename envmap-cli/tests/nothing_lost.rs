@@ -7,9 +7,9 @@ use std::path::Path;
 use std::process::Command;
 
 use envmap_core::AnyMapping;
-use envmap_render::filter::convert::{convert, ConvertOptions};
-use envmap_render::image::io::load_detailed;
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::filter::{convert, ConvertOptions};
+use envmap_render::image::load_detailed;
+use envmap_render::scene::{fill, smooth};
 use envmap_render::{save, EnvImage, LoadOptions, NonFinite, Representation, SaveOptions};
 
 mod common;

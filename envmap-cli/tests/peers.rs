@@ -21,9 +21,9 @@ use std::path::Path;
 use std::process::Command;
 
 use envmap_core::AnyMapping;
-use envmap_render::image::face_ops::FaceTurn;
-use envmap_render::image::io::{load, save, LoadOptions, SaveOptions};
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::image::FaceTurn;
+use envmap_render::image::{load, save, LoadOptions, SaveOptions};
+use envmap_render::scene::{fill, smooth};
 use envmap_render::{EnvImage, Representation, RgbImage};
 
 mod common;

@@ -44,8 +44,8 @@ use envmap_render::filter::dfg::DfgGrid;
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::specular::RoughnessRule;
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
-use envmap_render::scene::procedural::fill;
+use envmap_render::scene::fill;
+use envmap_render::scene::{LevelBlend, LitEnvironment};
 use envmap_render::RgbImage;
 use sphere_scene::{builtin_sky, committed, exact, mask, measure, split};
 
@@ -352,7 +352,7 @@ fn sweep() {
 #[test]
 fn exact_split_sum_from_the_command_line() {
     use common::{envmap, text};
-    use envmap_render::image::io::read_rgb;
+    use envmap_render::image::read_rgb;
     let dir = tempfile::tempdir().expect("dir");
     let d = dir.path();
     let small = [

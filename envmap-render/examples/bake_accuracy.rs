@@ -30,10 +30,10 @@ use envmap_core::{AnyMapping, Atlas, Mapping};
 use envmap_render::filter::bake::{bake, measure_irradiance, measure_level, BakeOptions};
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
-use envmap_render::image::io::{load, LoadOptions, NonFinite};
+use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::procedural::{fill, small_sun, smooth, sunny};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::{fill, small_sun, smooth, sunny};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

@@ -12,7 +12,7 @@
 
 use envmap_core::AnyMapping;
 use envmap_render::bake::{Baker, Target};
-use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::Builtin;
 use envmap_render::{load_from_memory, save_to_memory, LoadOptions, Representation, SaveOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -8,9 +8,9 @@ use std::time::Instant;
 
 use envmap_core::AnyMapping;
 use envmap_render::image::Representation;
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::mesh::Mesh;
-use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::Mesh;
+use envmap_render::scene::{render, Camera, EnvSource, RenderOptions};
 
 fn main() {
     let repr = Representation::default_for(AnyMapping::Cube);
@@ -24,25 +24,25 @@ fn main() {
     // PREBUILT=1: the mip levels made once, their time printed apart.
     let levels = std::env::var("PREBUILT").is_ok().then(|| {
         let t = Instant::now();
-        let l = envmap_render::scene::render::MipLevels::new(&env).expect("levels");
+        let l = envmap_render::scene::MipLevels::new(&env).expect("levels");
         println!("levels made in {} ms", t.elapsed().as_secs_f64() * 1e3);
         l
     });
     // LIT=1: the split sum, as the `render` bench's envmap-chain case.
     let lit = std::env::var("LIT")
         .is_ok()
-        .then(|| envmap_render::scene::lit::LitEnvironment::bake(&env, 512, None).expect("bake"));
+        .then(|| envmap_render::scene::LitEnvironment::bake(&env, 512, None).expect("bake"));
     let shading = match &lit {
-        Some(env) => envmap_render::scene::render::Shading::SplitSum {
+        Some(env) => envmap_render::scene::Shading::SplitSum {
             env,
-            material: envmap_render::scene::material::Material {
+            material: envmap_render::scene::Material {
                 roughness: 0.5,
-                ..envmap_render::scene::material::Material::default()
+                ..envmap_render::scene::Material::default()
             },
             multiscatter: false,
             dominant: true,
         },
-        None => envmap_render::scene::render::Shading::Mirror,
+        None => envmap_render::scene::Shading::Mirror,
     };
     let opts = {
         let mut o = RenderOptions::default();
@@ -59,7 +59,7 @@ fn main() {
     // the memory of the last (`MipLevels::rebuild`).
     let mut again = std::env::var("REBUILD")
         .is_ok()
-        .then(|| envmap_render::scene::render::MipLevels::new(&env).expect("levels"));
+        .then(|| envmap_render::scene::MipLevels::new(&env).expect("levels"));
     for _ in 0..std::env::var("ITERS")
         .ok()
         .and_then(|v| v.parse().ok())

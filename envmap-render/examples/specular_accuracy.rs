@@ -12,14 +12,14 @@
 use std::time::Instant;
 
 use envmap_core::{AnyMapping, Atlas};
-use envmap_render::filter::convert::{convert, ConvertOptions};
 use envmap_render::filter::pyramid::Pyramid;
 use envmap_render::filter::specular::{
     exact_level, prefilter_level, split_bright, LevelJob, Method, RoughnessRule,
 };
+use envmap_render::filter::{convert, ConvertOptions};
 use envmap_render::image::{FileAxes, Representation};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::{fill, smooth};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

@@ -31,10 +31,10 @@ use envmap_render::filter::dfg::{DfgGrid, DfgTable};
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::filter::specular::RoughnessRule;
-use envmap_render::image::io::{load, LoadOptions, NonFinite};
+use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::{LevelBlend, LitEnvironment};
 use envmap_render::RgbImage;
 
 #[path = "../tests/sphere_scene/mod.rs"]

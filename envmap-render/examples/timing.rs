@@ -17,10 +17,10 @@
 use std::time::Instant;
 
 use envmap_core::{AnyMapping, Atlas, Frame};
-use envmap_render::filter::convert::{convert_into, ConvertOptions};
 use envmap_render::filter::sample::Filter;
+use envmap_render::filter::{convert_into, ConvertOptions};
 use envmap_render::image::{EnvImage, Representation};
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::scene::{fill, smooth};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

@@ -7,13 +7,13 @@
 //! every read or write of a file (each at most a megabyte). Once it is set,
 //! the operation stops at the next safe point and returns
 //! [`Error::Cancelled`]; an output being written is removed and any existing
-//! file at its place left as it was (see [`crate::image::io`]). The check is
+//! file at its place left as it was (see [`crate::image`]). The check is
 //! one relaxed atomic load.
 //!
 //! ```
 //! use std::sync::atomic::{AtomicBool, Ordering};
 //! use envmap_render::{convert, ConvertOptions, Error, Representation};
-//! use envmap_render::scene::environments::Builtin;
+//! use envmap_render::scene::Builtin;
 //! use envmap_core::AnyMapping;
 //!
 //! let src = Builtin::Sky.image(Representation::default_for(AnyMapping::LatLong), 64, 32).unwrap();

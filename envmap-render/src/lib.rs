@@ -6,7 +6,7 @@
 //!
 //! | folder | what lives there | may use |
 //! | --- | --- | --- |
-//! | [`image`] | [`EnvImage`] and its [`Representation`], layouts, every file format ([`image::io`]: PNG/JPEG, Radiance HDR, OpenEXR, six-file cubes, safe writes) | `envmap-core` |
+//! | [`image`] | [`EnvImage`] and its [`Representation`], layouts, every file format (`io`: PNG/JPEG, Radiance HDR, OpenEXR, six-file cubes, safe writes) | `envmap-core` |
 //! | [`filter`] | sampling with each representation's edge rule (`filter::sample`), the one conversion loop ([`filter::convert`]) | `image`, `envmap-simd` |
 //! | [`scene`] | built-in environments, procedural environments, meshes, the renderer, the demo | `image`, `filter` |
 //! | [`bake`] | the one way to bake ([`bake::Baker`]), the engines' presets, a bake's files written to a directory or into memory, and read back | `image`, `filter`, `scene` |
@@ -44,9 +44,9 @@ pub use crate::error::{Error, Result};
 #[cfg(doctest)]
 #[doc = include_str!("../../README.md")]
 struct ReadmeDoctests;
-pub use crate::filter::convert::{convert, convert_into, ConvertOptions};
-pub use crate::image::io::{
+pub use crate::filter::{convert, convert_into, ConvertOptions};
+pub use crate::image::{
     load, load_from_memory, save, save_to_memory, LoadOptions, NonFinite, SaveOptions,
 };
 pub use crate::image::{EnvImage, Layout, Representation, RgbImage, Stats};
-pub use crate::scene::render::render;
+pub use crate::scene::render;

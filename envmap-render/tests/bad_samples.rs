@@ -6,7 +6,7 @@
 
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 use envmap_render::filter::sample::{Filter, Sampler};
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::scene::{fill, smooth};
 use envmap_render::Representation;
 use envmap_simd::{Uv8, INVALID_CHART};
 

@@ -5,10 +5,10 @@ use envmap_core::cube::{face_direction, CubeFace};
 use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Atlas, Frame, Mapping};
-use envmap_render::filter::convert::{convert, ConvertOptions};
 use envmap_render::filter::sample::Filter;
+use envmap_render::filter::{convert, ConvertOptions};
 use envmap_render::image::{EnvImage, Representation};
-use envmap_render::scene::procedural::{fill, psnr, smooth};
+use envmap_render::scene::{fill, psnr, smooth};
 
 /// Image size for a representation with cells `cell` texels wide (the
 /// tennisball needs a multiple of 3).

@@ -5,11 +5,11 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use envmap_core::{AnyMapping, Atlas, CubeFace, Frame};
-use envmap_render::image::io::{
+use envmap_render::image::FileFormat;
+use envmap_render::image::{detect, resolve};
+use envmap_render::image::{
     face_paths, linear_to_srgb8, load_detailed, read_rgb, srgb_to_linear, write_rgb, ExrPrecision,
 };
-use envmap_render::image::layout::{detect, resolve};
-use envmap_render::image::FileFormat;
 use envmap_render::{
     convert, load, save, ConvertOptions, EnvImage, Error, Layout, LoadOptions, Representation,
     RgbImage, SaveOptions,
@@ -756,9 +756,9 @@ fn face_paths_are_named_after_cube_faces() {
 /// HDR) fall back to the whole image with the same result.
 #[test]
 fn a_streamed_conversion_saves_what_convert_then_save_saves() {
-    use envmap_render::filter::convert::Streamed;
-    use envmap_render::image::face_ops::{FaceTransforms, FaceTurn};
-    use envmap_render::image::io::{ExrCompression, Outputs};
+    use envmap_render::filter::Streamed;
+    use envmap_render::image::{ExrCompression, Outputs};
+    use envmap_render::image::{FaceTransforms, FaceTurn};
     let src = latlong(96, -0.5, 40.0);
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();

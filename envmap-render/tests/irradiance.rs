@@ -19,9 +19,9 @@ use envmap_render::filter::sh::{
     default_irradiance_representation, irradiance_cube, irradiance_map, irradiance_map_exact,
     relative_rms, sinc4_window, ExactLevel, IrradianceScale, Sh9, DEFAULT_EXACT_TOLERANCE,
 };
-use envmap_render::image::io::{load, save, LoadOptions, SaveOptions};
 use envmap_render::image::FileAxes;
-use envmap_render::scene::procedural::{fill, smooth, sunny};
+use envmap_render::image::{load, save, LoadOptions, SaveOptions};
+use envmap_render::scene::{fill, smooth, sunny};
 use envmap_render::{EnvImage, Representation};
 
 mod common;

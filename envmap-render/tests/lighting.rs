@@ -16,8 +16,8 @@ use envmap_render::filter::specular::{
 };
 use envmap_render::filter::weights::TexelWeights;
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::procedural::{fill, smooth};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::{fill, smooth};
 use envmap_simd::Uv8;
 use wide::{f32x8, u32x8};
 

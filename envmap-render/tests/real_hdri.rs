@@ -27,9 +27,9 @@ use envmap_render::filter::bake::{
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::filter::weights::TexelWeights;
-use envmap_render::image::io::{load, LoadOptions, NonFinite};
+use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, Representation};
-use envmap_render::scene::procedural::fill;
+use envmap_render::scene::fill;
 
 /// The project's target for every level above 0: relative RMS error
 /// against the oracle.

@@ -4,9 +4,9 @@
 use envmap_core::glam::Vec3;
 use envmap_core::{AnyMapping, Atlas, Frame};
 use envmap_render::image::Representation;
-use envmap_render::scene::mesh::Mesh;
-use envmap_render::scene::procedural::{fill, psnr, smooth};
-use envmap_render::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::scene::Mesh;
+use envmap_render::scene::{fill, psnr, smooth};
+use envmap_render::scene::{render, Camera, EnvSource, Mode, RenderOptions};
 
 /// The colour is the direction itself, so a pixel says which direction it reflects.
 fn direction_colour(d: Vec3) -> [f32; 3] {
@@ -193,7 +193,7 @@ fn progress_counts_every_band() {
     };
     let with = render(&mesh, EnvSource::Analytic(&sky), &cam, &{
         let mut o = opts;
-        o.progress = Some(envmap_render::scene::render::Progress(&tick));
+        o.progress = Some(envmap_render::scene::Progress(&tick));
         o
     })
     .unwrap();

@@ -17,7 +17,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
 use envmap_core::{AnyMapping, Atlas, Frame};
-use envmap_render::image::io::load_detailed;
+use envmap_render::image::load_detailed;
 use envmap_render::image::texture::{self, full_chain, level_size};
 use envmap_render::image::FileFormat;
 use envmap_render::image::{
@@ -1366,7 +1366,7 @@ fn every_presets_files_say_their_axes_and_load_back_in_them() {
     use envmap_render::image::FileAxes;
     use envmap_render::image::FileFormat;
     use envmap_render::{convert, load_from_memory, ConvertOptions};
-    let src = envmap_render::scene::procedural::fill(
+    let src = envmap_render::scene::fill(
         Representation::default_for(AnyMapping::LatLong),
         64,
         32,

@@ -8,10 +8,10 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use envmap_core::AnyMapping;
-use envmap_render::filter::convert::{convert, ConvertOptions};
 use envmap_render::filter::Filter;
-use envmap_render::image::io::{load_detailed, LoadOptions, NonFinite};
+use envmap_render::filter::{convert, ConvertOptions};
 use envmap_render::image::Representation;
+use envmap_render::image::{load_detailed, LoadOptions, NonFinite};
 use libfuzzer_sys::fuzz_target;
 
 const EXTENSIONS: [&str; 4] = ["png", "jpg", "hdr", "exr"];

@@ -28,16 +28,14 @@ use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
 
 use crate::demo::scene::{displayed, heat_map, psnr_displayed, save_png, DemoOptions};
-use envmap_render::filter::convert::{convert, ConvertOptions};
-use envmap_render::image::io::Outputs;
+use envmap_render::filter::{convert, ConvertOptions};
+use envmap_render::image::Outputs;
 use envmap_render::image::{FileAxes, Representation, RgbImage};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::lit::LitEnvironment;
-use envmap_render::scene::material::Material;
-use envmap_render::scene::mesh::Mesh;
-use envmap_render::scene::render::{
-    light_table, render, Camera, EnvSource, Mode, RenderOptions, Shading,
-};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::LitEnvironment;
+use envmap_render::scene::Material;
+use envmap_render::scene::Mesh;
+use envmap_render::scene::{light_table, render, Camera, EnvSource, Mode, RenderOptions, Shading};
 use envmap_render::Result;
 
 /// The roughness of the sphere grid's columns.
@@ -98,7 +96,7 @@ struct Scene<'a> {
     name: &'static str,
     analytic: &'a (dyn Fn(Vec3) -> [f32; 3] + Sync),
     lit: LitEnvironment,
-    light: envmap_render::scene::lit::EnvSampling,
+    light: envmap_render::scene::EnvSampling,
 }
 
 /// A split-sum render, its reference (two halves) and the row comparing them.

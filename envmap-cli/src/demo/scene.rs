@@ -11,11 +11,11 @@ use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Mapping};
 
-use envmap_render::image::io::{linear_to_srgb, Outputs, SaveOptions};
+use envmap_render::image::{linear_to_srgb, Outputs, SaveOptions};
 use envmap_render::image::{FileAxes, Representation, RgbImage};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::mesh::Mesh;
-use envmap_render::scene::render::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::Mesh;
+use envmap_render::scene::{render, Camera, EnvSource, Mode, RenderOptions};
 use envmap_render::{Error, Result};
 
 /// What the demo makes.
@@ -145,7 +145,7 @@ pub(crate) fn displayed(img: &RgbImage, exposure: f32) -> Vec<[f32; 3]> {
 }
 
 pub(crate) fn psnr_displayed(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool]) -> f64 {
-    envmap_render::scene::procedural::psnr(a, b, |k| mask[k], 1.0)
+    envmap_render::scene::psnr(a, b, |k| mask[k], 1.0)
 }
 
 /// A heat map of |a − b| on displayed values: black (0) to red, yellow, white (≥ 0.25).
@@ -166,7 +166,7 @@ pub(crate) fn heat_map(a: &[[f32; 3]], b: &[[f32; 3]], mask: &[bool], w: u32, h:
                 (3.0 * t - 1.0).clamp(0.0, 1.0),
                 (3.0 * t - 2.0).clamp(0.0, 1.0),
             ];
-            ramp.map(envmap_render::image::io::srgb_to_linear)
+            ramp.map(envmap_render::image::srgb_to_linear)
         })
         .collect();
     RgbImage {

@@ -26,7 +26,7 @@ pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 ///
 /// ```
 /// use envmap_render::bake::{Baker, Target};
-/// use envmap_render::scene::procedural::{fill, smooth};
+/// use envmap_render::scene::{fill, smooth};
 /// use envmap_render::Representation;
 /// use envmap_core::AnyMapping;
 ///

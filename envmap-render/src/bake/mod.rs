@@ -35,7 +35,7 @@
 //!
 //! ```
 //! use envmap_render::bake::{Baker, Target};
-//! use envmap_render::scene::procedural::{fill, smooth};
+//! use envmap_render::scene::{fill, smooth};
 //! use envmap_render::Representation;
 //! use envmap_core::AnyMapping;
 //!
@@ -52,7 +52,7 @@ mod preset;
 mod read;
 mod write;
 
-pub use builder::{Baked, Baker, Progress};
-pub use preset::{Preset, Target, DEFAULT_ZSTD};
-pub use read::{is_candidate, open, OpenedLit};
-pub use write::{BakeFiles, EngineTextures, Provenance, Written};
+pub use builder::*;
+pub use preset::*;
+pub use read::*;
+pub use write::*;

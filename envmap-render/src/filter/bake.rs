@@ -27,7 +27,6 @@ use std::borrow::Cow;
 
 use crate::cancel;
 use crate::error::{Error, Result};
-use crate::filter::convert::{convert, ConvertOptions};
 use crate::filter::dfg::{self, DfgGrid, DfgTable};
 use crate::filter::oracle::Oracle;
 use crate::filter::pyramid::{Pyramid, Trilinear};
@@ -41,6 +40,7 @@ use crate::filter::specular::{
     BrightReport, LevelJob, Method, RoughnessRule, PART,
 };
 use crate::filter::weights::channel_energy;
+use crate::filter::{convert, ConvertOptions};
 use crate::image::{luminance, EnvImage, FileAxes, Representation};
 
 /// How many samples the importance-sampled levels take.

@@ -67,7 +67,7 @@
 //! such a table is sampled at `((size − 1)·x + ½)/size` for x = N·V and
 //! x = roughness: the one-line remapping a shader needs (Unreal's and
 //! Bevy's lookups of their own tables do the same). envmap's renderer
-//! ([`crate::scene::lit`]) builds its table on this grid; `envmap bake
+//! ([`crate::scene`]) builds its table on this grid; `envmap bake
 //! --dfg-grid edges` writes one, and the manifest says which grid a table
 //! is on, so a file on the default grid still reads as engines expect.
 //!
@@ -75,7 +75,7 @@
 //!
 //! ```no_run
 //! use envmap_render::filter::dfg::{DfgTable, DEFAULT_SIZE};
-//! use envmap_render::image::io::{write_rgb, ExrPrecision, SaveOptions};
+//! use envmap_render::image::{write_rgb, ExrPrecision, SaveOptions};
 //!
 //! let table = DfgTable::new(DEFAULT_SIZE)?;
 //! let mut half = SaveOptions::default();

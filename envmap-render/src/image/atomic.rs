@@ -283,11 +283,11 @@ pub(crate) fn persist(temp: TempFile, path: &Path) -> Result<()> {
 /// The files of one run, written to temporary files as they are staged and
 /// renamed into place together by [`Outputs::commit`]: all of them, or
 /// (after an error, or when dropped without committing) none. See the
-/// [`crate::image::io`] ("Safe writes") for what a rename failing midway
+/// [`crate::image`] ("Safe writes") for what a rename failing midway
 /// does.
 ///
 /// ```
-/// use envmap_render::image::io::{Outputs, SaveOptions};
+/// use envmap_render::image::{Outputs, SaveOptions};
 /// let dir = tempfile::tempdir().unwrap();
 /// let mut run = Outputs::new(&SaveOptions::default());
 /// run.stage_bytes(dir.path().join("a.txt"), b"one").unwrap();
@@ -356,7 +356,7 @@ impl<'a> Outputs<'a> {
     /// with [`Error::Cancelled`] once `cancel` is set.
     ///
     /// ```
-    /// use envmap_render::image::io::Outputs;
+    /// use envmap_render::image::Outputs;
     /// let mut run = Outputs::in_memory(None);
     /// run.stage_bytes("out/a.txt", b"one").unwrap();
     /// let files = run.into_memory().unwrap();

@@ -1,38 +1,4 @@
-//! File conventions: what the directions of a file mean.
-//!
-//! The core's formulas are written once, in its canonical frame (z up,
-//! right-handed). A *file* carries conventions of its own, which every tool
-//! and engine reads its own way; they are applied once, at the edge between a
-//! file and the math, as the image's [`Frame`] (see
-//! [`Representation::frame`](crate::image::Representation::frame)):
-//!
-//! * a [`World`]: the axes the command's directions are in. The default,
-//!   [`World::YUp`], is the GL world (y up, right-handed), the world every
-//!   engine and peer tool reads cube files in; [`World::YUpLh`] is the
-//!   left-handed y-up world of Direct3D and Unity (z negated); and
-//!   [`World::ZUp`] is envmap's canonical frame, the seed's, where every
-//!   mapping's formula is applied to the directions as given;
-//! * a [`Convention`]: for each mapping, the axes its formulas are applied in
-//!   within that world. Every convention keeps the cube in the GL world (the
-//!   GL face table applied to (x, y, z) as given, +y face up); they differ in
-//!   the latlong, as the tools do, and [`Convention::Envmap`] also fixes the
-//!   other mappings (see `Convention::frame_in_world`).
-//!
-//! # The latlong presets
-//!
-//! With φ = 2π(u − ½), θ = πv (u to the right, v down, row 0 at the top),
-//! every preset puts +y on the top row; in the GL world:
-//!
-//! | preset | d(u, v) | image centre | u = 0.75 | mirrored |
-//! | --- | --- | --- | --- | --- |
-//! | `envmap`, `py360convert`, `cmgen-no-mirror` | (sin θ sin φ, cos θ, sin θ cos φ) | +z | +x | as seen from inside, yes; as a cube map's faces are seen (left-handed), no |
-//! | `cmgen`, `filament`, `openexr`, `mitsuba` | (−sin θ sin φ, cos θ, sin θ cos φ) | +z | −x | no |
-//! | `blender`, `three`, `gltf-ibl-sampler`, `bevy`, `unity` | (sin θ cos φ, cos θ, sin θ sin φ) | +x | +z | no |
-//! | `pbrt` | (−sin θ cos φ, cos θ, −sin θ sin φ) | −x | −z | no |
-//!
-//! "Mirrored" means that, facing the image centre from inside the sphere with
-//! +y up in a right-handed world, u grows to the left. The sources of each
-//! preset are in [`Convention::source`] and `docs/conventions.md`.
+// File conventions: what the directions of a file mean.
 
 use std::fmt;
 use std::str::FromStr;
@@ -43,7 +9,7 @@ use envmap_core::{AnyMapping, Frame};
 use crate::error::{Error, Result};
 
 /// The axes the command's directions, and the conventions of its files, are
-/// expressed in; see the [module docs](self).
+/// expressed in; see the [module docs](super).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum World {
     /// The GL world: y up, right-handed (OpenGL, Vulkan, glTF, WebGPU,
@@ -121,7 +87,7 @@ impl FromStr for World {
     }
 }
 
-/// A named set of file conventions; see the [module docs](self).
+/// A named set of file conventions; see the [module docs](super).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Convention {
     /// envmap's own (the default): a latlong as `cmgen --no-mirror` and
@@ -290,7 +256,7 @@ impl Convention {
     /// | mapping | the file, in the y-up world |
     /// | --- | --- |
     /// | cube (every convention) | the GL face table applied to (x, y, z) as given: +y face up |
-    /// | latlong | the preset's row of the [module docs](self) table |
+    /// | latlong | the preset's row of the [module docs](super) table |
     /// | tennisball | the latlong's axes |
     /// | octahedral, equal-area octahedral | centre +y (up), +x at the right edge's middle, +z at the bottom edge's middle |
     /// | sphere map (class and GL), angular, dual paraboloid | a mirror ball photographed from +z looking along −z, +y up: centre +z, +x to the right, +y to the top (the paraboloid's front disk, on the left, is +z; its back disk −z, joining it at the rim) |

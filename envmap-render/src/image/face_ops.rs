@@ -1,25 +1,5 @@
-//! Cube faces stored turned or mirrored: the per-face transforms some tools
-//! and engines need (cmft's `--posXrotate90` and kin).
-//!
-//! A [`FaceTransforms`] says, for each face, how the face image in the file
-//! is turned or mirrored against the face as GL defines it: on loading, each
-//! face is put back into GL's orientation; on saving, each GL face is turned
-//! as the file wants it. The operations, on an image seen as displayed (row
-//! 0 at the top):
-//!
-//! | name | does |
-//! | --- | --- |
-//! | `rot90` | a quarter turn clockwise |
-//! | `rot180` | a half turn |
-//! | `rot270` | a quarter turn counter-clockwise |
-//! | `flipx` | mirrors left and right |
-//! | `flipy` | mirrors top and bottom |
-//! | `transpose` | mirrors about the main diagonal (rows become columns) |
-//!
-//! On the command line: `--face-transform +x:rot90,-z:flipx` (faces by any
-//! scheme's names, [`crate::image::io::FaceNames`]; several operations on
-//! one face apply in the order given). The vertical cross's −z face, which
-//! that layout stores half turned, is the built-in case of `-z:rot180`.
+// Cube faces stored turned or mirrored: the per-face transforms some tools
+// and engines need (cmft's `--posXrotate90` and kin).
 
 use std::fmt;
 use std::str::FromStr;
@@ -193,7 +173,7 @@ impl FromStr for FaceTurn {
 }
 
 /// How each of a cube file's six faces is stored against GL's orientation;
-/// see the [module docs](self).
+/// see the [module docs](super).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct FaceTransforms {
     /// Per face in GL order: the file's face is the GL face turned so.

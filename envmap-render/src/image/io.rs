@@ -1,65 +1,6 @@
-//! Loading and saving environment maps: the format by extension, the load
-//! and save options, and one entry point each ([`load`], [`save`]); each
-//! format lives in its own file beside this one.
-//!
-//! | extension | read | write | file |
-//! | --- | --- | --- | --- |
-//! | `.png` | 8- or 16-bit grey, grey+alpha, RGB, RGBA; sRGB decoded to linear | 8-bit sRGB RGB after exposure, clamped | `png_jpeg.rs` |
-//! | `.jpg`, `.jpeg` | 8-bit grey or RGB (CMYK converted); sRGB decoded to linear | 8-bit sRGB, quality 95, after exposure | `png_jpeg.rs` |
-//! | `.hdr` | Radiance RGBE, linear | Radiance RGBE, linear (within RGBE precision, ~1 %) | `hdr.rs` |
-//! | `.exr` | R, G, B channels (any of f16, f32, u32) of the first layer that has them; alpha and other channels ignored | f32 RGB (bit for bit), or f16 | `exr.rs` |
-//! | six files | a cube by one face's name or a `{face}` pattern | six faces | `faces.rs` |
-//! | `.ktx2` | 2D or cube, level 0 (all levels: [`texture::read`]); RGBA16F, RGBA32F, B10G11R11, E5B9G9R9, RGB16F, RGB32F; zstd | one level ([`Outputs::stage_texture`] for chains) in [`SaveOptions::texture`]'s format | `ktx2.rs` |
-//! | `.dds` | 2D or cube (DX10 header), level 0; the same formats but RGB16F | as KTX2, no zstd | `dds.rs` |
-//! | `.ktx` | no (written for Filament) | KTX 1 as `cmgen` writes it | `ktx1.rs` |
-//!
-//! The format is chosen by the extension, case-insensitively. Alpha is
-//! dropped. Colour profiles and PNG gamma chunks are ignored: 8- and 16-bit
-//! files are taken as sRGB and decoded with the exact sRGB EOTF
-//! ([`srgb_to_linear`]).
-//!
-//! # Six-file cubes
-//!
-//! A cube can be written as six square files `<stem>_+x.<ext>`, `<stem>_-x.<ext>`,
-//! ..., `<stem>_-z.<ext>` (the names of [`CubeFace::name`](envmap_core::CubeFace::name)), each face exactly
-//! as GL expects it for `GL_TEXTURE_CUBE_MAP_POSITIVE_X + face`. A path with
-//! `{face}` in its file name is a pattern (`sky_{face}.exr`). A six-file cube
-//! is loaded from the pattern, from any one of the six names (the siblings
-//! are found), or from `<stem>.<ext>` with [`Layout::Faces`]; in memory it
-//! becomes a horizontal strip.
-//!
-//! # Safe writes
-//!
-//! Every output goes to a temporary file in the target's directory
-//! (`.<name>.<random>.tmp`), which is renamed over the target only once it
-//! is complete; an error (a full disk, a missing directory, a target that is
-//! a directory) or the cancel flag ([`SaveOptions::cancel`], see
-//! [`crate::cancel`]) removes the temporary file and leaves any existing
-//! file at the target untouched. Writing over an input file (compared by
-//! canonical path, and on Unix by device and inode) is refused unless
-//! [`SaveOptions::overwrite_input`] is set.
-//!
-//! The files of one run ([`Outputs`]: six cube faces, the demo's images, a
-//! bake's directory) are all written to temporary files first and renamed
-//! into place together at the end: either every one of them replaces its
-//! target, or none does. A rename can still fail midway (a disk error, a
-//! target turned into a directory meanwhile): then the targets already
-//! replaced are put back as they were, from a second name each existing
-//! target was given before the renames began (a hard link, or a copy where
-//! the file system has no links), and the error says that none of the run's
-//! outputs were written. Only if putting one back fails too does a target
-//! stay changed; the error then names the file that holds its old contents.
-//! A process killed outright (SIGKILL, a power cut) during the renames can
-//! leave some targets new and some old, and one killed while writing leaves
-//! its temporary file behind.
-//!
-//! # Untrusted files
-//!
-//! Sizes are checked against [`LoadOptions::max_texels`] from the header,
-//! before pixel memory is allocated; corrupt or truncated files give an
-//! [`Error`] naming the file, never a panic. NaN and infinite texels are
-//! kept or replaced by black as [`LoadOptions::non_finite`] says (see
-//! [`NonFinite`]).
+// Loading and saving environment maps: the format by extension, the load
+// and save options, and one entry point each ([`load`], [`save`]); each
+// format lives in its own file beside this one.
 
 #[cfg(feature = "image")]
 use std::io::BufReader;
@@ -264,7 +205,7 @@ pub struct SourceFormat {
     /// `"f16 RGBA (channels R, G, B, A; A ignored)"`.
     pub pixel_format: String,
     /// The `envmap.*` text the file holds (OpenEXR attributes, PNG text
-    /// chunks), key and value, sorted by key; see [`crate::image::metadata`].
+    /// chunks), key and value, sorted by key; see [`crate::image`].
     pub tags: Vec<(String, String)>,
 }
 
@@ -278,9 +219,9 @@ pub struct LoadOptions<'a> {
     /// The layout, if known; [`Layout::Faces`] loads six files.
     pub layout: Option<Layout>,
     /// The file's axes; `None` for the ones the file states
-    /// ([`crate::image::metadata`]) or, where it states none, the default,
+    /// ([`crate::image`]) or, where it states none, the default,
     /// [`FileAxes::default`] (envmap's convention in the GL world: see
-    /// [`crate::image::convention`]). A mapping or layout the file states is
+    /// [`crate::image`]). A mapping or layout the file states is
     /// likewise used where [`LoadOptions::mapping`] and
     /// [`LoadOptions::layout`] are `None`.
     pub axes: Option<FileAxes>,
@@ -290,7 +231,7 @@ pub struct LoadOptions<'a> {
     /// What to do with texels that hold a NaN or infinite value.
     pub non_finite: NonFinite,
     /// For a cube: how the file's faces are turned or mirrored against
-    /// GL's (undone on loading); see [`crate::image::face_ops`].
+    /// GL's (undone on loading); see [`crate::image`].
     pub face_transforms: FaceTransforms,
     /// Stops loading once set ([`Error::Cancelled`]); see [`crate::cancel`].
     pub cancel: Option<&'a AtomicBool>,
@@ -356,10 +297,10 @@ pub struct SaveOptions<'a> {
     /// name in the path given (`sky_px.exr`), else [`FaceNames::Signs`].
     pub face_names: Option<FaceNames>,
     /// For a cube: how to turn or mirror each face against GL's in the
-    /// file; see [`crate::image::face_ops`].
+    /// file; see [`crate::image`].
     pub face_transforms: FaceTransforms,
     /// What the values are, when more than radiance (for example
-    /// "irradiance E/pi"): written as the [`metadata::CONTENT`] tag and at
+    /// "irradiance E/pi"): written as the `envmap.content` tag and at
     /// the end of the file's description. `None` (the default) for none.
     pub content: Option<String>,
     /// The texel format and supercompression of KTX2, DDS and KTX 1
@@ -402,7 +343,7 @@ pub struct Loaded {
     /// Texels replaced by black under [`NonFinite::Zero`] (over all the
     /// image, inside the charts or not); 0 under [`NonFinite::Keep`].
     pub replaced: u64,
-    /// What the file said about itself ([`crate::image::metadata`]); its
+    /// What the file said about itself ([`crate::image`]); its
     /// axes were used unless [`LoadOptions::axes`] gave others.
     pub metadata: FileMetadata,
 }
@@ -616,7 +557,7 @@ pub fn load(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<EnvImage> {
 /// aspect ratio ([`crate::image::layout::resolve`]). A six-file cube is read when
 /// `opts.layout` is [`Layout::Faces`], or (with no layout given and no
 /// mapping other than cube) when the file name is a `{face}` pattern or
-/// one of the six names; see the [module docs](self).
+/// one of the six names; see the [module docs](super).
 pub fn load_detailed(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<Loaded> {
     let path = path.as_ref();
     if loads_six_files(path, opts) {
@@ -712,7 +653,7 @@ pub(crate) struct View<'a> {
 /// The format follows the extension. A cube is written as six files when
 /// [`SaveOptions::six_files`] is set or the file name is a `{face}` pattern;
 /// otherwise the image is written in its atlas as is. Writes are atomic
-/// and refuse to replace an input; see the [module docs](self).
+/// and refuse to replace an input; see the [module docs](super).
 pub fn save(image: &EnvImage, path: impl AsRef<Path>, opts: &SaveOptions) -> Result<Vec<PathBuf>> {
     let mut run = Outputs::new(opts);
     run.stage_image(image, path, opts)?;
@@ -899,7 +840,7 @@ impl<'a> Outputs<'a> {
 impl Outputs<'_> {
     /// Stages a texture with its levels as a KTX2, DDS or KTX 1 file (by
     /// the extension), in `opts`' texel format; returns what packing
-    /// clamped (see [`crate::image::texel`]).
+    /// clamped (see [`crate::image`]).
     ///
     /// # Errors
     ///

@@ -1,23 +1,4 @@
-//! Named layouts, and telling an image's representation from its size.
-//!
-//! | name | layout | mapping | aspect | atlas |
-//! | --- | --- | --- | --- | --- |
-//! | `latlong` | [`Layout::LatLong`] | latlong | 2:1 | [`Atlas::LATLONG`] |
-//! | `cross` | [`Layout::Cross`] | cube | 4:3 | [`Atlas::CUBE_HORIZONTAL_CROSS`] |
-//! | `vcross` | [`Layout::VCross`] | cube | 3:4 | [`Atlas::CUBE_VERTICAL_CROSS`] |
-//! | `strip` | [`Layout::Strip`] | cube | 6:1 | [`Atlas::CUBE_HORIZONTAL_STRIP`] |
-//! | `vstrip` | [`Layout::VStrip`] | cube | 1:6 | [`Atlas::CUBE_VERTICAL_STRIP`] |
-//! | `faces` | [`Layout::Faces`] | cube | six square files | in memory: [`Atlas::CUBE_HORIZONTAL_STRIP`] |
-//! | `square` | [`Layout::Square`] | sphere, sphere-gl, angular, octahedral, octahedral-equal-area | 1:1 | [`Atlas::SINGLE_SQUARE`] |
-//! | `side-by-side` | [`Layout::SideBySide`] | paraboloid | 2:1 | [`Atlas::PARABOLOID_SIDE_BY_SIDE`] |
-//! | `stacked` | [`Layout::Stacked`] | tennisball | 3:2 | [`Atlas::TENNISBALL_STACKED`] |
-//!
-//! [`detect`] picks a representation from the aspect ratio alone. Two
-//! cases need the caller's word: a 2:1 image is taken as latlong, so a dual
-//! paraboloid (two disks side by side, also 2:1) needs its mapping named
-//! explicitly (`--from paraboloid`); and a square image could be any of five
-//! mappings, so [`detect`] refuses it and says how to choose. [`resolve`]
-//! takes an explicit mapping and/or layout and checks it against the size.
+// Named layouts, and telling an image's representation from its size.
 
 use std::fmt;
 use std::str::FromStr;
@@ -192,7 +173,7 @@ impl Representation {
 
     /// `mapping` in its default atlas and the frame its files have with
     /// `axes` (for example [`FileAxes::default`]: envmap's conventions in
-    /// the GL world; see [`crate::image::convention`]).
+    /// the GL world; see [`crate::image`]).
     #[must_use]
     pub fn for_file(mapping: AnyMapping, axes: FileAxes) -> Self {
         Self {
@@ -344,7 +325,7 @@ fn size_text(width: u32, height: u32) -> String {
 ///
 /// ```
 /// use envmap_core::{AnyMapping, Atlas};
-/// use envmap_render::image::layout::detect;
+/// use envmap_render::image::detect;
 /// assert_eq!(detect(4096, 3072).unwrap(), (AnyMapping::Cube, Atlas::CUBE_HORIZONTAL_CROSS));
 /// assert!(detect(512, 512).unwrap_err().to_string().contains("octahedral"));
 /// ```

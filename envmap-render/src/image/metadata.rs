@@ -1,21 +1,4 @@
-//! What envmap writes into a file about its conventions, and reads back.
-//!
-//! Where a format has a place for text (OpenEXR header attributes, PNG
-//! `tEXt` chunks), every file envmap writes says what it holds:
-//!
-//! | key | value |
-//! | --- | --- |
-//! | `envmap.mapping` | the mapping's name (`cube`, `latlong`, ...) |
-//! | `envmap.layout` | the layout's name (`cross`, `strip`, `faces`, ...) |
-//! | `envmap.face` | for one face of a six-file cube: its name (`+x` ... `-z`) |
-//! | `envmap.axes` | `convention <name> world <y-up\|y-up-lh\|z-up>`, or `frame` and the nine entries of the file → canonical matrix, column by column |
-//! | `Description` (PNG), `comments` (EXR) | the same in words, with where the image's centre and the world's axes land |
-//! | `Software` (PNG), `software` (EXR) | `envmap` and its version |
-//!
-//! Loading reads them back: a file's own mapping, layout and axes are used
-//! unless the caller gives others ([`crate::image::io::LoadOptions`]). Radiance
-//! HDR and JPEG files carry none (the encoders used have no place for them);
-//! `envmap info` then says the default is assumed.
+// What envmap writes into a file about its conventions, and reads back.
 
 use envmap_core::glam::{Mat3, Vec3};
 use envmap_core::{AnyMapping, Frame};
@@ -24,17 +7,17 @@ use crate::image::convention::{Convention, FileAxes, World};
 use crate::image::layout::{Layout, Representation};
 
 /// The key of the mapping's name.
-pub const MAPPING: &str = "envmap.mapping";
+pub(crate) const MAPPING: &str = "envmap.mapping";
 /// The key of the layout's name.
-pub const LAYOUT: &str = "envmap.layout";
+pub(crate) const LAYOUT: &str = "envmap.layout";
 /// The key of a six-file cube face's name.
-pub const FACE: &str = "envmap.face";
+pub(crate) const FACE: &str = "envmap.face";
 /// The key of the axes (`format_axes`).
-pub const AXES: &str = "envmap.axes";
+pub(crate) const AXES: &str = "envmap.axes";
 /// The key of what the values are, when the writer said
 /// ([`crate::image::io::SaveOptions::content`]): "irradiance E/pi", a
 /// specular level's roughness, a DFG table's axes.
-pub const CONTENT: &str = "envmap.content";
+pub(crate) const CONTENT: &str = "envmap.content";
 
 /// `tags` and `description` with `content` (what the values are) added,
 /// when there is one.
@@ -64,6 +47,12 @@ pub struct FileMetadata {
     pub layout: Option<Layout>,
     /// Its axes.
     pub axes: Option<FileAxes>,
+}
+
+impl FileMetadata {
+    /// The key of the free text a file's writer gave about its content
+    /// (`envmap.content`: `convert --content`), among a file's tags.
+    pub const CONTENT_KEY: &'static str = CONTENT;
 }
 
 impl FileMetadata {
@@ -158,7 +147,11 @@ pub(crate) fn tags(
 
 /// The words envmap writes beside the tags.
 #[must_use]
-pub(crate) fn description(repr: &Representation, layout: Option<Layout>, face: Option<&str>) -> String {
+pub(crate) fn description(
+    repr: &Representation,
+    layout: Option<Layout>,
+    face: Option<&str>,
+) -> String {
     let axes = identify(repr.mapping, repr.frame);
     let what = match (layout.or_else(|| repr.layout()), face) {
         (_, Some(f)) => format!("face {f} of a cube written as six files"),

@@ -1,20 +1,5 @@
-//! GPU texel formats and their packers: what a KTX2, DDS or KTX 1 file's
-//! texels are, bit for bit.
-//!
-//! | format | Vulkan | DXGI | GL | bytes | range | source of the packing |
-//! | --- | ---: | ---: | --- | ---: | --- | --- |
-//! | [`TexelFormat::Rgba16f`] | 97 | 10 | `GL_RGBA16F` | 8 | ±65504 | IEEE 754 binary16, round to nearest even |
-//! | [`TexelFormat::Rgba32f`] | 109 | 2 | `GL_RGBA32F` | 16 | f32 | IEEE 754 binary32, as is |
-//! | [`TexelFormat::B10g11r11`] | 122 | 26 | `GL_R11F_G11F_B10F` | 4 | 0 … 65024 (B 64512) | unsigned 11- and 10-bit floats (Vulkan spec §"Fixed-Point/Floating-Point Data Conversions", 5-bit exponent, bias 15), round to nearest even |
-//! | [`TexelFormat::E5b9g9r9`] | 123 | 67 | `GL_RGB9_E5` | 4 | 0 … 65408 | `EXT_texture_shared_exponent`, §"Appendix: RGB9E5 shared exponent" |
-//! | [`TexelFormat::Rgb16f`] | 90 | – | `GL_RGB16F` | 6 | ±65504 | read only (no DXGI or Metal equivalent) |
-//! | [`TexelFormat::Rgb32f`] | 106 | 6 | `GL_RGB32F` | 12 | f32 | read only |
-//!
-//! RGBA formats get alpha 1. Values a format cannot hold are clamped to the
-//! nearest value it can, and counted ([`Clamped`]): above the largest
-//! finite value (RGBA16F would otherwise turn them into infinity, which GPU
-//! filtering spreads as NaN), below zero for the unsigned formats, and NaN
-//! (written as 0). RGBA32F stores every f32 as is.
+// GPU texel formats and their packers: what a KTX2, DDS or KTX 1 file's
+// texels are, bit for bit.
 
 /// A texel format a GPU samples directly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -1,25 +1,5 @@
-//! The built-in environments, usable wherever an environment file is
-//! (`--env sky`, `--env room`): no file needed.
-//!
-//! Directions are in world axes: z up, right-handed; azimuth is measured from
-//! +x towards +y. Every function here normalises its direction, returns
-//! black for a zero or non-finite one and a finite radiance otherwise.
-//!
-//! * [`sky`]: an analytic, HDR, linear-RGB sky. A gradient from a pale, bright
-//!   horizon to a deeper blue zenith; a sun disk of angular radius
-//!   [`SUN_RADIUS_DEG`] (0.6°) at elevation [`SUN_ELEVATION_DEG`] (35°) and
-//!   azimuth [`SUN_AZIMUTH_DEG`] (40°) with radiance in the thousands
-//!   ([`SUN_RADIANCE`]); a soft glow around it; below the horizon a
-//!   checkered ground plane seen from [`SkyParams::eye_height`] (1 unit)
-//!   above it, squares of [`SkyParams::checker_size`] (1 unit) in two greys,
-//!   fading into the horizon's haze with distance. The only discontinuities
-//!   are the sun's edge and the checker edges, both wanted: they show how each
-//!   representation filters sharp detail.
-//! * [`room`]: a box room seen from its centre, the scene that seed `002`
-//!   captures as six views from one point. [`room_cube`] does exactly that:
-//!   it renders the six GL faces from the eye, giving a cube map to use as
-//!   the environment (the two-pass method).
-//! * [`Builtin`]: the two by name, for the command line.
+// The built-in environments, usable wherever an environment file is
+// (`--env sky`, `--env room`): no file needed.
 
 use std::fmt;
 use std::str::FromStr;
@@ -80,7 +60,7 @@ pub const SUN_RADIANCE: [f32; 3] = [5000.0, 4700.0, 4200.0];
 /// from +x towards +y (z up).
 ///
 /// ```
-/// use envmap_render::scene::environments::direction_from_angles;
+/// use envmap_render::scene::direction_from_angles;
 /// let d = direction_from_angles(90.0, 0.0);
 /// assert!((d.z - 1.0).abs() < 1e-6);
 /// ```

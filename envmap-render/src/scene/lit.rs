@@ -1,40 +1,5 @@
-//! Lighting with environment maps: the split sum engines shade with, and
-//! the Monte Carlo integral it approximates.
-//!
-//! [`LitEnvironment`] holds what `envmap bake` makes: the GGX-prefiltered
-//! specular chain (with each level's perceptual roughness), the irradiance
-//! cube and the DFG table. [`LitSampler::shade`] evaluates, for a
-//! [`Material`] at normal N seen along V (both unit, world axes, V towards
-//! the eye):
-//!
-//! ```text
-//! diffuse  = c_diff · E(N)/π                       (c_diff = base · (1 − metallic))
-//! specular = LD(R, r) · (F0 · A + B) [· (1 + F0 · (1/(A + B) − 1))]
-//! ```
-//!
-//! with R = 2(N·V)N − V, LD the chain read at roughness r (between the two
-//! levels whose roughness brackets r, weighted as [`LevelBlend`] says:
-//! linear in 1/α by default, linear in the lod for an engine's chain;
-//! bilinear in each), (A, B) the DFG table's single-scatter scale and bias
-//! at (N·V, r), and the bracketed
-//! factor Filament's multiscatter energy compensation (Filament's "Physically
-//! Based Rendering in Filament", §4.7.2), when asked for. That is Karis'
-//! split sum ("Real Shading in Unreal Engine 4", 2013): the prefiltered
-//! radiance assumes N = V = R.
-//!
-//! `exact_split_sum` is the same sum with nothing baked: the prefiltered
-//! integral of the input itself at r, the DFG integral at (N·V, r) and the
-//! exact irradiance. The render's distance from it is what the chain and
-//! the table cost (`tests/split_sum.rs`, `docs/design/lighting-method.md`).
-//!
-//! [`reference()`] is the integral the split sum stands for, per pixel:
-//! L_o = ∫ L(l) (c_diff/π + D·Vis·F) (N·l)⁺ dl with GGX D, the
-//! height-correlated Smith visibility and Schlick's Fresnel (glTF 2.0
-//! Appendix B), estimated by importance sampling: cosine-weighted
-//! directions, GGX half vectors (pdf D·(N·H)) and directions drawn by the
-//! environment's luminance ([`EnvSampling`], which finds a small bright
-//! sun the other two almost never hit), combined by the balance
-//! heuristic, from a deterministic per-pixel sequence.
+// Lighting with environment maps: the split sum engines shade with, and
+// the Monte Carlo integral it approximates.
 
 use envmap_core::glam::{Mat3, Vec3};
 use envmap_core::{reflect_view, AnyMapping, ChartUv};
@@ -135,7 +100,7 @@ impl LevelBlend {
 /// over a sphere (`tests/split_sum.rs`).
 pub const RENDER_DFG_SIZE: u32 = 128;
 
-/// The maps a split-sum render reads; see the [module docs](self).
+/// The maps a split-sum render reads; see the [module docs](super).
 ///
 /// Besides the maps it keeps a bordered copy of every level but the first
 /// and of the irradiance map (one texel more on each side of each chart),
@@ -446,7 +411,7 @@ fn clamp_nv(nv: f32) -> f32 {
 /// The split sum's last step, shared by [`LitSampler`] and
 /// [`exact_split_sum`]: c_diff·E/π + LD·(F0·A + B), times Filament's
 /// multiscatter factor 1 + F0·(1/(A + B) − 1) when asked for (see the
-/// [module docs](self)), from the DFG's `[A, B]`, the prefiltered
+/// [module docs](super)), from the DFG's `[A, B]`, the prefiltered
 /// radiance `ld` and E/π `e`.
 #[inline]
 fn split_sum(
@@ -484,7 +449,7 @@ fn split_sum(
 /// * E/π: the exact cosine integral of the input (`Oracle::irradiance`),
 ///   only when the material has a diffuse part.
 ///
-/// Combined as the split sum combines them (the [module docs](self)). The
+/// Combined as the split sum combines them (the [module docs](super)). The
 /// difference between a split-sum render and this one is what the chain
 /// (its levels, their sizes, the blend between them) and the DFG table
 /// cost, apart from the split sum's own approximation, which both share.
@@ -549,7 +514,7 @@ fn schlick(f0: [f32; 3], cos: f32) -> [f32; 3] {
 
 impl LitSampler<'_> {
     /// The prefiltered radiance towards world direction `r` at perceptual
-    /// roughness `roughness` (see the [module docs](self)).
+    /// roughness `roughness` (see the [module docs](super)).
     #[must_use]
     pub fn specular(&self, r: Vec3, roughness: f32) -> [f32; 3] {
         match self.mapping.forward(self.to_map * r) {
@@ -654,7 +619,7 @@ impl LitSampler<'_> {
         }
     }
 
-    /// The split sum's sum (see the [module docs](self)) from the chain's
+    /// The split sum's sum (see the [module docs](super)) from the chain's
     /// value `ld`, E/π `e`, and N·V.
     fn combine(
         &self,
@@ -1150,7 +1115,7 @@ impl EnvSampling {
 /// al. 2007) and, given `light`, the environment's luminance
 /// ([`EnvSampling`]) — combined by the balance heuristic (Veach 1997,
 /// multi-sample form: each sample weighted by f·L·cos / Σ p_j), from
-/// `rng` (see the [module docs](self)). A roughness below 10⁻³ is a
+/// `rng` (see the [module docs](super)). A roughness below 10⁻³ is a
 /// mirror: the specular term is then F(N·V)·L(R) exactly, and the other
 /// strategies estimate the diffuse term alone.
 #[must_use]

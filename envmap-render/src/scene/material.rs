@@ -1,11 +1,6 @@
-//! Materials: the glTF 2.0 metallic-roughness model (glTF 2.0 spec,
-//! Appendix B "BRDF Implementation"), and the named presets of the command
-//! line.
-//!
-//! A material is a base colour (linear RGB), a metallic factor and a
-//! perceptual roughness r (GGX α = r²). Its reflectance at normal incidence
-//! is F0 = mix(0.04, base colour, metallic) (the dielectric F0 of 0.04
-//! unless given), its diffuse colour base · (1 − metallic).
+// Materials: the glTF 2.0 metallic-roughness model (glTF 2.0 spec,
+// Appendix B "BRDF Implementation"), and the named presets of the command
+// line.
 
 use crate::error::{Error, Result};
 

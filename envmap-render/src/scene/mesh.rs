@@ -1,26 +1,5 @@
-//! Triangle meshes with smooth vertex normals: a sphere, a torus and the Utah
-//! teapot.
-//!
-//! All meshes use world axes with z up. Triangles wind counter-clockwise seen
-//! from outside, so `(b - a) × (c - a)` points the same way as the vertex
-//! normals (outward).
-//!
-//! The teapot is Martin Newell's 1975 model (public domain): 32 bicubic
-//! Bézier patches, including the bottom, embedded from `data/teapot.bpt`.
-//! Each patch is evaluated on a regular parameter grid with the cubic
-//! Bernstein basis
-//!
-//! ```text
-//! S(u, v) = Σᵢ Σⱼ Bᵢ(u) Bⱼ(v) Pᵢⱼ,   B₀ = (1−t)³, B₁ = 3t(1−t)², B₂ = 3t²(1−t), B₃ = t³
-//! ```
-//!
-//! and its normal is `∂S/∂u × ∂S/∂v`, evaluated a little inside the patch
-//! where that product vanishes (the collapsed edges at the lid's knob and the
-//! bottom's centre). Each patch is turned to face outward by casting rays
-//! from it through the whole model and counting crossings (an even count
-//! means the side it faces is outside). Vertices that patches share along
-//! their seams are welded (positions quantised to [`WELD_TOLERANCE`]) and
-//! their normals averaged, so shading is smooth across patch borders.
+// Triangle meshes with smooth vertex normals: a sphere, a torus and the Utah
+// teapot.
 
 use std::collections::HashMap;
 use std::f64::consts::PI;

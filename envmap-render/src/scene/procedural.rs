@@ -1,5 +1,5 @@
-//! Environments defined by a function of direction, evaluated into any
-//! representation.
+// Environments defined by a function of direction, evaluated into any
+// representation.
 
 use crate::par::*;
 use envmap_core::glam::Vec3;

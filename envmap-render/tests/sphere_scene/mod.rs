@@ -13,13 +13,13 @@ use std::path::Path;
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
 use envmap_render::filter::oracle::Oracle;
-use envmap_render::image::io::{load, LoadOptions, NonFinite};
+use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
-use envmap_render::scene::environments::Builtin;
-use envmap_render::scene::lit::LitEnvironment;
-use envmap_render::scene::material::Material;
-use envmap_render::scene::mesh::Mesh;
-use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions, Shading};
+use envmap_render::scene::Builtin;
+use envmap_render::scene::LitEnvironment;
+use envmap_render::scene::Material;
+use envmap_render::scene::Mesh;
+use envmap_render::scene::{render, Camera, EnvSource, RenderOptions, Shading};
 use envmap_render::RgbImage;
 
 /// The sphere and the camera, in envmap's z-up axes.

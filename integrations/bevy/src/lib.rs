@@ -57,7 +57,7 @@ pub mod headless;
 pub use envmap_render;
 use envmap_render::bake::{Baker, Preset, Target};
 use envmap_render::filter::bake::Bake;
-use envmap_render::image::io::{load_from_memory, LoadOptions};
+use envmap_render::image::{load_from_memory, LoadOptions};
 use envmap_render::image::{FileAxes, TexelFormat, Texture};
 use envmap_render::EnvImage;
 

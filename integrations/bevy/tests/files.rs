@@ -9,7 +9,7 @@ use envmap_bevy::{bake_image, bevy_preset, EnvironmentImages};
 use envmap_core::AnyMapping;
 use envmap_render::bake::Baker;
 use envmap_render::image::{Representation, TexelFormat};
-use envmap_render::scene::environments::Builtin;
+use envmap_render::scene::Builtin;
 
 fn same(ours: &Image, bevys: &Image, what: &str) {
     let (a, b) = (&ours.texture_descriptor, &bevys.texture_descriptor);

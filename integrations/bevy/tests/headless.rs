@@ -17,9 +17,9 @@ use envmap_bevy::headless::{self, Frame, View};
 use envmap_bevy::{bake_image, EnvironmentImages};
 use envmap_core::AnyMapping;
 use envmap_render::image::{Representation, TexelFormat};
-use envmap_render::scene::mesh::Mesh as EnvMesh;
-use envmap_render::scene::procedural::fill;
-use envmap_render::scene::render::{render, Camera, EnvSource, RenderOptions};
+use envmap_render::scene::fill;
+use envmap_render::scene::Mesh as EnvMesh;
+use envmap_render::scene::{render, Camera, EnvSource, RenderOptions};
 use envmap_render::{EnvImage, RgbImage};
 
 /// Bevy's world (GL: y up, right-handed) in envmap's canonical axes (z up).
@@ -115,10 +115,10 @@ fn keep(name: &str, size: u32, pixels: &[[f32; 3]]) {
         height: size,
         pixels: pixels.to_vec(),
     };
-    let _ = envmap_render::image::io::write_rgb(
+    let _ = envmap_render::image::write_rgb(
         &img,
         dir.join(name),
-        &envmap_render::image::io::SaveOptions::default(),
+        &envmap_render::image::SaveOptions::default(),
     );
 }
 
@@ -233,8 +233,8 @@ fn a_white_diffuse_sphere_in_a_constant_environment_renders_its_radiance() {
 #[test]
 fn the_plugin_bakes_off_the_main_thread_while_the_app_runs() {
     use envmap_bevy::{BakeEnvironment, BakedEnvironment, EnvmapPlugin};
-    use envmap_render::image::io::{Outputs, SaveOptions};
-    let sky = envmap_render::scene::environments::Builtin::Sky
+    use envmap_render::image::{Outputs, SaveOptions};
+    let sky = envmap_render::scene::Builtin::Sky
         .image(Representation::default_for(AnyMapping::LatLong), 2048, 1024)
         .expect("sky");
     let mut run = Outputs::in_memory(None);
@@ -376,9 +376,9 @@ fn bevy_sphere<B: Bundle>(
 fn lit_spheres_agree_with_envmaps_split_sum() {
     use envmap_render::filter::dfg::DfgTable;
     use envmap_render::filter::sh::IrradianceScale;
-    use envmap_render::scene::lit::{LevelBlend, LitEnvironment};
-    use envmap_render::scene::material::Material;
-    use envmap_render::scene::render::Shading;
+    use envmap_render::scene::Material;
+    use envmap_render::scene::Shading;
+    use envmap_render::scene::{LevelBlend, LitEnvironment};
     const S: u32 = 128;
     let env = environment(pattern);
     let baked = bake_image(&env, 128).expect("bake");
@@ -456,10 +456,10 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
     }
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/headless");
     let _ = std::fs::create_dir_all(&dir);
-    let _ = envmap_render::image::io::write_rgb(
+    let _ = envmap_render::image::write_rgb(
         &strip,
         dir.join("lit-strip.png"),
-        &envmap_render::image::io::SaveOptions::default(),
+        &envmap_render::image::SaveOptions::default(),
     );
     // Bevy reads a little darker than envmap's split sum, by its BRDF
     // details (docs/engines.md has the measured PSNR and bias per
@@ -599,7 +599,7 @@ fn sphere_nv(s: u32) -> Vec<Option<f32>> {
 /// each term evaluated exactly from the input map.
 struct ModelReference {
     src: EnvImage,
-    light: envmap_render::scene::lit::EnvSampling,
+    light: envmap_render::scene::EnvSampling,
     /// E(n)/π per pixel, two independent estimates: the reference's
     /// integral for a white Lambertian with no specular lobe.
     irradiance: [Vec<[f32; 3]>; 2],
@@ -612,8 +612,8 @@ impl ModelReference {
     const SAMPLES: u32 = 256;
 
     fn new(src: &EnvImage, s: u32) -> Self {
-        use envmap_render::scene::material::Material;
-        use envmap_render::scene::render::light_table;
+        use envmap_render::scene::light_table;
+        use envmap_render::scene::Material;
         let light = light_table(EnvSource::Map(src), Default::default());
         let mut this = Self {
             src: src.clone(),
@@ -635,11 +635,11 @@ impl ModelReference {
     /// envmap's Monte Carlo reference of `material` over the sphere view.
     fn integral(
         &self,
-        material: envmap_render::scene::material::Material,
+        material: envmap_render::scene::Material,
         s: u32,
         seed: u64,
     ) -> Vec<[f32; 3]> {
-        use envmap_render::scene::render::Shading;
+        use envmap_render::scene::Shading;
         let opts = {
             let mut o = RenderOptions::default();
             o.width = s;
@@ -682,7 +682,7 @@ impl ModelReference {
         estimate: usize,
     ) -> Vec<[f32; 3]> {
         use envmap_render::filter::dfg::dfg_integral;
-        use envmap_render::scene::material::Material;
+        use envmap_render::scene::Material;
         assert!(
             metallic == 0.0 || metallic == 1.0,
             "a metal or a dielectric"
@@ -887,7 +887,7 @@ fn assert_envmaps_maps_are_closer(name: &str, rows: &[Row], to_truth: bool) {
 /// larger one; the table in docs/engines.md shows it.)
 #[test]
 fn envmaps_maps_are_closer_to_the_ground_truth_than_bevys_generated_ones() {
-    let sky = envmap_render::scene::environments::Builtin::Sky
+    let sky = envmap_render::scene::Builtin::Sky
         .image(Representation::default_for(AnyMapping::LatLong), 1024, 512)
         .expect("sky");
     let pattern_rows = maps_against_reference(&environment(pattern), "pattern");
@@ -908,11 +908,8 @@ fn on_real_hdris_envmaps_maps_are_closer_to_the_ground_truth_than_bevys() {
     let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(dir);
     for name in ["park.exr", "sky.exr", "sunrise.exr"] {
         let path = dir.join(name);
-        let src = envmap_render::image::io::load(
-            &path,
-            &envmap_render::image::io::LoadOptions::default(),
-        )
-        .unwrap_or_else(|e| panic!("{e} (scripts/fetch-hdris.sh fetches it into target/hdri)"));
+        let src = envmap_render::image::load(&path, &envmap_render::image::LoadOptions::default())
+            .unwrap_or_else(|e| panic!("{e} (scripts/fetch-hdris.sh fetches it into target/hdri)"));
         let rows = maps_against_reference(&src, name);
         assert_envmaps_maps_are_closer(name, &rows, true);
     }

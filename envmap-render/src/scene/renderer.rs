@@ -1,88 +1,5 @@
-//! The renderer: a reflective object in an environment, seen through a
-//! pinhole camera.
-//!
-//! One z-buffered rasterizer serves both of the seeds' methods:
-//!
-//! * [`Mode::PerPixel`] (seed `000`): for every pixel showing the object, the
-//!   interpolated normal N, the view vector V, the reflection
-//!   R = 2(N·V)N − V, its place in the environment map and the filtered texel.
-//! * [`Mode::PerVertex`] (seed `002`): R and its texture coordinates are
-//!   computed at the vertices only and the coordinates interpolated linearly
-//!   (perspective-correct) across each triangle, in the chart of the
-//!   triangle's first vertex — which reproduces the seams, poles and rim
-//!   artifacts the seeds warn about.
-//!
-//! Where no object covers a pixel the environment itself is shown (the view
-//! ray's direction looked up in the map). Bands of rows render in parallel.
-//! World axes are envmap's canonical ones: z up, right-handed.
-//!
-//! # Mip-aware lookups
-//!
-//! A mirror magnifies the environment where it curves: neighbouring pixels
-//! of a distant or strongly curved part reflect directions far apart, and a
-//! plain bilinear lookup per pixel then skips texels and aliases. With
-//! [`RenderOptions::mip`], per-pixel lookups in a map read a mip pyramid
-//! of it ([`crate::filter::pyramid`]: solid-angle-weighted box levels, the
-//! representation's edge rule at each) through [`Trilinear`],
-//! at a level chosen per pixel from the footprint of the looked-up
-//! direction:
-//!
-//! 1. **Footprint**, an angle in direction space (so no chart seam or pole
-//!    of the map enters it): the larger of |R(x + 1, y) − R(x, y)| and
-//!    |R(x, y + 1) − R(x, y)|, the chords from the pixel's direction to
-//!    those one pixel right and one pixel down. For a pixel on the object
-//!    these are ray differentials (Igehy 1999, "Tracing ray differentials",
-//!    SIGGRAPH), taken by finite differences of the interpolated surface:
-//!    the neighbours' screen points are put on the plane of the pixel's own
-//!    triangle (its perspective-correct weights extrapolated), their normal
-//!    and view vector interpolated there and reflected. So the footprint
-//!    grows with the surface's curvature (the normal turns faster per
-//!    pixel: R turns twice as fast) and with distance (a pixel covers more
-//!    of the surface), which is the ray cone's spread, pixel angle plus
-//!    twice the curvature term (Akenine-Möller et al. 2019, "Texture level
-//!    of detail strategies for real-time ray tracing", Ray Tracing Gems
-//!    ch. 20), measured rather than modelled, and never taken across a
-//!    silhouette or from another part of the object. For a background pixel
-//!    it is the view ray's own angular size.
-//! 2. **Texel size** where the lookup lands: the square root of the base
-//!    texel's exact solid angle (`TexelWeights`, one lookup per pixel), so
-//!    a cube face's corners (texels 5.2 times smaller in solid angle than
-//!    its centre) or a latlong's poles get their own scale.
-//! 3. **Level** λ = log2(footprint / texel) − 1, at least 0 (the base),
-//!    blended trilinearly between ⌊λ⌋ and ⌊λ⌋ + 1. The −1: GL's isotropic
-//!    rule (λ = log2 of the larger footprint, no bias) over-blurs. Against a
-//!    4 × 4-supersampled render of a mirror teapot, a bias of −1 scored best
-//!    on every map tried, and the larger chord beat the geometric mean of
-//!    the two (the footprint's area) at every bias: a level's bilinear tap
-//!    already spreads over two of its texels, so the pixel's half-footprint
-//!    is the size to match.
-//!
-//! `cargo test --release -p envmap-cli --test mip -- --nocapture` measures
-//! the gain against that supersampled reference (`docs/cli.md` gives the
-//! figures). What is left is mostly the silhouette's geometric aliasing,
-//! which no texture filter touches.
-//!
-//! The pyramid is built for each render unless made beforehand
-//! ([`MipLevels`], [`RenderOptions::mip_levels`]; made again in place for a
-//! map that changes, [`MipLevels::rebuild`]; a render building its own builds
-//! them into the memory of the last render's, [`release_kept_levels`]): the map itself is read in place
-//! as level 0 (`Trilinear::over_prepared`); the levels below it (every level down
-//! to 1², about a third of the map's texels) are made from it, each in one
-//! parallel pass over the level above, written straight into its copy with
-//! a one-texel border (each but a disk map's; `PreparedLevels::below`: no
-//! level image made, none copied), which [`MipLevels`] keeps: renders from
-//! prebuilt levels copy nothing. Building them is the option's main cost, timed
-//! beside the plain render in the render bench (`envmap-bench`,
-//! `per-pixel-mip`, `per-pixel-mip-prebuilt`; `docs/performance.md`). The rest is
-//! kept small: eight lookups whose levels are all 0 (the background, the
-//! flatter parts) take the plain path, a level is read only on the lanes
-//! that use it, a pixel's footprint comes from its neighbours'
-//! directions on the same triangle where it has them, and the levels'
-//! logarithms are taken eight at a time (within 10⁻⁵ of a level of the
-//! f64 formula, `lod8_levels_are_the_f64_formula`).
-//! Per-vertex mode keeps seed `002`'s lookups (their artifacts are its
-//! point), [`Filter::Nearest`] stays nearest, and an analytic environment
-//! has no map to filter.
+// The renderer: a reflective object in an environment, seen through a
+// pinhole camera.
 
 use std::sync::atomic::AtomicBool;
 
@@ -173,7 +90,7 @@ pub struct RenderOptions<'a> {
     /// Mip-aware lookups: per pixel, every lookup in an environment map
     /// (the mirror's reflections and the background) reads a mip
     /// pyramid of the map trilinearly, at the level of the looked-up
-    /// ray's footprint (see [Mip-aware lookups](self#mip-aware-lookups)),
+    /// ray's footprint (see [Mip-aware lookups](super#mip-aware-lookups)),
     /// so that distant or strongly curved reflections stop aliasing. Off
     /// (the default here), every lookup reads the map itself with
     /// [`RenderOptions::filter`], as seed `000` does. Only with
@@ -202,7 +119,7 @@ pub struct RenderOptions<'a> {
 /// is level 0, read in place): its solid-angle-weighted pyramid from half
 /// its size down to 1², each level ready for sampling (made with its
 /// border, once, here), and its texels' solid angles; see
-/// [Mip-aware lookups](self#mip-aware-lookups). Make it once to render a
+/// [Mip-aware lookups](super#mip-aware-lookups). Make it once to render a
 /// map many times: a render from it copies nothing.
 #[derive(Clone, Debug)]
 pub struct MipLevels {
@@ -384,7 +301,7 @@ impl Default for RenderOptions<'_> {
     }
 }
 
-/// How the object is shaded; see [`crate::scene::lit`].
+/// How the object is shaded; see [`crate::scene`].
 #[derive(Clone, Copy, Debug, Default)]
 pub enum Shading<'a> {
     /// A mirror: the environment looked up along R (seed `000`).
@@ -1252,7 +1169,7 @@ fn background_stays_at_base(view: &View, least: f64) -> bool {
 }
 
 /// Added to every mip-aware lookup's level: one level finer than the
-/// footprint's own (see [Mip-aware lookups](self#mip-aware-lookups)).
+/// footprint's own (see [Mip-aware lookups](super#mip-aware-lookups)).
 const LOD_BIAS: f32 = -1.0;
 
 /// Perspective-correct weights of screen point `(px, py)` on the plane of a

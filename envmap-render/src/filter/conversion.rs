@@ -1,20 +1,4 @@
-//! Conversion between any two representations: one generic loop.
-//!
-//! For each output texel inside a chart: its centre, or N×N stratified
-//! sub-sample points, are inverse-mapped to directions (envmap-simd, eight at
-//! a time), carried from the output's axes through the world (z up) into the
-//! input's axes (with an optional rotation on the way; see
-//! [`Representation::frame`]), forward-mapped into the input's charts and
-//! filtered there (`Sampler`); only the ray matters, so the output's
-//! [`Mapping8::inverse8_ray`] feeds the input's [`Mapping8::forward8_ray`].
-//! Texels outside every chart (cross corners, the corners around a disk) are
-//! black. Bands of up to 128 rows run in parallel (rayon), each walked in
-//! tiles of 32 columns; within a band, batches are mapped two at a time and
-//! addressed 32 ahead of filtering while their texels load (see the
-//! `crate::filter::sample` module). With one sample per
-//! texel, samples go straight into the output; N×N sub-samples, and every
-//! sample on a disk chart, go into a scratch tile and are averaged (on a disk,
-//! over the sub-samples inside it).
+// Conversion between any two representations: one generic loop.
 
 use std::sync::atomic::AtomicBool;
 
@@ -245,7 +229,7 @@ pub fn convert_into(
 ///
 /// ```
 /// use envmap_core::AnyMapping;
-/// use envmap_render::filter::convert::{convert, ConvertOptions, Streamed};
+/// use envmap_render::filter::{convert, ConvertOptions, Streamed};
 /// use envmap_render::image::{EnvImage, Representation};
 /// let src = EnvImage::new(64, 32, Representation::default_for(AnyMapping::LatLong)).unwrap();
 /// let cube = Representation::default_for(AnyMapping::Cube);
