@@ -65,7 +65,7 @@ pub const SUN_RADIANCE: [f32; 3] = [5000.0, 4700.0, 4200.0];
 /// assert!((d.z - 1.0).abs() < 1e-6);
 /// ```
 #[must_use]
-pub(crate) fn direction_from_angles(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
+pub fn direction_from_angles(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
     let (se, ce) = elevation_deg.to_radians().sin_cos();
     let (sa, ca) = azimuth_deg.to_radians().sin_cos();
     Vec3::new(ce * ca, ce * sa, se)
