@@ -41,8 +41,9 @@
 //! | `.dds` | 2D or cube (DX10 header), level 0; the same formats but RGB16F | as KTX2, no zstd | `dds.rs` |
 //! | `.ktx` | no (written for Filament) | KTX 1 as `cmgen` writes it | `ktx1.rs` |
 //!
-//! The format is chosen by the extension, case-insensitively. Alpha is
-//! dropped. Colour profiles and PNG gamma chunks are ignored: 8- and 16-bit
+//! The format is chosen by the extension, case-insensitively; bytes in
+//! memory under a name without a known extension, by their first bytes
+//! ([`FileFormat::from_bytes`]). Alpha is dropped. Colour profiles and PNG gamma chunks are ignored: 8- and 16-bit
 //! files are taken as sRGB and decoded with the exact sRGB EOTF
 //! ([`srgb_to_linear`]).
 //!
