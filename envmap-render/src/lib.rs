@@ -20,6 +20,9 @@
 //! An engine sets `default-features = false` and adds what it reads and
 //! writes: the in-memory core is always there (`docs/embedding.md`). A file
 //! of a format left out gives [`Error::FormatDisabled`].
+//! Off by default, `instruments` makes the measuring instruments public
+//! (`filter::oracle`, `filter::weights`, `filter::sample`) for the command's
+//! `--check` and `--reference`, the benchmarks and the tests.
 //!
 //! Conventions (axes, frames, layouts, image coordinates) are in
 //! `docs/conventions.md`; speed in `docs/performance.md`; what bad input gives
