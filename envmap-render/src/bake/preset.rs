@@ -285,6 +285,31 @@ mod tests {
     use crate::image::convention::{Convention, World};
     use envmap_core::AnyMapping;
 
+    /// A bake is written only in a container that holds one; another
+    /// format is refused by name.
+    #[test]
+    fn only_exr_and_texture_containers_hold_a_bake() {
+        for &f in FileFormat::ALL {
+            let p = Preset {
+                container: f,
+                ..Preset::default()
+            };
+            let ok = p.check();
+            assert_eq!(
+                ok.is_ok(),
+                matches!(
+                    f,
+                    FileFormat::Exr | FileFormat::Ktx2 | FileFormat::Dds | FileFormat::Ktx
+                ),
+                "{}",
+                f.name()
+            );
+            if let Err(e) = ok {
+                assert!(e.to_string().contains(f.name()), "{e}");
+            }
+        }
+    }
+
     /// Bevy's axes are the world's with z negated, however they are named.
     #[test]
     fn bevys_axes_negate_z() {

@@ -10,7 +10,7 @@
 //! The formats, one file each: `ktx2.rs` (KTX 2.0, read and write),
 //! `dds.rs` (DDS with the DX10 header, read and write), `ktx1.rs` (KTX 1 as
 //! Filament's `cmgen` writes it, write only). Texel formats and their
-//! packers are in [`crate::image`].
+//! packers are in [Texel formats](crate::image#texel-formats).
 
 use std::path::Path;
 
@@ -398,7 +398,8 @@ pub struct Upload {
     pub format: TexelFormat,
     /// The levels, largest first.
     pub levels: Vec<UploadLevel>,
-    /// What packing into `format` clamped (see [`crate::image`]).
+    /// What packing into `format` clamped (see
+    /// [Texel formats](crate::image#texel-formats)).
     pub clamped: Clamped,
 }
 
