@@ -456,10 +456,21 @@ pub(super) fn encode<W: Write + Seek>(
     if !view.description.is_empty() {
         attributes.comments = text(view.description);
     }
+    // The tags in their order (a later tag of a name replacing an earlier
+    // one's value, as the header's map does).
+    let mut tags: Vec<(Text, Text)> = Vec::new();
     for (k, v) in view.tags {
         if let (Some(k), Some(v)) = (text(k), text(v)) {
-            attributes.other.insert(k, AttributeValue::Text(v));
+            match tags.iter_mut().find(|(name, _)| *name == k) {
+                Some(tag) => tag.1 = v,
+                None => tags.push((k, v)),
+            }
         }
+    }
+    for (k, v) in &tags {
+        attributes
+            .other
+            .insert(k.clone(), AttributeValue::Text(v.clone()));
     }
     let sample = match precision {
         ExrPrecision::F32 => SampleType::F32,
@@ -491,6 +502,8 @@ pub(super) fn encode<W: Write + Seek>(
             ::exr::meta::attribute::LineOrder::Increasing,
         )
         .with_attributes(attributes);
+    let reorder = TagOrder::of(&header, &tags);
+    let start = out.stream_position().map_err(|e| Error::write(path, e))?;
     let mut headers = SmallVec::new();
     headers.push(header);
     let result = ::exr::block::write(&mut *out, headers, true, |meta, writer| {
@@ -549,7 +562,78 @@ pub(super) fn encode<W: Write + Seek>(
             format: FileFormat::Exr.name(),
             message: other.to_string(),
         },
-    })
+    })?;
+    if let Some(order) = reorder {
+        order.write(start, out).map_err(|e| Error::write(path, e))?;
+    }
+    Ok(())
+}
+
+/// The place of the tags' attributes in an OpenEXR header, to write them
+/// in the tags' order.
+///
+/// The `exr` crate holds a header's other attributes in a `HashMap` and
+/// writes them last, in the map's order, which changes from one map to
+/// the next: the same image would give different bytes on each run. The
+/// attributes take the same bytes in any order, so the run of them in the
+/// written header is overwritten with the same attributes in order.
+struct TagOrder {
+    /// Where the run of attributes starts, from the start of the header.
+    at: u64,
+    /// The attributes in the tags' order.
+    bytes: Vec<u8>,
+}
+
+impl TagOrder {
+    /// The attributes of `tags` in order and where `header` writes them;
+    /// `None` when there is nothing to reorder, or when the header's bytes
+    /// do not end with exactly these attributes (then the file is written
+    /// as the `exr` crate orders it).
+    fn of(
+        header: &::exr::meta::header::Header,
+        tags: &[(::exr::meta::attribute::Text, ::exr::meta::attribute::Text)],
+    ) -> Option<Self> {
+        use ::exr::meta::attribute::{write, AttributeValue};
+        if tags.len() < 2 {
+            return None;
+        }
+        let encoded: Vec<Vec<u8>> = tags
+            .iter()
+            .map(|(k, v)| {
+                let mut b = Vec::new();
+                write(k.as_slice(), &AttributeValue::Text(v.clone()), &mut b).ok()?;
+                Some(b)
+            })
+            .collect::<Option<_>>()?;
+        let mut written = Vec::new();
+        header.write(&mut written).ok()?;
+        let len: usize = encoded.iter().map(Vec::len).sum();
+        // The header's attributes end with one zero byte.
+        let end = written.len().checked_sub(1)?;
+        let run = &written[end.checked_sub(len)?..end];
+        // The run must be these attributes, each once, in some order.
+        let mut used = vec![false; encoded.len()];
+        let mut at = 0;
+        while at < run.len() {
+            let i = (0..encoded.len()).find(|&i| !used[i] && run[at..].starts_with(&encoded[i]))?;
+            used[i] = true;
+            at += encoded[i].len();
+        }
+        Some(Self {
+            // The magic number and the version field come before the header.
+            at: 8 + (end - len) as u64,
+            bytes: encoded.concat(),
+        })
+    }
+
+    /// Overwrites the run of attributes of the file that starts at `start`
+    /// of `out`, and leaves `out` at its end.
+    fn write<W: Write + Seek>(&self, start: u64, out: &mut W) -> std::io::Result<()> {
+        out.seek(SeekFrom::Start(start + self.at))?;
+        out.write_all(&self.bytes)?;
+        out.seek(SeekFrom::End(0))?;
+        Ok(())
+    }
 }
 
 /// Which rows of an atlas image cross a cell without a chart.
@@ -810,6 +894,61 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The tags are text attributes in their order, whatever order the
+    /// `exr` crate's map would give them: the same image is the same bytes
+    /// each time it is written, and each tag reads back.
+    #[test]
+    fn tags_are_written_in_their_order_every_time() {
+        use crate::image::io::View;
+        let pixels = vec![[0.25f32, 0.5, 1.0]; 8 * 4];
+        let tags: Vec<(String, String)> = (0..7)
+            .map(|i| (format!("envmap.t{}", (i * 5) % 7), format!("value {i}")))
+            .chain([("envmap.t3".to_string(), "last".to_string())])
+            .collect();
+        let view = View {
+            width: 8,
+            height: 4,
+            pixels: &pixels,
+            stream: None,
+            atlas: None,
+            tags: &tags,
+            description: "",
+        };
+        let write = || {
+            let mut out = std::io::Cursor::new(Vec::new());
+            encode(
+                Path::new("t.exr"),
+                view,
+                ExrPrecision::F32,
+                ExrCompression::None,
+                &mut out,
+            )
+            .expect("encode");
+            out.into_inner()
+        };
+        let first = write();
+        // Eight maps of seven names: each order 1 in 5 040.
+        for _ in 0..8 {
+            assert!(
+                write() == first,
+                "the bytes differ from one write to the next"
+            );
+        }
+        // In order: t0, t5, t3 (its later value), t1, t6, t4, t2.
+        let text = String::from_utf8_lossy(&first);
+        let at = |s: &str| text.find(s).unwrap_or_else(|| panic!("{s} missing"));
+        let names =
+            ["t0", "t5", "t3", "t1", "t6", "t4", "t2"].map(|n| at(&format!("envmap.{n}\0")));
+        assert!(names.windows(2).all(|w| w[0] < w[1]), "{names:?}");
+        assert!(!text.contains("value 2") && text.contains("last"));
+        let meta = ::exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(&first), true)
+            .expect("the exr crate reads it");
+        assert_eq!(meta.headers[0].own_attributes.other.len(), 7);
+        let source = crate::image::format::memory(&first, None);
+        let back = super::read(Path::new("t.exr"), source, u64::MAX).expect("read");
+        assert_eq!(back.0.pixels, pixels);
     }
 
     /// `auto` in f32: an atlas with empty cells (the crosses) is an RLE file
