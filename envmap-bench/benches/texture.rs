@@ -22,7 +22,10 @@ use std::sync::OnceLock;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use envmap_render::image::texture::{self, full_chain, level_size};
-use envmap_render::image::{RgbImage, TexelFormat, Texture, TextureKind, TextureOptions};
+use envmap_render::image::{
+    texture::{Texture, TextureKind, TextureOptions},
+    RgbImage, TexelFormat,
+};
 use glam::Vec3;
 
 /// Face size of level 0.

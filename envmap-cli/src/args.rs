@@ -156,8 +156,8 @@ impl TextureFlags {
     /// defaults).
     pub(crate) fn over(
         &self,
-        base: envmap_render::image::TextureOptions,
-    ) -> envmap_render::image::TextureOptions {
+        base: envmap_render::image::texture::TextureOptions,
+    ) -> envmap_render::image::texture::TextureOptions {
         let mut o = base;
         o.format = self.format.unwrap_or(base.format);
         o.zstd = if self.no_zstd {

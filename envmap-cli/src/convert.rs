@@ -16,17 +16,17 @@ use crate::args::{
 use envmap_render::filter::pyramid::Pyramid;
 use envmap_render::filter::Filter;
 use envmap_render::filter::{auto_samples, convert, ConvertOptions, Streamed};
+use envmap_render::image::texture::Texture;
 use envmap_render::image::FaceNames;
 use envmap_render::image::FaceTransforms;
 use envmap_render::image::FileFormat;
 use envmap_render::image::Layout;
 use envmap_render::image::Outputs;
-use envmap_render::image::Texture;
 use envmap_render::image::{
     load_detailed, save, ExrPrecision, LoadOptions, Loaded, NonFinite, SaveOptions,
 };
+use envmap_render::image::{texture::TextureOptions, EnvImage, Representation};
 use envmap_render::image::{Convention, FileAxes, World};
-use envmap_render::image::{EnvImage, Representation, TextureOptions};
 
 #[derive(Args)]
 pub(crate) struct ConvertArgs {

@@ -72,7 +72,7 @@ fn same(name: &str, a: &[u8], b: &[u8]) {
 
 const ENV_SIZE: u32 = 32;
 
-fn source() -> envmap_render::EnvImage {
+fn source() -> envmap_render::image::EnvImage {
     let repr = Representation::for_file(AnyMapping::Cube, FileAxes::default());
     let (w, h) = repr
         .atlas
@@ -193,8 +193,8 @@ fn engine_upload_data_is_the_ktx2_files_levels() {
 /// without a face black, in each cube layout a bake writes as one image.
 #[test]
 fn exr_levels_read_back_face_for_face_in_every_layout() {
+    use envmap_render::image::Layout;
     use envmap_render::image::{load, LoadOptions};
-    use envmap_render::Layout;
     let dir = tempfile::tempdir().expect("tempdir");
     let src = source();
     for layout in [Layout::Cross, Layout::VCross, Layout::Strip, Layout::VStrip] {
@@ -263,7 +263,7 @@ fn files_of(dir: &Path) -> BTreeMap<String, Vec<u8>> {
 /// directory.
 #[test]
 fn bake_into_writes_what_a_bake_then_write_writes_and_nothing_when_cancelled() {
-    use envmap_render::Layout;
+    use envmap_render::image::Layout;
     use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
     let dir = tempfile::tempdir().expect("tempdir");
     let src = source();

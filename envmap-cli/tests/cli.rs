@@ -119,7 +119,7 @@ fn convert_and_info_happy_paths() {
     assert!(info.contains("mapping          sphere\n"), "{info}");
     assert!(info.contains("as the file says"), "{info}");
     // One that does not say needs --from; with it, info works.
-    let plain = envmap_render::RgbImage {
+    let plain = envmap_render::image::RgbImage {
         width: 8,
         height: 8,
         pixels: vec![[0.5; 3]; 64],
@@ -202,7 +202,7 @@ fn mistakes_get_clear_errors() {
         smooth,
     )
     .unwrap();
-    let rgb = envmap_render::RgbImage {
+    let rgb = envmap_render::image::RgbImage {
         width: 50,
         height: 30,
         pixels: img.pixels()[..1500].to_vec(),

@@ -8,10 +8,10 @@ use std::path::Path;
 
 use envmap_core::{AnyMapping, Atlas, Frame};
 use envmap_render::image::{face_paths_named, load, load_detailed, FaceNames, LoadOptions};
+use envmap_render::image::{save, EnvImage, Representation, SaveOptions};
 use envmap_render::image::{Convention, FileAxes, World};
 use envmap_render::image::{FaceTransforms, FaceTurn};
 use envmap_render::scene::{fill, smooth};
-use envmap_render::{save, EnvImage, Representation, SaveOptions};
 
 mod common;
 use common::{envmap, text};

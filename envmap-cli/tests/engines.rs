@@ -349,9 +349,9 @@ fn texture_flags_are_refused_where_they_mean_nothing() {
 #[test]
 fn a_baked_chain_survives_export_and_import_within_the_format_precision() {
     use envmap_render::filter::bake::{specular_chain, BakeOptions, Quality};
-    use envmap_render::image::{texture, Texture, TextureKind, TextureOptions};
+    use envmap_render::image::texture::{self, Texture, TextureKind, TextureOptions};
     use envmap_render::scene::Builtin;
-    let repr = envmap_render::Representation::default_for(envmap_core::AnyMapping::Cube);
+    let repr = envmap_render::image::Representation::default_for(envmap_core::AnyMapping::Cube);
     let (w, h) = repr.atlas.image_size_for_cell_width(32).unwrap();
     let src = Builtin::Sky.image(repr, w, h).unwrap();
     let opts = {

@@ -21,7 +21,11 @@ use envmap_render::image::{Outputs, SaveOptions};
 use envmap_render::scene::Builtin;
 use envmap_render::scene::{fill, smooth};
 use envmap_render::scene::{render, Camera, EnvSource, RenderOptions};
-use envmap_render::{convert, save, ConvertOptions, Error, Representation};
+use envmap_render::{
+    filter::{convert, ConvertOptions},
+    image::{save, Representation},
+    Error,
+};
 
 mod common;
 use common::entries;
@@ -344,8 +348,8 @@ fn the_cancel_flag_stops_a_render_and_a_load() {
     let mesh = envmap_render::scene::Mesh::sphere(1.0, 16, 8);
     let r = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts);
     assert!(matches!(r, Err(Error::Cancelled)));
-    let l = envmap_render::load(big_input(), &{
-        let mut o = envmap_render::LoadOptions::default();
+    let l = envmap_render::image::load(big_input(), &{
+        let mut o = envmap_render::image::LoadOptions::default();
         o.cancel = Some(&stop);
         o
     });

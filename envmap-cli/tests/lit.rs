@@ -9,12 +9,12 @@ use envmap_core::AnyMapping;
 use envmap_render::filter::bake::{bake, BakeOptions};
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::image::FileAxes;
+use envmap_render::image::{EnvImage, Representation, RgbImage};
 use envmap_render::scene::LitEnvironment;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
 use envmap_render::scene::{fill, psnr, smooth};
 use envmap_render::scene::{render, Camera, EnvSource, Mode, RenderOptions, Shading};
-use envmap_render::{EnvImage, Representation, RgbImage};
 
 /// `f` in a cube of `face`² texels (GL axes) and its bake at `size`.
 fn baked(f: impl Fn(Vec3) -> [f32; 3] + Sync, face: u32, size: u32) -> (EnvImage, LitEnvironment) {

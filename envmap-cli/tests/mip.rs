@@ -10,13 +10,13 @@
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
 use envmap_render::image::linear_to_srgb;
+use envmap_render::image::RgbImage;
 use envmap_render::image::{EnvImage, Representation};
 use envmap_render::scene::Builtin;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
 use envmap_render::scene::{fill, psnr, smooth};
 use envmap_render::scene::{render, Camera, EnvSource, RenderOptions, Shading};
-use envmap_render::RgbImage;
 
 mod common;
 use common::{envmap, text};

@@ -9,8 +9,8 @@ use std::process::Command;
 use envmap_core::AnyMapping;
 use envmap_render::filter::{convert, ConvertOptions};
 use envmap_render::image::load_detailed;
+use envmap_render::image::{save, EnvImage, LoadOptions, NonFinite, Representation, SaveOptions};
 use envmap_render::scene::{fill, smooth};
-use envmap_render::{save, EnvImage, LoadOptions, NonFinite, Representation, SaveOptions};
 
 mod common;
 use common::{entries, envmap, text};
@@ -140,7 +140,8 @@ fn info_counts_and_convert_replaces_non_finite_texels() {
         err.contains("bad.exr: 3 texels with NaN or infinite values replaced by black"),
         "{err}"
     );
-    let out = envmap_render::load(dir.path().join("out.exr"), &LoadOptions::default()).unwrap();
+    let out =
+        envmap_render::image::load(dir.path().join("out.exr"), &LoadOptions::default()).unwrap();
     assert!(finite(&out));
 }
 

@@ -23,8 +23,8 @@ use std::process::Command;
 use envmap_core::AnyMapping;
 use envmap_render::image::FaceTurn;
 use envmap_render::image::{load, save, LoadOptions, SaveOptions};
+use envmap_render::image::{EnvImage, Representation, RgbImage};
 use envmap_render::scene::{fill, smooth};
-use envmap_render::{EnvImage, Representation, RgbImage};
 
 mod common;
 use common::{envmap, text};

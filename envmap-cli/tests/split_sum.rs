@@ -43,10 +43,10 @@ use envmap_render::filter::bake::BakeOptions;
 use envmap_render::filter::dfg::DfgGrid;
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::specular::RoughnessRule;
+use envmap_render::image::RgbImage;
 use envmap_render::image::{EnvImage, FileAxes, Representation};
 use envmap_render::scene::fill;
 use envmap_render::scene::{LevelBlend, LitEnvironment};
-use envmap_render::RgbImage;
 use sphere_scene::{builtin_sky, committed, exact, mask, measure, split};
 
 /// The bound on relative RMS error against the exact split sum.

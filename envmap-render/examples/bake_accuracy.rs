@@ -63,7 +63,7 @@ fn main() {
         .unwrap_or_else(|e| panic!("{path}: {e}")),
     };
     if let Ok(out) = std::env::var("WRITE") {
-        envmap_render::save(&src, std::path::Path::new(&out), &Default::default())
+        envmap_render::image::save(&src, std::path::Path::new(&out), &Default::default())
             .unwrap_or_else(|e| panic!("{out}: {e}"));
         println!("wrote {out}");
         return;

@@ -12,8 +12,10 @@
 
 use envmap_core::AnyMapping;
 use envmap_render::bake::{Baker, Target};
+use envmap_render::image::{
+    load_from_memory, save_to_memory, LoadOptions, Representation, SaveOptions,
+};
 use envmap_render::scene::Builtin;
-use envmap_render::{load_from_memory, save_to_memory, LoadOptions, Representation, SaveOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

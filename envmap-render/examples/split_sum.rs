@@ -31,11 +31,11 @@ use envmap_render::filter::dfg::{DfgGrid, DfgTable};
 use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::filter::specular::RoughnessRule;
+use envmap_render::image::RgbImage;
 use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes};
 use envmap_render::scene::Builtin;
 use envmap_render::scene::{LevelBlend, LitEnvironment};
-use envmap_render::RgbImage;
 
 #[path = "../tests/sphere_scene/mod.rs"]
 mod sphere_scene;

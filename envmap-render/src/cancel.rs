@@ -12,7 +12,7 @@
 //!
 //! ```
 //! use std::sync::atomic::{AtomicBool, Ordering};
-//! use envmap_render::{convert, ConvertOptions, Error, Representation};
+//! use envmap_render::{filter::{convert, ConvertOptions}, Error, image::Representation};
 //! use envmap_render::scene::Builtin;
 //! use envmap_core::AnyMapping;
 //!

@@ -6,8 +6,8 @@
 
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 use envmap_render::filter::sample::{Filter, Sampler};
+use envmap_render::image::Representation;
 use envmap_render::scene::{fill, smooth};
-use envmap_render::Representation;
 use envmap_simd::{Uv8, INVALID_CHART};
 
 const COORDS: [f32; 12] = [

@@ -11,8 +11,9 @@ use envmap_render::image::{
     face_paths, linear_to_srgb8, load_detailed, read_rgb, srgb_to_linear, write_rgb, ExrPrecision,
 };
 use envmap_render::{
-    convert, load, save, ConvertOptions, EnvImage, Error, Layout, LoadOptions, Representation,
-    RgbImage, SaveOptions,
+    filter::{convert, ConvertOptions},
+    image::{load, save, EnvImage, Layout, LoadOptions, Representation, RgbImage, SaveOptions},
+    Error,
 };
 
 mod common;

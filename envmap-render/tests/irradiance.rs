@@ -21,8 +21,8 @@ use envmap_render::filter::sh::{
 };
 use envmap_render::image::FileAxes;
 use envmap_render::image::{load, save, LoadOptions, SaveOptions};
+use envmap_render::image::{EnvImage, Representation};
 use envmap_render::scene::{fill, smooth, sunny};
-use envmap_render::{EnvImage, Representation};
 
 mod common;
 use common::text;

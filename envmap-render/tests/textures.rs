@@ -21,9 +21,13 @@ use envmap_render::image::load_detailed;
 use envmap_render::image::texture::{self, full_chain, level_size};
 use envmap_render::image::FileFormat;
 use envmap_render::image::{
-    RgbImage, TexelFormat, Texture, TextureKind, TextureOptions, DEFAULT_MAX_TEXELS,
+    texture::{Texture, TextureKind, TextureOptions},
+    RgbImage, TexelFormat, DEFAULT_MAX_TEXELS,
 };
-use envmap_render::{save, EnvImage, Error, LoadOptions, Representation, SaveOptions};
+use envmap_render::{
+    image::{save, EnvImage, LoadOptions, Representation, SaveOptions},
+    Error,
+};
 
 // ---------------------------------------------------------------------------
 // Test textures
@@ -1365,7 +1369,10 @@ fn every_presets_files_say_their_axes_and_load_back_in_them() {
     use envmap_render::bake::{Baker, Preset, Target};
     use envmap_render::image::FileAxes;
     use envmap_render::image::FileFormat;
-    use envmap_render::{convert, load_from_memory, ConvertOptions};
+    use envmap_render::{
+        filter::{convert, ConvertOptions},
+        image::load_from_memory,
+    };
     let src = envmap_render::scene::fill(
         Representation::default_for(AnyMapping::LatLong),
         64,

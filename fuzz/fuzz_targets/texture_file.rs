@@ -7,8 +7,10 @@
 
 use std::path::Path;
 
-use envmap_render::image::texture::{self, level_bytes, level_size};
-use envmap_render::image::{TexelFormat, TextureFile, TextureKind, TextureOptions};
+use envmap_render::image::texture::{
+    self, level_bytes, level_size, TextureFile, TextureKind, TextureOptions,
+};
+use envmap_render::image::TexelFormat;
 use libfuzzer_sys::fuzz_target;
 
 /// Small enough that the fuzzer cannot ask for gigabytes (a zstd level

@@ -44,12 +44,12 @@ use envmap_render::bake::{open, Baker};
 use envmap_render::filter::dfg::{DfgGrid, DfgTable};
 use envmap_render::image::FileAxes;
 use envmap_render::image::{write_rgb, SaveOptions};
+use envmap_render::image::{EnvImage, Representation, RgbImage};
 use envmap_render::scene::Builtin;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
 use envmap_render::scene::{render, Camera, EnvSource, RenderOptions, Shading};
 use envmap_render::scene::{LevelBlend, LitEnvironment};
-use envmap_render::{EnvImage, Representation, RgbImage};
 use glam::Vec3;
 
 const WIDTH: u32 = 320;

@@ -32,7 +32,10 @@ use envmap_render::image::FileAxes;
 use envmap_render::scene::Builtin;
 use envmap_render::scene::Material;
 use envmap_render::scene::{LevelBlend, LitEnvironment};
-use envmap_render::{convert, ConvertOptions, EnvImage, Representation};
+use envmap_render::{
+    filter::{convert, ConvertOptions},
+    image::{EnvImage, Representation},
+};
 use envmap_tests::{uniform_direction, SplitMix64};
 use glam::Vec3;
 use gpu::{bytes_f32, f32s, gpu, Binding, Gpu, Level, INDEX_WGSL};

@@ -27,7 +27,7 @@ pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 /// ```
 /// use envmap_render::bake::{Baker, Target};
 /// use envmap_render::scene::{fill, smooth};
-/// use envmap_render::Representation;
+/// use envmap_render::image::Representation;
 /// use envmap_core::AnyMapping;
 ///
 /// let hdri = fill(Representation::default_for(AnyMapping::LatLong), 128, 64, smooth)?;
@@ -172,7 +172,7 @@ impl<'a> Baker<'a> {
     ///
     /// # Errors
     ///
-    /// A preset whose choices disagree ([`Preset::check`]); a bad size or
+    /// A preset whose choices disagree (`Preset::check`); a bad size or
     /// level count; non-finite texels; [`crate::Error::Cancelled`].
     pub fn bake<'s>(&self, src: impl Into<Cow<'s, EnvImage>>) -> Result<Baked<'a>> {
         self.preset.check()?;

@@ -36,7 +36,7 @@
 //! ```
 //! use envmap_render::bake::{Baker, Target};
 //! use envmap_render::scene::{fill, smooth};
-//! use envmap_render::Representation;
+//! use envmap_render::image::Representation;
 //! use envmap_core::AnyMapping;
 //!
 //! let src = fill(Representation::default_for(AnyMapping::LatLong), 128, 64, smooth)?;

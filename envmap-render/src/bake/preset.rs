@@ -12,7 +12,8 @@ use crate::filter::sh::ShWindow;
 use crate::filter::specular::RoughnessRule;
 use crate::image::convention::FileAxes;
 use crate::image::layout::Layout;
-use crate::image::{FileFormat, TexelFormat, TextureOptions};
+use crate::image::texture::TextureOptions;
+use crate::image::{FileFormat, TexelFormat};
 
 /// An engine a bake is made for (`envmap bake --target`); see
 /// `docs/engines.md` for what each loads and how it was checked.
@@ -160,7 +161,7 @@ impl Preset {
     /// The choices of `target`, with the cube files in `axes` (envmap's
     /// default: GL's). Filament's preset mirrors the cube as cmgen does by
     /// default, in GL's axes whatever `axes` says (Filament's world);
-    /// [`Preset::unmirrored`] is `cmgen --no-mirror`.
+    /// `Preset::unmirrored` is `cmgen --no-mirror`.
     #[must_use]
     pub fn for_target(target: Target, axes: FileAxes) -> Self {
         let base = Self {
@@ -223,8 +224,10 @@ impl Preset {
 
     /// `self` without cmgen's mirroring (`cmgen --no-mirror`): the cube in
     /// the axes it was made for.
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn unmirrored(self, axes: FileAxes) -> Self {
+    pub(crate) fn unmirrored(self, axes: FileAxes) -> Self {
         Self {
             axes,
             mirrored: false,
@@ -256,7 +259,8 @@ impl Preset {
     ///
     /// A container that holds no bake, supercompression outside KTX2, a
     /// layout that is not a cube's.
-    pub fn check(&self) -> Result<()> {
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
+    pub(crate) fn check(&self) -> Result<()> {
         if !(self.container == FileFormat::Exr || self.container.is_texture()) {
             return Err(Error::options(format!(
                 "{}: a bake is written as exr, ktx2, dds or ktx",

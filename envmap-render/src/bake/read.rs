@@ -101,8 +101,10 @@ fn format_of(path: &Path) -> Option<FileFormat> {
 
 /// Whether `path` is what [`open`] reads: a directory, or a `.ktx2` / `.dds`
 /// file (a chain if it has more than one level or a manifest names it).
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn is_candidate(path: &Path) -> bool {
+pub(crate) fn is_candidate(path: &Path) -> bool {
     path.is_dir() || matches!(format_of(path), Some(FileFormat::Ktx2 | FileFormat::Dds))
 }
 

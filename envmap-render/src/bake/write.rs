@@ -16,8 +16,9 @@ use crate::filter::bake::{
 use crate::filter::dfg::{DfgGrid, DfgTable};
 use crate::filter::sh::{IrradianceScale, NAMES};
 use crate::image::convention::FileAxes;
-use crate::image::io::{ExrPrecision, MemoryFile, Outputs, SaveOptions};
-use crate::image::{Clamped, EnvImage, FileFormat, Texture, TextureKind, TextureOptions, Upload};
+use crate::image::io::{ExrPrecision, SaveOptions};
+use crate::image::texture::{Texture, TextureKind, TextureOptions, Upload};
+use crate::image::{Clamped, EnvImage, FileFormat, MemoryFile, Outputs};
 
 /// Where a bake came from, for its manifest.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -47,7 +47,7 @@ use crate::image::{luminance, EnvImage, FileAxes, Representation};
 ///
 /// The default's counts grow with roughness, as the sampling's error does
 /// at a fixed count (against the exact integral; sharp edges need more than
-/// smooth maps, [`estimated_error`] and `docs/lighting.md`): 64 up to
+/// smooth maps, `estimated_error` and `docs/lighting.md`): 64 up to
 /// roughness 0.15, 128 up to 0.3, 256 up to 0.5, 1024 above. Draft takes a quarter of
 /// those, high four times as many. The bake doubles a level's count where
 /// its lobe is under [`SHARP_TEXELS`] of the input's texels across.
@@ -64,8 +64,9 @@ pub enum Quality {
 
 impl Quality {
     /// Samples per texel at `roughness`.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn samples(self, roughness: f32) -> u32 {
+    pub(crate) fn samples(self, roughness: f32) -> u32 {
         let base = match roughness {
             r if r <= 0.15 => 64,
             r if r <= 0.3 => 128,
@@ -171,7 +172,7 @@ pub struct BakeOptions<'a> {
     /// the irradiance map by the exact cosine convolution.
     pub exact: bool,
     /// The irradiance map by the exact cosine convolution of the input
-    /// (its pyramid at a level fine enough, [`irradiance_map_exact`])
+    /// (its pyramid at a level fine enough, `irradiance_map_exact`)
     /// instead of from the SH9, whatever `exact` says: SH9's band limit
     /// cannot hold a sun or a window. Default false.
     pub exact_irradiance: bool,
@@ -187,23 +188,23 @@ pub struct BakeOptions<'a> {
     pub clamp: Option<f32>,
     /// The outputs' axes (cube files in the GL world by default).
     pub axes: FileAxes,
-    /// The irradiance map's face size ([`bake`]); 0 for none. Default 32.
+    /// The irradiance map's face size (`bake`); 0 for none. Default 32.
     pub irradiance_size: u32,
     /// What the irradiance map stores: E/π (the default) or E.
     pub irradiance_scale: IrradianceScale,
     /// A deringing window for the SH (and the irradiance map made from
     /// it); `None` (the default) for none.
     pub sh_window: Option<ShWindow>,
-    /// Only the SH ([`bake`] skips the chain, the map and the table).
+    /// Only the SH (`bake` skips the chain, the map and the table).
     pub sh_only: bool,
-    /// The DFG table's size ([`bake`]); 0 for none. Default 128.
+    /// The DFG table's size (`bake`); 0 for none. Default 128.
     pub dfg_size: u32,
     /// Where the DFG table's texels sit: texel centres (the default, what
     /// engines sample at (N·V, roughness)) or the edges grid (N·V and
     /// roughness of 0 and 1 exact; [`DfgGrid`]).
     pub dfg_grid: DfgGrid,
     /// Texels per sampled level measured against the exact integral
-    /// ([`measure_level`]); 0 (the default) for none.
+    /// (`measure_level`); 0 (the default) for none.
     pub check: u32,
     /// Stops the bake once set ([`Error::Cancelled`]).
     pub cancel: Option<&'a AtomicBool>,
@@ -261,7 +262,7 @@ pub struct LevelReport {
 
 impl LevelReport {
     /// The relative RMS error this level's method is measured to have on
-    /// smooth light ([`estimated_error`], `docs/lighting.md`); `None` for the
+    /// smooth light (`estimated_error`, `docs/lighting.md`); `None` for the
     /// resampled and exact levels, which have no sampling error.
     #[must_use]
     pub fn estimated_error(&self) -> Option<f64> {
@@ -270,7 +271,7 @@ impl LevelReport {
 }
 
 /// A level's error against the exact integral on a subset of its texels
-/// ([`measure_level`]).
+/// (`measure_level`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LevelError {
     /// Texels measured.
@@ -293,7 +294,8 @@ pub struct LevelError {
 /// # Errors
 ///
 /// `level` is not a cube.
-pub fn measure_level(
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn measure_level(
     oracle: &Oracle,
     roughness: f32,
     level: &EnvImage,
@@ -381,8 +383,9 @@ fn compare(pairs: impl Iterator<Item = ([f64; 3], [f64; 3])>) -> LevelError {
 /// E/π as `scale` says) against the oracle's E (`Oracle::irradiance`),
 /// clamped at zero as the map is, at `texels` texels picked as in
 /// [`measure_level`].
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn measure_irradiance(
+pub(crate) fn measure_irradiance(
     oracle: &Oracle,
     map: &EnvImage,
     scale: IrradianceScale,
@@ -421,8 +424,9 @@ pub fn measure_irradiance(
 /// N samples, which overestimates the error at 256. Sharp environments
 /// (edges, small lights) have larger errors: `envmap bake --check`
 /// measures them on the input itself.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn estimated_error(roughness: f32, samples: u32) -> f64 {
+pub(crate) fn estimated_error(roughness: f32, samples: u32) -> f64 {
     const AT_64: [(f64, f64); 9] = [
         (0.0, 0.0),
         (0.125, 0.0030),
@@ -560,7 +564,8 @@ fn clamp_negative(img: &mut EnvImage) -> u64 {
 ///
 /// `levels` beyond the chain (more than ⌊log2 size⌋ + 1), or 0; a size of
 /// 0.
-pub fn chain_sizes(opts: &BakeOptions) -> Result<Vec<u32>> {
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn chain_sizes(opts: &BakeOptions) -> Result<Vec<u32>> {
     if let Some(sizes) = &opts.sizes {
         if sizes.is_empty() || sizes.contains(&0) {
             return Err(Error::options(format!(
@@ -604,8 +609,10 @@ pub fn chain_sizes(opts: &BakeOptions) -> Result<Vec<u32>> {
 
 /// A chain's levels: each one's perceptual roughness and face size, level
 /// 0 first (for [`BakeOptions::sizes`] and [`RoughnessRule::Custom`]).
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[derive(Clone, Debug, PartialEq)]
-pub struct ChainShape {
+pub(crate) struct ChainShape {
     /// Each level's perceptual roughness, non-decreasing, level 0 at 0.
     pub roughness: Vec<f32>,
     /// Each level's face size.
@@ -614,8 +621,10 @@ pub struct ChainShape {
 
 impl ChainShape {
     /// `opts` set to bake this chain (its roughness list and sizes).
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn apply<'a>(&self, opts: BakeOptions<'a>) -> BakeOptions<'a> {
+    pub(crate) fn apply<'a>(&self, opts: BakeOptions<'a>) -> BakeOptions<'a> {
         BakeOptions {
             rule: RoughnessRule::Custom(self.roughness.clone()),
             sizes: Some(self.sizes.clone()),
@@ -630,8 +639,10 @@ impl ChainShape {
 /// the smallest face whose centre texel (2·atan(1/s) for s²) is at most
 /// 1/`texels` of its lobe's width, within [`min_size`, `max_size`]. Sizes
 /// need not be powers of two: this is not a mip chain.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn lobe_chain(
+pub(crate) fn lobe_chain(
     size: u32,
     max_size: u32,
     first: f32,
@@ -676,6 +687,7 @@ pub fn lobe_chain(
 /// the exact split sum is 2 % RMS and 0.5 % bias at every roughness from 0
 /// to 1 (`docs/design/lighting-method.md`, "How exact the lit renders are", has the
 /// measurements).
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
 #[must_use]
 pub(crate) fn render_chain(size: u32) -> ChainShape {
     let first = RENDER_FIRST_ROUGHNESS * (256.0 / size.max(1) as f32).sqrt();
@@ -695,22 +707,26 @@ pub(crate) fn render_chain(size: u32) -> ChainShape {
 /// field (`scene::lit`'s `NearField`), which follows the input read
 /// bilinearly; a level lower than this, baked from the input's texels,
 /// differs from that reading near a one-texel sun.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
 pub(crate) const RENDER_FIRST_ROUGHNESS: f32 = 0.13;
 
 /// [`render_chain`]'s largest step in ln(lobe width) from one level to the
 /// next (the width grows by at most e^0.25 = 1.28 per level). Blended
 /// linearly in 1/α, two lobes this far apart stand for the lobe between
 /// them within about 1 % (L² over the sphere, a point light).
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
 pub(crate) const RENDER_WIDTH_STEP: f64 = 0.25;
 
 /// Texels of [`render_chain`]'s levels per lobe width (at a face's
 /// centre), up to 1.5 × level 0's size: a level read at its own roughness
 /// is then within 0.4 % of the exact split sum, and more or fewer texels
 /// per lobe hardly change the worst error between levels.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
 pub(crate) const RENDER_TEXELS_PER_LOBE: f64 = 4.0;
 
 /// [`render_chain`]'s smallest face: roughness 1's level holds its lobe
 /// (a 2² level reads it several per cent too dark or bright).
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
 pub(crate) const RENDER_MIN_SIZE: u32 = 16;
 
 /// The specular chain and what was done to make it.
@@ -804,7 +820,9 @@ fn refuse_non_finite(src: &EnvImage) -> Result<()> {
 ///
 /// NaN or infinite texels in `src`; bad sizes or levels ([`chain_sizes`]);
 /// [`Error::Cancelled`].
-pub fn specular_chain(
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn specular_chain(
     src: &EnvImage,
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -1111,7 +1129,7 @@ pub struct Irradiance {
     pub clamped: u64,
 }
 
-/// Everything [`bake`] makes.
+/// Everything `bake` makes.
 #[derive(Clone, Debug)]
 pub struct Bake {
     /// The specular chain (`None` with [`BakeOptions::sh_only`]).
@@ -1144,14 +1162,15 @@ pub struct BakeCheck {
 }
 
 /// The whole lighting bake of `src`: the specular chain
-/// ([`specular_chain`]), the SH9 radiance coefficients ([`Sh9::project`]),
+/// (`specular_chain`), the SH9 radiance coefficients ([`Sh9::project`]),
 /// the irradiance map (from the SH, or exact with [`BakeOptions::exact`]),
 /// and the DFG table. `progress(level, levels)` as for the chain.
 ///
 /// # Errors
 ///
-/// As [`specular_chain`]; a bad irradiance or DFG size.
-pub fn bake(
+/// As `specular_chain`; a bad irradiance or DFG size.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn bake(
     src: &EnvImage,
     opts: &BakeOptions,
     progress: &(dyn Fn(usize, usize) + Sync),

@@ -105,7 +105,7 @@
 //! every φ counts (the *full* region), between them φ runs over [0, φₘ]
 //! with φₘ = acos(sinh τ / k) (the *partial* region), above τ₂ none does.
 //!
-//! The rule on each region ([`dfg_integral`] evaluates it at one point)
+//! The rule on each region (`dfg_integral` evaluates it at one point)
 //! puts its panels where the integrand's singularities are; a texel's nodes
 //! are evaluated four at a time, and the result does not depend on the
 //! number of threads.
@@ -127,7 +127,7 @@
 //! # Sizes and arguments
 //!
 //! Sizes 1 to [`MAX_SIZE`] (4096) are accepted. Size 0 and larger sizes are
-//! errors. [`dfg_integral`] clamps μ and r into [[`MIN_ARGUMENT`], 1] (2⁻¹⁴,
+//! errors. `dfg_integral` clamps μ and r into [[`MIN_ARGUMENT`], 1] (2⁻¹⁴,
 //! below every texel centre of the largest table) and gives NaN for a NaN
 //! argument. The bilinear lookups clamp to the table's outermost texels
 //! (on [`DfgGrid::Edges`], 0 and 1). An edges table needs at least 2 × 2
@@ -148,7 +148,7 @@ pub const DEFAULT_SIZE: u32 = 128;
 /// The largest table size accepted (4096², 16.7 million texels).
 pub const MAX_SIZE: u32 = 4096;
 
-/// The smallest μ and r that [`dfg_integral`] evaluates at (2⁻¹⁴). Smaller
+/// The smallest μ and r that `dfg_integral` evaluates at (2⁻¹⁴). Smaller
 /// arguments are clamped to it. Every texel centre of a table up to
 /// [`MAX_SIZE`] is above it.
 pub const MIN_ARGUMENT: f64 = 1.0 / 16384.0;
@@ -181,9 +181,10 @@ impl DfgGrid {
     }
 
     /// Texel `index`'s argument in a table of `size`, f64.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[inline]
     #[must_use]
-    pub fn point(self, index: u32, size: u32) -> f64 {
+    pub(crate) fn point(self, index: u32, size: u32) -> f64 {
         match self {
             DfgGrid::TexelCentres => (f64::from(index) + 0.5) / f64::from(size),
             DfgGrid::Edges => f64::from(index) / f64::from(size.max(2) - 1),
@@ -767,8 +768,9 @@ impl Rule {
 /// let (scale, bias) = dfg_integral(0.5, 1.0);
 /// assert!((scale + bias - (1.0 - 0.5 * 3.0f64.ln())).abs() < 1e-6);
 /// ```
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn dfg_integral(mu: f64, r: f64) -> (f64, f64) {
+pub(crate) fn dfg_integral(mu: f64, r: f64) -> (f64, f64) {
     Rule::new(Params::STANDARD).integrate(mu, r)
 }
 
@@ -815,7 +817,12 @@ impl DfgTable {
     ///
     /// As `DfgTable::new_cancellable`; [`Error::Layout`] for a
     /// [`DfgGrid::Edges`] table under 2 × 2.
-    pub fn on_grid(size: u32, grid: DfgGrid, cancel: Option<&AtomicBool>) -> Result<DfgTable> {
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
+    pub(crate) fn on_grid(
+        size: u32,
+        grid: DfgGrid,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<DfgTable> {
         check_size(size)?;
         if grid == DfgGrid::Edges && size < 2 {
             return Err(Error::layout(
@@ -858,9 +865,10 @@ impl DfgTable {
     }
 
     /// Where the texels sit ([`DfgGrid`]).
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[inline]
     #[must_use]
-    pub fn grid(&self) -> DfgGrid {
+    pub(crate) fn grid(&self) -> DfgGrid {
         self.grid
     }
 
@@ -943,16 +951,18 @@ impl DfgTable {
     /// The single-scatter table as an image: R = scale, G = bias, B = 0.
     /// Column i is μ = (i + 0.5)/size; row j (top row first) is
     /// r = (j + 0.5)/size.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn single_scatter_image(&self) -> RgbImage {
+    pub(crate) fn single_scatter_image(&self) -> RgbImage {
         self.image(&self.single)
     }
 
     /// The multiscatter table (Filament's) as an image: R = bias,
     /// G = scale + bias, B = 0. Column i is μ = (i + 0.5)/size; row j (top
     /// row first) is r = (j + 0.5)/size.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn multiscatter_image(&self) -> RgbImage {
+    pub(crate) fn multiscatter_image(&self) -> RgbImage {
         self.image(&self.multi)
     }
 

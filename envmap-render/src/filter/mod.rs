@@ -7,11 +7,11 @@
 //!   ([Conversion](#conversion)).
 //!
 //! * `weights`: the exact solid angle of every texel (`weights::TexelWeights`).
-//! * [`pyramid`]: mip pyramids weighted by solid angle, and trilinear
-//!   sampling at a fractional level ([`pyramid::Pyramid`],
-//!   [`pyramid::Trilinear`]).
+//! * `pyramid`: mip pyramids weighted by solid angle, and trilinear
+//!   sampling at a fractional level (`pyramid::Pyramid`,
+//!   `pyramid::Trilinear`).
 //! * [`dfg`]: the split-sum DFG table, single and multiscatter
-//!   ([`dfg::DfgTable`], [`dfg::dfg_integral`]).
+//!   ([`dfg::DfgTable`], `dfg::dfg_integral`).
 //! * `oracle`: the bake's integrals from the input itself, piecewise
 //!   constant over its own texels, by adaptive quadrature (`oracle::Oracle`).
 //! * [`bake`]: the lighting bake's pipeline (chain, levels, reports).
@@ -58,7 +58,11 @@ pub mod oracle;
 #[cfg(not(feature = "instruments"))]
 #[allow(unreachable_pub, dead_code)]
 pub(crate) mod oracle;
+#[cfg(feature = "instruments")]
 pub mod pyramid;
+#[cfg(not(feature = "instruments"))]
+#[allow(unreachable_pub, dead_code)]
+pub(crate) mod pyramid;
 #[cfg(feature = "instruments")]
 pub mod sample;
 #[cfg(not(feature = "instruments"))]

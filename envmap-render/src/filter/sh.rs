@@ -29,7 +29,7 @@
 //!
 //! Irradiance *coefficients* are E. Everything that stores or returns
 //! irradiance values takes an [`IrradianceScale`] ([`Sh9::irradiance_at`],
-//! [`irradiance_map`], [`irradiance_map_exact`]), whose default is **E/π**:
+//! [`irradiance_map`], `irradiance_map_exact`), whose default is **E/π**:
 //! the outgoing radiance of a white Lambertian surface, which is what
 //! engines expect in a diffuse irradiance map (Filament, Bevy,
 //! glTF-IBL-Sampler and cmft all store E/π). Filament's shader form is E/π
@@ -69,7 +69,7 @@
 //!
 //! # Frames
 //!
-//! `Sh9::in_frame` and [`Sh9::transformed`] re-express the function in
+//! `Sh9::in_frame` and `Sh9::transformed` re-express the function in
 //! other axes, exactly, for any orthogonal matrix (rotations and
 //! reflections): band 0 is kept; band 1 is the vector a = (L11, L1−1, L10)
 //! of f₁ = Y1·a·d, and becomes Mᵀa; band 2 is the traceless symmetric
@@ -86,7 +86,7 @@
 //!
 //! # Filament's form
 //!
-//! [`Sh9::filament_shader_form`] is what Filament's `cmgen --sh-shader`
+//! `Sh9::filament_shader_form` is what Filament's `cmgen --sh-shader`
 //! prints and writes into the `sh` key of its KTX files and into `sh.txt`:
 //! the irradiance, divided by π, in y-up axes, each coefficient times its
 //! basis constant (Filament's basis has Condon–Shortley signs and its
@@ -108,9 +108,9 @@
 //!
 //! # Deringing
 //!
-//! Off unless asked for ([`Sh9::windowed`]). The window is Filament's
+//! Off unless asked for (`Sh9::windowed`). The window is Filament's
 //! (`CubemapSH::sincWindow`, after Sloan, "Deringing Spherical Harmonics",
-//! 2017): band l is scaled by [`sinc4_window`]: 1 for l = 0, 0 for l ≥ w, else
+//! 2017): band l is scaled by `sinc4_window`: 1 for l = 0, 0 for l ≥ w, else
 //! (sin x / x)⁴ with x = πl/w, w the cutoff in bands. [`ShWindow::Auto`]
 //! takes the cutoff from `Sh9::auto_cutoff`: none if the reconstructed
 //! irradiance is non-negative already; otherwise bisection for the largest
@@ -133,12 +133,12 @@
 //!
 //! [`irradiance_map`]: E or E/π from the SH at every texel centre of any
 //! representation (the SH taken to the map's axes first, then polynomials
-//! eight texels at a time); [`irradiance_cube`] is the default, a
+//! eight texels at a time); `irradiance_cube` is the default, a
 //! [`DEFAULT_IRRADIANCE_SIZE`]² = 32² GL cube (horizontal cross), E/π.
 //!
-//! [`irradiance_map_exact`]: the exact cosine convolution
+//! `irradiance_map_exact`: the exact cosine convolution
 //! E(n) = Σ_j L_j·max(n·l_j, 0)·Ω_j over every texel j of one level of a
-//! [`Pyramid`] (solid-angle-weighted means, so each level keeps the map's
+//! `Pyramid` (solid-angle-weighted means, so each level keeps the map's
 //! integral), eight output texels at a time (two batches per source texel),
 //! f32 within blocks of 256 source texels and f64 beyond, rows in parallel,
 //! black and non-finite source texels skipped (the latter counted). Level 0
@@ -148,7 +148,7 @@
 //! starting at the coarsest level with at least [`AUTO_START_TEXELS`]
 //! texels, it convolves each next finer level until two successive ones
 //! differ by at most the tolerance (relative RMS over the map,
-//! [`relative_rms`]; default [`DEFAULT_EXACT_TOLERANCE`] = 10⁻³, under
+//! `relative_rms`; default [`DEFAULT_EXACT_TOLERANCE`] = 10⁻³, under
 //! half-float precision, 4.9·10⁻⁴, once the finer level's error is a
 //! fraction of that difference), or reaches level 0. The finer of the two
 //! is returned, with the difference. Each finer level costs four times the
@@ -246,8 +246,9 @@ fn unit(d: DVec3) -> Option<DVec3> {
 
 /// The nine basis functions at `dir` (x, y, z; normalised first), in
 /// coefficient order; NaN for a zero or non-finite direction.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn basis(dir: [f64; 3]) -> [f64; 9] {
+pub(crate) fn basis(dir: [f64; 3]) -> [f64; 9] {
     match unit(DVec3::from_array(dir)) {
         Some(d) => {
             let p = poly(d);
@@ -352,8 +353,9 @@ impl Sh9 {
     }
 
     /// [`Sh9::eval`] in f64.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn eval_f64(&self, dir: [f64; 3]) -> [f64; 3] {
+    pub(crate) fn eval_f64(&self, dir: [f64; 3]) -> [f64; 3] {
         let b = basis(dir);
         let mut out = [0.0; 3];
         for (c, o) in out.iter_mut().enumerate() {
@@ -382,8 +384,10 @@ impl Sh9 {
     /// a = (L11, L1−1, L10) (x, y, z) in f = Y1·a·d, which becomes mᵀa; band
     /// 2 is the traceless symmetric matrix Q with f = dᵀQd on the sphere,
     /// which becomes mᵀQm.
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn transformed(&self, m: [[f64; 3]; 3]) -> Option<Sh9> {
+    pub(crate) fn transformed(&self, m: [[f64; 3]; 3]) -> Option<Sh9> {
         let m = DMat3 { r: m };
         if !m.is_finite() {
             return None;
@@ -436,8 +440,9 @@ impl Sh9 {
     /// constant, divided by π (Filament's own basis carries Condon–Shortley
     /// signs and its pre-scaling multiplies them back in, so nothing is
     /// negated here). Radiance coefficients are convolved first.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn filament_shader_form(&self) -> [[f64; 3]; 9] {
+    pub(crate) fn filament_shader_form(&self) -> [[f64; 3]; 9] {
         let e = self.irradiance().to_y_up();
         core::array::from_fn(|i| e.coeffs[i].map(|v| v * BASIS_CONSTANTS[i] / PI))
     }
@@ -445,8 +450,9 @@ impl Sh9 {
     /// The coefficients with band l scaled by the window's factor (see
     /// [`sinc4_window`]); [`ShWindow::Auto`] finds its cutoff with
     /// `Sh9::auto_cutoff` and changes nothing when none is needed.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn windowed(&self, window: ShWindow) -> Sh9 {
+    pub(crate) fn windowed(&self, window: ShWindow) -> Sh9 {
         let Some(w) = window.cutoff(self) else {
             return *self;
         };
@@ -594,7 +600,7 @@ fn from_native(raw: Raw, frame: Frame) -> Sh9 {
 /// A window over the SH bands (deringing); off unless asked for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ShWindow {
-    /// The sinc⁴ window with this cutoff, in bands ([`sinc4_window`]).
+    /// The sinc⁴ window with this cutoff, in bands (`sinc4_window`).
     Sinc4 {
         /// The band at which the window reaches 0.
         cutoff: f64,
@@ -616,8 +622,9 @@ pub const CMGEN_SMOOTH_CUTOFF: f64 = 12.7675;
 
 impl ShWindow {
     /// The cutoff this window applies to `sh`, or `None` for none.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn cutoff(self, sh: &Sh9) -> Option<f64> {
+    pub(crate) fn cutoff(self, sh: &Sh9) -> Option<f64> {
         match self {
             ShWindow::Sinc4 { cutoff } => Some(cutoff),
             ShWindow::Auto => sh.auto_cutoff(),
@@ -637,8 +644,9 @@ pub const AUTO_CUTOFF_START: f64 = 13.0;
 /// `CubemapSH::sincWindow`, after Sloan's "Deringing Spherical
 /// Harmonics"): 1 for l = 0, 0 for l ≥ w, else (sin x / x)⁴ with
 /// x = π·l/w. An infinite `w` gives 1; a NaN one 0 (for l > 0).
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn sinc4_window(l: u32, w: f64) -> f64 {
+pub(crate) fn sinc4_window(l: u32, w: f64) -> f64 {
     if l == 0 {
         return 1.0;
     }
@@ -1197,8 +1205,9 @@ pub enum IrradianceScale {
 
 impl IrradianceScale {
     /// The factor applied to E: 1 or 1/π.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn factor(self) -> f64 {
+    pub(crate) fn factor(self) -> f64 {
         match self {
             IrradianceScale::E => 1.0,
             IrradianceScale::EOverPi => 1.0 / PI,
@@ -1215,15 +1224,17 @@ impl IrradianceScale {
     }
 }
 
-/// The face size of [`irradiance_cube`]: 32 (Bevy's and glTF-IBL-Sampler's
+/// The face size of `irradiance_cube`: 32 (Bevy's and glTF-IBL-Sampler's
 /// diffuse cube size).
 pub const DEFAULT_IRRADIANCE_SIZE: u32 = 32;
 
 /// The default irradiance map's representation: a cube in envmap's file
 /// conventions (the GL world, y up; horizontal cross), as
 /// `Representation::for_file(AnyMapping::Cube, FileAxes::default())`.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn default_irradiance_representation() -> Representation {
+pub(crate) fn default_irradiance_representation() -> Representation {
     Representation::for_file(AnyMapping::Cube, FileAxes::default())
 }
 
@@ -1340,7 +1351,9 @@ pub fn irradiance_map(
 /// # Errors
 ///
 /// None in practice (the size is fixed and small).
-pub fn irradiance_cube(sh: &Sh9, scale: IrradianceScale) -> Result<EnvImage> {
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn irradiance_cube(sh: &Sh9, scale: IrradianceScale) -> Result<EnvImage> {
     let repr = default_irradiance_representation();
     let (w, h) = repr
         .size_for_cell_width(DEFAULT_IRRADIANCE_SIZE)
@@ -1348,7 +1361,7 @@ pub fn irradiance_cube(sh: &Sh9, scale: IrradianceScale) -> Result<EnvImage> {
     irradiance_map(sh, repr, w, h, scale)
 }
 
-/// Which pyramid level [`irradiance_map_exact`] convolves.
+/// Which pyramid level `irradiance_map_exact` convolves.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ExactLevel {
     /// The level the [module docs](self)' rule picks: finer levels until
@@ -1514,8 +1527,9 @@ fn exact_from_level(
 
 /// The relative RMS difference of `a` from `b`: √(Σ(a − b)² / Σb²) over
 /// every texel and channel (0 when both are black).
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn relative_rms(a: &EnvImage, b: &EnvImage) -> f64 {
+pub(crate) fn relative_rms(a: &EnvImage, b: &EnvImage) -> f64 {
     let (mut se, mut ss) = (0.0f64, 0.0f64);
     for (p, q) in a.pixels().iter().zip(b.pixels()) {
         for c in 0..3 {
@@ -1550,7 +1564,8 @@ fn texels(level: &EnvImage) -> u64 {
 /// # Errors
 ///
 /// The size does not fit `repr` or exceeds the default size limit.
-pub fn irradiance_map_exact(
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn irradiance_map_exact(
     src: &Pyramid,
     repr: Representation,
     width: u32,
@@ -1683,6 +1698,7 @@ struct DMat3 {
 }
 
 impl DMat3 {
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
     const IDENTITY: DMat3 = DMat3 {
         r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
     };

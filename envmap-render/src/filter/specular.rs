@@ -39,10 +39,10 @@
 //! # The brightest texels
 //!
 //! A sun or a lamp a thousand times brighter than the sky turns importance
-//! samples into noise and bias. [`split_bright`] takes out of the base every
+//! samples into noise and bias. `split_bright` takes out of the base every
 //! texel brighter than a threshold (see there), and each level adds their
 //! contribution exactly: Σ_b w(R·l_b) Ω_b L_b / Z, where Z = ∫ D(h)(n·l)⁺ dl
-//! ([`lobe_normalizer`], by quadrature in f64) for a sampled level, and
+//! (`lobe_normalizer`, by quadrature in f64) for a sampled level, and
 //! the exact sum's own Σ w Ω for an exact one. The rest is filtered as
 //! above. The integral is linear in L, so nothing is lost: only the
 //! sampled part has the sampling's error.
@@ -164,9 +164,10 @@ impl std::str::FromStr for RoughnessRule {
 }
 
 /// GGX D as a function of (n·h)², f64.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[inline]
 #[must_use]
-pub fn ggx_d(noh2: f64, alpha: f64) -> f64 {
+pub(crate) fn ggx_d(noh2: f64, alpha: f64) -> f64 {
     let a2 = alpha * alpha;
     let d = noh2 * (a2 - 1.0) + 1.0;
     a2 / (std::f64::consts::PI * d * d)
@@ -177,8 +178,9 @@ pub fn ggx_d(noh2: f64, alpha: f64) -> f64 {
 /// 2π sin θh dθh (dl = 4 (v·h) dh), by 8-point Gauss–Legendre on 64 panels
 /// graded towards the peak, in f64 (within 1e-7 relative of a million-step
 /// midpoint sum from α = 0.01 to 1).
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn lobe_normalizer(alpha: f64) -> f64 {
+pub(crate) fn lobe_normalizer(alpha: f64) -> f64 {
     // Gauss–Legendre nodes and weights on [−1, 1], 8 points.
     const X: [f64; 8] = [
         -0.960_289_856_497_536_2,
@@ -251,8 +253,9 @@ pub(crate) fn weight8(r: &Dir8, l: Vec3, a2: f32) -> f32x8 {
 /// Texels taken out of a map, to be summed to every level: points (a texel's
 /// centre, or the centres of the parts a texel was cut into) with their
 /// directions (in the map's own axes) and Ω·L.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Bright {
+pub(crate) struct Bright {
     /// Direction of each point (unit, the map's axes).
     pub dirs: Vec<Vec3>,
     /// Ω·L per point (solid angle times radiance; negative values kept).
@@ -261,7 +264,7 @@ pub struct Bright {
     pub report: BrightReport,
 }
 
-/// How many texels [`split_bright`] took and what they carry.
+/// How many texels `split_bright` took and what they carry.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BrightReport {
     /// The threshold on the largest absolute channel.
@@ -305,7 +308,8 @@ pub(crate) fn peak_magnitude(p: [f32; 3]) -> f32 {
 /// that makes a part at most `pitch` radians across (at most 16; `pitch`
 /// infinite for one point per texel). The rule is stated in the bake's
 /// manifest and `docs/lighting.md`.
-pub fn split_bright(img: &mut EnvImage, max_texels: usize, pitch: f64) -> Result<Bright> {
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn split_bright(img: &mut EnvImage, max_texels: usize, pitch: f64) -> Result<Bright> {
     // Bits below the top six of the mantissa.
     const SHIFT: u32 = 17;
     const BINS: usize = (0x7f80_0000u32 >> SHIFT) as usize;
@@ -497,8 +501,9 @@ pub(crate) fn texel_pitch(img: &EnvImage) -> f64 {
 /// The pyramid level an exact sum at roughness `r` uses: the coarsest whose
 /// texels are at most an eighth of `lobe_width` across (a cube face of s
 /// texels: π/2 / s), or level 0.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn exact_level(p: &Pyramid, roughness: f32) -> usize {
+pub(crate) fn exact_level(p: &Pyramid, roughness: f32) -> usize {
     let alpha = f64::from(roughness) * f64::from(roughness);
     let want = lobe_width(alpha) / 8.0;
     let mut best = 0;
@@ -510,7 +515,7 @@ pub fn exact_level(p: &Pyramid, roughness: f32) -> usize {
     best
 }
 
-/// [`split_bright`] takes texels above this many times the map's mean (by
+/// `split_bright` takes texels above this many times the map's mean (by
 /// the largest absolute channel, solid-angle weighted) as well as above its
 /// 99th percentile. On real HDRIs baked at a chain denser than their
 /// texels (where the sampled levels meet lamps and windows texel by
@@ -521,7 +526,7 @@ pub fn exact_level(p: &Pyramid, roughness: f32) -> usize {
 pub const SPLIT_MEAN: f64 = 4.0;
 
 /// The split texels are cut into parts at most 1/`PART` of the narrowest
-/// level's lobe across ([`split_bright`]'s `pitch`): finer parts (1/8,
+/// level's lobe across (`split_bright`'s `pitch`): finer parts (1/8,
 /// 1/16) gain nothing on real HDRIs (a Barnes–Hut tree sums them, near
 /// each lobe part by part).
 pub const PART: f64 = 4.0;
@@ -691,8 +696,9 @@ fn exact_sums(t: &Texels, r: &Dir8, a2: f32) -> ([[f64; 3]; 8], [f64; 8]) {
 /// What a level needs besides its output: the filtered part's pyramid
 /// (and its trilinear sampler), the bright texels, the roughness, the
 /// method.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[derive(Clone, Copy, Debug)]
-pub struct LevelJob<'a> {
+pub(crate) struct LevelJob<'a> {
     /// The source without its bright texels, and its levels.
     pub rest: &'a Pyramid,
     /// Trilinear sampling of `rest` ([`Trilinear::new`]), made once for
@@ -718,7 +724,8 @@ pub struct LevelJob<'a> {
 /// # Errors
 ///
 /// The size does not fit `repr`; [`Error::Cancelled`].
-pub fn prefilter_level(
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn prefilter_level(
     job: &LevelJob<'_>,
     repr: Representation,
     w: u32,

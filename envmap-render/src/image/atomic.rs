@@ -297,8 +297,9 @@ pub(crate) fn persist(temp: TempFile, path: &Path) -> Result<()> {
 /// assert_eq!(written.len(), 2);
 /// assert_eq!(std::fs::read(dir.path().join("b.txt")).unwrap(), b"two");
 /// ```
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[derive(Debug)]
-pub struct Outputs<'a> {
+pub(crate) struct Outputs<'a> {
     staged: Vec<(Staged, PathBuf)>,
     inputs: Vec<PathBuf>,
     overwrite_input: bool,
@@ -322,10 +323,11 @@ pub struct MemoryFile {
     /// The path the file was staged for (as given: nothing was checked or
     /// created there).
     pub path: PathBuf,
-    /// Its bytes, as [`Outputs::commit`] would have written them.
+    /// Its bytes, as `Outputs::commit` would have written them.
     pub bytes: Vec<u8>,
 }
 
+#[cfg_attr(not(feature = "instruments"), allow(unreachable_pub, dead_code))]
 impl<'a> Outputs<'a> {
     /// An empty run: targets may not be one of `inputs` unless
     /// `overwrite_input`; staging stops with [`Error::Cancelled`] once
@@ -372,6 +374,7 @@ impl<'a> Outputs<'a> {
     }
 
     /// The targets staged so far, in order.
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
     pub fn targets(&self) -> impl Iterator<Item = &Path> {
         self.staged.iter().map(|(_, t)| t.as_path())
     }

@@ -597,7 +597,7 @@ impl EnvImage {
 }
 
 /// An image whose rows are made on demand, for a writer that streams its
-/// output (OpenEXR's scan-line blocks, [`crate::image::io::Outputs::stage_streamed`]):
+/// output (OpenEXR's scan-line blocks, `crate::image::io::Outputs::stage_streamed`):
 /// a conversion as it runs (`convert::Streamed`), an image in another atlas
 /// ([`InAtlas`]). The image never needs to exist whole.
 pub trait RowSource: Sync {

@@ -282,7 +282,7 @@ pub(super) fn names_a_face_file(path: &Path) -> bool {
     sizes.is_some_and(|s| s.iter().all(|&(w, h)| w == h && (w, h) == s[0]))
 }
 
-pub(super) fn load(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
+pub(super) fn load_six(path: &Path, opts: &LoadOptions) -> Result<Loaded> {
     if let Some(m) = opts.mapping.filter(|m| *m != AnyMapping::Cube) {
         return Err(Error::layout(format!("six files hold a cube, not a {m} map")).in_file(path));
     }

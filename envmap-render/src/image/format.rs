@@ -105,8 +105,8 @@ pub(crate) trait Codec: Sync {
 pub(crate) fn level0_size(t: &TextureFile) -> (u32, u32) {
     let (w, h) = t.texture.size();
     match t.texture.kind() {
-        crate::image::TextureKind::Cube => (6 * w, h),
-        crate::image::TextureKind::Flat => (w, h),
+        crate::image::texture::TextureKind::Cube => (6 * w, h),
+        crate::image::texture::TextureKind::Flat => (w, h),
     }
 }
 

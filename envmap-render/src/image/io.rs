@@ -29,12 +29,9 @@ use crate::image::texture::{self, Texture, TextureKind, TextureOptions};
 use crate::image::{faces, metadata};
 use crate::par::*;
 
-pub use crate::image::atomic::{MemoryFile, Outputs};
+use crate::image::atomic::{MemoryFile, Outputs};
 pub(crate) use crate::image::faces::is_face_pattern;
-pub use crate::image::faces::{
-    face_paths, face_paths_named, FaceName, FaceNames, FACE_PLACEHOLDER,
-};
-pub use crate::image::srgb::{linear_to_srgb, linear_to_srgb8, srgb_to_linear};
+use crate::image::faces::FaceNames;
 
 /// Sample type of OpenEXR output.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -375,7 +372,8 @@ pub(crate) fn read_dimensions(path: &Path) -> Result<(u32, u32)> {
 ///
 /// Refuses images above `max_texels` before allocating their pixels; stops
 /// with [`Error::Cancelled`] once `cancel` is set.
-pub fn read_rgb(
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn read_rgb(
     path: &Path,
     max_texels: u64,
     cancel: Option<&AtomicBool>,
@@ -409,7 +407,7 @@ fn read_level0(
 /// read this way (load each face and assemble them, or use files).
 ///
 /// ```
-/// use envmap_render::{load_from_memory, LoadOptions};
+/// use envmap_render::image::{load_from_memory, LoadOptions};
 /// // A 2 × 1 Radiance file: a latlong of two texels.
 /// let mut hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n".to_vec();
 /// hdr.extend_from_slice(&[128, 128, 128, 129, 128, 128, 128, 129]);
@@ -561,7 +559,7 @@ pub fn load(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<EnvImage> {
 pub fn load_detailed(path: impl AsRef<Path>, opts: &LoadOptions) -> Result<Loaded> {
     let path = path.as_ref();
     if loads_six_files(path, opts) {
-        return faces::load(path, opts);
+        return faces::load_six(path, opts);
     }
     let (rgb, source) = read_rgb(path, opts.max_texels, opts.cancel)?;
     finish_load(path, rgb, source, opts)
@@ -685,6 +683,7 @@ pub fn write_rgb(image: &RgbImage, path: impl AsRef<Path>, opts: &SaveOptions) -
     run.commit().map(drop)
 }
 
+#[cfg_attr(not(feature = "instruments"), allow(unreachable_pub, dead_code))]
 impl<'a> Outputs<'a> {
     /// An empty run for outputs saved with `opts` (its inputs, whether they
     /// may be overwritten, its cancel flag).
@@ -782,6 +781,7 @@ impl<'a> Outputs<'a> {
     }
 }
 
+#[cfg_attr(not(feature = "instruments"), allow(unreachable_pub, dead_code))]
 impl<'a> Outputs<'a> {
     /// Stages the image `stream` makes (a conversion as it runs,
     /// `convert::Streamed`; an image in another atlas,
@@ -837,6 +837,7 @@ impl<'a> Outputs<'a> {
     }
 }
 
+#[cfg_attr(not(feature = "instruments"), allow(unreachable_pub, dead_code))]
 impl Outputs<'_> {
     /// Stages a texture with its levels as a KTX2, DDS or KTX 1 file (by
     /// the extension), in `opts`' texel format; returns what packing

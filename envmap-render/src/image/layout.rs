@@ -201,8 +201,10 @@ impl Representation {
 
     /// Image size for cells `cell_width` texels wide (a cube's face edge, a
     /// latlong's width); `None` if the cell height would not be whole.
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn size_for_cell_width(&self, cell_width: u32) -> Option<(u32, u32)> {
+    pub(crate) fn size_for_cell_width(&self, cell_width: u32) -> Option<(u32, u32)> {
         self.atlas.image_size_for_cell_width(cell_width)
     }
 

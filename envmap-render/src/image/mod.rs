@@ -37,7 +37,7 @@
 //! | `.hdr` | Radiance RGBE, linear | Radiance RGBE, linear (within RGBE precision, ~1 %) | `hdr.rs` |
 //! | `.exr` | R, G, B channels (any of f16, f32, u32) of the first layer that has them; alpha and other channels ignored | f32 RGB (bit for bit), or f16 | `exr.rs` |
 //! | six files | a cube by one face's name or a `{face}` pattern | six faces | `faces.rs` |
-//! | `.ktx2` | 2D or cube, level 0 (all levels: [`texture::read`]); RGBA16F, RGBA32F, B10G11R11, E5B9G9R9, RGB16F, RGB32F; zstd | one level ([`Outputs::stage_texture`] for chains) in [`SaveOptions::texture`]'s format | `ktx2.rs` |
+//! | `.ktx2` | 2D or cube, level 0 (all levels: [`texture::read`]); RGBA16F, RGBA32F, B10G11R11, E5B9G9R9, RGB16F, RGB32F; zstd | one level (`Outputs::stage_texture` for chains) in [`SaveOptions::texture`]'s format | `ktx2.rs` |
 //! | `.dds` | 2D or cube (DX10 header), level 0; the same formats but RGB16F | as KTX2, no zstd | `dds.rs` |
 //! | `.ktx` | no (written for Filament) | KTX 1 as `cmgen` writes it | `ktx1.rs` |
 //!
@@ -68,7 +68,7 @@
 //! canonical path, and on Unix by device and inode) is refused unless
 //! [`SaveOptions::overwrite_input`] is set.
 //!
-//! The files of one run ([`Outputs`]: six cube faces, the demo's images, a
+//! The files of one run (`Outputs`: six cube faces, the demo's images, a
 //! bake's directory) are all written to temporary files first and renamed
 //! into place together at the end: either every one of them replaces its
 //! target, or none does. A rename can still fail midway (a disk error, a
@@ -172,7 +172,7 @@
 //! | `transpose` | mirrors about the main diagonal (rows become columns) |
 //!
 //! On the command line: `--face-transform +x:rot90,-z:flipx` (faces by any
-//! scheme's names, [`crate::image::io::FaceNames`]; several operations on
+//! scheme's names, `crate::image::io::FaceNames`; several operations on
 //! one face apply in the order given). The vertical cross's −z face, which
 //! that layout stores half turned, is the built-in case of `-z:rot180`.
 //!
@@ -242,14 +242,14 @@ mod srgb;
 pub(crate) mod texel;
 pub mod texture;
 
+pub use atomic::*;
 pub use convention::*;
 pub use envimage::*;
 pub use face_ops::*;
+pub use faces::*;
 pub use format::FileFormat;
 pub use io::*;
 pub use layout::*;
 pub use metadata::*;
+pub use srgb::*;
 pub use texel::*;
-pub use texture::{
-    Texture, TextureFile, TextureInfo, TextureKind, TextureOptions, Upload, UploadLevel,
-};

@@ -45,19 +45,23 @@ impl std::iter::Sum for Clamped {
 
 impl Clamped {
     /// Whether nothing was clamped.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.above == 0 && self.below == 0 && self.nan == 0
     }
 
     /// All components clamped.
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn total(&self) -> u64 {
+    pub(crate) fn total(&self) -> u64 {
         self.above + self.below + self.nan
     }
 
     /// Adds `other`'s counts to these.
-    pub fn add(&mut self, other: Clamped) {
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
+    pub(crate) fn add(&mut self, other: Clamped) {
         self.above += other.above;
         self.below += other.below;
         self.nan += other.nan;
@@ -296,8 +300,10 @@ impl TexelFormat {
     /// format's normal range (half a unit in the last place of its mantissa):
     /// 2⁻¹¹ binary16, 2⁻²⁴ binary32, 2⁻⁷ (B 2⁻⁶) the small floats, and for
     /// RGB9E5 2⁻⁹ of the texel's largest channel.
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn relative_precision(self) -> f32 {
+    pub(crate) fn relative_precision(self) -> f32 {
         match self {
             TexelFormat::Rgba16f | TexelFormat::Rgb16f => 2f32.powi(-11),
             TexelFormat::Rgba32f | TexelFormat::Rgb32f => 2f32.powi(-24),
@@ -719,8 +725,9 @@ pub(crate) fn pack_b10g11r11(rgb: [f32; 3], c: &mut Clamped) -> u32 {
 }
 
 /// One `B10G11R11_UFLOAT_PACK32` texel → linear RGB.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn unpack_b10g11r11(w: u32) -> [f32; 3] {
+pub(crate) fn unpack_b10g11r11(w: u32) -> [f32; 3] {
     [
         unpack_ufloat(w & 0x7ff, 6),
         unpack_ufloat((w >> 11) & 0x7ff, 6),

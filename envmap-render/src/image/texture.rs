@@ -1,6 +1,6 @@
 //! GPU textures with mip levels: what KTX2, DDS and KTX 1 files hold, in
 //! memory ([`Texture`]), and the one place those files are written and read
-//! ([`stage_texture`](crate::image::io::Outputs::stage_texture), [`read`]).
+//! (`stage_texture`, [`read`]).
 //!
 //! A texture is a 2D image or a cube (six faces in GL order +X, −X, +Y,
 //! −Y, +Z, −Z, each with its first texel top-left, exactly as GL and Vulkan
@@ -55,8 +55,9 @@ pub struct Texture {
 }
 
 /// The size of level `p` of a `w`×`h` texture: ⌊w/2ᵖ⌋ × ⌊h/2ᵖ⌋, at least 1.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn level_size(w: u32, h: u32, p: usize) -> (u32, u32) {
+pub(crate) fn level_size(w: u32, h: u32, p: usize) -> (u32, u32) {
     let s = |v: u32| {
         u32::try_from(p)
             .ok()
@@ -68,8 +69,9 @@ pub fn level_size(w: u32, h: u32, p: usize) -> (u32, u32) {
 }
 
 /// The number of levels of a full chain of a `w`×`h` texture: down to 1×1.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn full_chain(w: u32, h: u32) -> usize {
+pub(crate) fn full_chain(w: u32, h: u32) -> usize {
     (32 - w.max(h).max(1).leading_zeros()) as usize
 }
 
@@ -80,7 +82,7 @@ impl Texture {
     /// # Errors
     ///
     /// No levels; a level of the wrong size (level `p` must be
-    /// [`level_size`] of level 0), the wrong number of images, non-square
+    /// `level_size` of level 0), the wrong number of images, non-square
     /// cube faces, more levels than the full chain, or a pixel count that
     /// does not match an image's size.
     pub fn new(kind: TextureKind, levels: Vec<Vec<RgbImage>>) -> Result<Self> {
@@ -418,16 +420,20 @@ impl UploadLevel {
     /// Every face's bytes one after the other (what a KTX2 or DDS level
     /// holds, and what `wgpu::Queue::write_texture` takes for a whole cube
     /// level at `bytes_per_row` = width × the format's bytes).
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn concatenated(&self) -> Vec<u8> {
+    pub(crate) fn concatenated(&self) -> Vec<u8> {
         self.faces.concat()
     }
 }
 
 /// Bytes of level `p` of a `kind` texture of `w`×`h` in `format`, or `None`
 /// if that overflows.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn level_bytes(
+pub(crate) fn level_bytes(
     kind: TextureKind,
     w: u32,
     h: u32,
@@ -447,7 +453,9 @@ pub fn level_bytes(
 /// # Errors
 ///
 /// [`Error::TooLarge`] (level 0's size, all the texels) past the limit.
-pub fn check_texels(
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn check_texels(
     kind: TextureKind,
     w: u32,
     h: u32,

@@ -339,7 +339,9 @@ fn floor_tile(x: f32, y: f32) -> [f32; 3] {
 /// # Errors
 ///
 /// If the image would be empty or too large (`face_size` 0 or huge).
-pub fn room_cube(face_size: u32) -> Result<EnvImage> {
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn room_cube(face_size: u32) -> Result<EnvImage> {
     let repr = Representation::new(
         AnyMapping::Cube,
         Atlas::CUBE_HORIZONTAL_CROSS,
@@ -394,7 +396,7 @@ impl Builtin {
 
     /// The environment evaluated at every texel centre of a `width × height`
     /// image in `repr` ([`procedural::fill`]). For the room this evaluates
-    /// [`room`] directly; [`room_cube`] gives its six-view capture instead.
+    /// [`room`] directly; `room_cube` gives its six-view capture instead.
     ///
     /// # Errors
     ///

@@ -51,8 +51,10 @@ pub enum LevelBlend {
 impl LevelBlend {
     /// How an engine that reads a chain made by `rule` blends it: linear in
     /// its lod (for a list of roughness values, linear in r).
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn engine(rule: &RoughnessRule) -> Self {
+    pub(crate) fn engine(rule: &RoughnessRule) -> Self {
         match rule {
             RoughnessRule::Filament => LevelBlend::FilamentLod,
             RoughnessRule::Unity => LevelBlend::UnityLod,
@@ -94,7 +96,7 @@ impl LevelBlend {
     }
 }
 
-/// The DFG table's size in the maps [`LitEnvironment::bake`] makes (on the
+/// The DFG table's size in the maps `LitEnvironment::bake` makes (on the
 /// edges grid), the size of the tables engines ship: on the edges grid the
 /// split sum of a constant sky at roughness 1 then follows its closed form
 /// over a sphere (`tests/split_sum.rs`).
@@ -249,11 +251,11 @@ impl LitEnvironment {
     /// roughness 0 and through the near field below the first level
     /// ([`LitEnvironment::with_source`]).
     /// Not a mip chain: an engine's files come from `envmap bake`
-    /// ([`LitEnvironment::bake_with`] bakes those).
+    /// (`LitEnvironment::bake_with` bakes those).
     ///
     /// # Errors
     ///
-    /// As [`crate::filter::bake::bake`]; [`Error::Cancelled`].
+    /// As [`crate::bake::Baker::bake`]; [`Error::Cancelled`].
     pub fn bake(
         src: &EnvImage,
         size: u32,
@@ -279,7 +281,12 @@ impl LitEnvironment {
     /// # Errors
     ///
     /// As [`crate::filter::bake::bake`]; [`Error::Cancelled`].
-    pub fn bake_with(src: &EnvImage, opts: &crate::filter::bake::BakeOptions) -> Result<Self> {
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
+    pub(crate) fn bake_with(
+        src: &EnvImage,
+        opts: &crate::filter::bake::BakeOptions,
+    ) -> Result<Self> {
         use crate::filter::bake::{bake, BakeOptions};
         let mut opts = BakeOptions {
             axes: crate::image::FileAxes::Frame(src.representation().frame),
@@ -340,8 +347,9 @@ impl LitEnvironment {
     }
 
     /// Samplers over the maps, for shading many pixels.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn sampler(&self) -> LitSampler<'_> {
+    pub(crate) fn sampler(&self) -> LitSampler<'_> {
         LitSampler {
             env: self,
             levels: (self.levels.iter().zip(&self.copies))
@@ -358,7 +366,8 @@ impl LitEnvironment {
 }
 
 /// [`LitEnvironment`]'s maps ready to be read.
-pub struct LitSampler<'a> {
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) struct LitSampler<'a> {
     env: &'a LitEnvironment,
     levels: Vec<Level<'a>>,
     /// The source read in place of level 0, and its mapping.
@@ -512,6 +521,7 @@ fn schlick(f0: [f32; 3], cos: f32) -> [f32; 3] {
     f0.map(|f| f + (1.0 - f) * k)
 }
 
+#[cfg_attr(not(feature = "instruments"), allow(unreachable_pub, dead_code))]
 impl LitSampler<'_> {
     /// The prefiltered radiance towards world direction `r` at perceptual
     /// roughness `roughness` (see the [module docs](super)).
@@ -879,11 +889,13 @@ impl NearField {
 
 /// A small deterministic generator (PCG32, O'Neill 2014) for the reference's
 /// per-pixel sample sequences.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[derive(Clone, Copy, Debug)]
-pub struct Pcg32 {
+pub(crate) struct Pcg32 {
     state: u64,
 }
 
+#[cfg_attr(not(feature = "instruments"), allow(unreachable_pub, dead_code))]
 impl Pcg32 {
     /// A generator seeded by `seed` (e.g. a pixel's index and a pass).
     #[must_use]
@@ -963,8 +975,10 @@ pub struct EnvSampling {
 impl EnvSampling {
     /// Tabulates `radiance` on a `width` × `width/2` latitude-longitude
     /// grid (at least 8 × 4) in parallel.
+    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn new(radiance: &(dyn Fn(Vec3) -> [f32; 3] + Sync), width: u32) -> Self {
+    pub(crate) fn new(radiance: &(dyn Fn(Vec3) -> [f32; 3] + Sync), width: u32) -> Self {
         use crate::par::*;
         const SUB: usize = 4;
         let width = width.max(8) as usize;
@@ -1057,7 +1071,8 @@ impl EnvSampling {
     }
 
     /// A direction drawn from the table and its density (per steradian).
-    pub fn sample(&self, rng: &mut Pcg32) -> (Vec3, f32) {
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
+    pub(crate) fn sample(&self, rng: &mut Pcg32) -> (Vec3, f32) {
         let n = self.alias.len() as u64;
         let k = ((u64::from(rng.next_u32()) * n) >> 32) as usize;
         let (keep, other) = self.alias[k];
@@ -1118,8 +1133,9 @@ impl EnvSampling {
 /// `rng` (see the [module docs](super)). A roughness below 10⁻³ is a
 /// mirror: the specular term is then F(N·V)·L(R) exactly, and the other
 /// strategies estimate the diffuse term alone.
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn reference(
+pub(crate) fn reference(
     radiance: &dyn Fn(Vec3) -> [f32; 3],
     light: Option<&EnvSampling>,
     m: &Material,

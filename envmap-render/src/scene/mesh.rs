@@ -255,7 +255,8 @@ pub(crate) fn teapot_patches() -> &'static [BezierPatch] {
 /// line, then per patch a line with its degrees in u and v (only `3 3`,
 /// bicubic, is accepted) followed by 16 control points, one `x y z` per
 /// line, row by row. Blank lines are skipped.
-pub fn parse_bpt(text: &str) -> Result<Vec<BezierPatch>> {
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn parse_bpt(text: &str) -> Result<Vec<BezierPatch>> {
     let mut lines = text
         .lines()
         .enumerate()

@@ -32,7 +32,7 @@
 //!   are the sun's edge and the checker edges, both wanted: they show how each
 //!   representation filters sharp detail.
 //! * [`room`]: a box room seen from its centre, the scene that seed `002`
-//!   captures as six views from one point. [`room_cube`] does exactly that:
+//!   captures as six views from one point. `room_cube` does exactly that:
 //!   it renders the six GL faces from the eye, giving a cube map to use as
 //!   the environment (the two-pass method).
 //! * [`Builtin`]: the two by name, for the command line.
@@ -86,7 +86,7 @@
 //!
 //! [`LitEnvironment`] holds what `envmap bake` makes: the GGX-prefiltered
 //! specular chain (with each level's perceptual roughness), the irradiance
-//! cube and the DFG table. [`LitSampler::shade`] evaluates, for a
+//! cube and the DFG table. `LitSampler::shade` evaluates, for a
 //! [`Material`] at normal N seen along V (both unit, world axes, V towards
 //! the eye):
 //!
@@ -110,7 +110,7 @@
 //! exact irradiance. The render's distance from it is what the chain and
 //! the table cost (`tests/split_sum.rs`, `docs/design/lighting-method.md`).
 //!
-//! [`reference()`] is the integral the split sum stands for, per pixel:
+//! `reference()` is the integral the split sum stands for, per pixel:
 //! L_o = ∫ L(l) (c_diff/π + D·Vis·F) (N·l)⁺ dl with GGX D, the
 //! height-correlated Smith visibility and Schlick's Fresnel (glTF 2.0
 //! Appendix B), estimated by importance sampling: cosine-weighted
@@ -145,8 +145,8 @@
 //! of a distant or strongly curved part reflect directions far apart, and a
 //! plain bilinear lookup per pixel then skips texels and aliases. With
 //! [`RenderOptions::mip`], per-pixel lookups in a map read a mip pyramid
-//! of it ([`crate::filter::pyramid`]: solid-angle-weighted box levels, the
-//! representation's edge rule at each) through [`Trilinear`](crate::filter::pyramid::Trilinear),
+//! of it (`crate::filter::pyramid`: solid-angle-weighted box levels, the
+//! representation's edge rule at each) through `Trilinear`,
 //! at a level chosen per pixel from the footprint of the looked-up
 //! direction:
 //!
@@ -188,7 +188,7 @@
 //! The pyramid is built for each render unless made beforehand
 //! ([`MipLevels`], [`RenderOptions::mip_levels`]; made again in place for a
 //! map that changes, [`MipLevels::rebuild`]; a render building its own builds
-//! them into the memory of the last render's, [`release_kept_levels`]): the map itself is read in place
+//! them into the memory of the last render's, `release_kept_levels`): the map itself is read in place
 //! as level 0 (`Trilinear::over_prepared`); the levels below it (every level down
 //! to 1², about a third of the map's texels) are made from it, each in one
 //! parallel pass over the level above, written straight into its copy with

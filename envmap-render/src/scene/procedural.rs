@@ -42,8 +42,10 @@ pub fn fill(
 /// A smooth test environment: colour varies with direction at a few
 /// frequencies, positive everywhere, no discontinuity. Useful for measuring
 /// conversion error (its exact value is known everywhere).
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn smooth(d: Vec3) -> [f32; 3] {
+pub(crate) fn smooth(d: Vec3) -> [f32; 3] {
     let d = d.normalize_or_zero();
     [
         0.6 + 0.4 * d.x + 0.2 * (3.0 * d.y).sin() * d.z,
@@ -54,13 +56,16 @@ pub fn smooth(d: Vec3) -> [f32; 3] {
 
 /// [`smooth`] plus a sun 50 000 times as bright and 3° across, towards
 /// (0.3, −0.5, 0.8): the test environment of a real HDRI's worst feature.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn sunny(d: Vec3) -> [f32; 3] {
+pub(crate) fn sunny(d: Vec3) -> [f32; 3] {
     smooth_with_sun(d, 1.5, 50_000.0)
 }
 
 /// [`smooth`] plus a disc of `radius` degrees about (0.3, −0.5, 0.8) raised
 /// by `value`.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
 fn smooth_with_sun(d: Vec3, radius: f32, value: f32) -> [f32; 3] {
     let s = Vec3::new(0.3, -0.5, 0.8).normalize();
     let base = smooth(d);
@@ -74,15 +79,19 @@ fn smooth_with_sun(d: Vec3, radius: f32, value: f32) -> [f32; 3] {
 /// [`smooth`] plus a sun 100 000 times as bright and 0.5° across (the
 /// real sun's size), towards (0.3, −0.5, 0.8): a 4096 × 2048 latlong of it
 /// has about 25 sun texels, the bake's benchmark of a map with a sun.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn small_sun(d: Vec3) -> [f32; 3] {
+pub(crate) fn small_sun(d: Vec3) -> [f32; 3] {
     smooth_with_sun(d, 0.25, 100_000.0)
 }
 
 /// Peak signal-to-noise ratio in dB of `a` against the reference `b` over
 /// the texels where `mask` is true, with peak `peak`.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn psnr(a: &[[f32; 3]], b: &[[f32; 3]], mask: impl Fn(usize) -> bool, peak: f64) -> f64 {
+pub(crate) fn psnr(a: &[[f32; 3]], b: &[[f32; 3]], mask: impl Fn(usize) -> bool, peak: f64) -> f64 {
     let mut se = 0.0f64;
     let mut n = 0u64;
     for (k, (p, q)) in a.iter().zip(b).enumerate() {

@@ -107,7 +107,7 @@ pub struct RenderOptions<'a> {
     /// the last levels a render built, where it has the same geometry
     /// ([`MipLevels::rebuild`]), and keeps theirs for the next: a third of
     /// the map's size stays allocated between renders, one set per process,
-    /// until [`release_kept_levels`]. (Memory new to the process costs
+    /// until `release_kept_levels`. (Memory new to the process costs
     /// the system more to hand out than the levels cost to build.)
     pub mip_levels: Option<&'a MipLevels>,
     /// Called from the workers as bands of rows finish, with the bands done
@@ -227,7 +227,9 @@ static KEPT_LEVELS: std::sync::Mutex<Option<MipLevels>> = std::sync::Mutex::new(
 /// keep for the next such render ([`RenderOptions::mip_levels`]): about a
 /// third of the size of the last map rendered mip-aware without levels
 /// given. The next such render allocates them anew.
-pub fn release_kept_levels() {
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
+pub(crate) fn release_kept_levels() {
     drop(kept_levels().take());
 }
 
@@ -346,14 +348,14 @@ pub enum Shading<'a> {
     /// up exactly for an analytic environment, bilinear in the map
     /// otherwise): cosine, GGX and light sampling (by the environment's
     /// luminance) combined by the balance heuristic
-    /// ([`crate::scene::lit::reference`]); deterministic, seeded by the pixel.
+    /// (`crate::scene::lit::reference`); deterministic, seeded by the pixel.
     Reference {
         /// The material.
         material: Material,
         /// Samples per pixel and per strategy (cosine, GGX, light).
         samples: u32,
         /// Light sampling by the environment's luminance: the table of the
-        /// environment given to [`render`] ([`light_table`], made once and
+        /// environment given to [`render`] (`light_table`, made once and
         /// shared by every render in it); what finds a small bright sun. A
         /// smooth environment needs only the other two strategies (`None`).
         light: Option<&'a EnvSampling>,
@@ -426,6 +428,7 @@ struct Hit {
 
 const NEAR: f32 = 1e-3;
 /// The width of [`light_table`]'s grid.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
 const LIGHT_TABLE_WIDTH: u32 = 1024;
 const BAND: u32 = 16;
 
@@ -1007,8 +1010,10 @@ fn radiance(
 /// 1024 × 512 latitude-longitude grid ([`EnvSampling`]: cells of 0.35°, fine
 /// enough for the built-in sky's 1.2° sun). It evaluates the environment
 /// over the whole grid: make it once per environment.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[must_use]
-pub fn light_table(env: EnvSource<'_>, filter: Filter) -> EnvSampling {
+pub(crate) fn light_table(env: EnvSource<'_>, filter: Filter) -> EnvSampling {
     match env {
         EnvSource::Analytic(f) => EnvSampling::new(f, LIGHT_TABLE_WIDTH),
         EnvSource::Map(img) => {

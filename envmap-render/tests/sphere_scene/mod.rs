@@ -13,6 +13,7 @@ use std::path::Path;
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
 use envmap_render::filter::oracle::Oracle;
+use envmap_render::image::RgbImage;
 use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
 use envmap_render::scene::Builtin;
@@ -20,7 +21,6 @@ use envmap_render::scene::LitEnvironment;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
 use envmap_render::scene::{render, Camera, EnvSource, RenderOptions, Shading};
-use envmap_render::RgbImage;
 
 /// The sphere and the camera, in envmap's z-up axes.
 pub(crate) fn scene() -> (Mesh, Camera) {

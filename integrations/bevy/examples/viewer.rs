@@ -199,7 +199,7 @@ fn screenshot(args: &Args, out: &Path) -> Result<(), String> {
         .map_err(|e| e.to_string())?;
     let frame = headless::capture(&mut app, &target, 3)
         .ok_or("no frame from Bevy (is there a Vulkan device? lavapipe will do)")?;
-    let img = envmap_render::RgbImage {
+    let img = envmap_render::image::RgbImage {
         width: frame.width,
         height: frame.height,
         pixels: frame.rgb(),

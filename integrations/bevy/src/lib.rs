@@ -57,9 +57,9 @@ pub mod headless;
 pub use envmap_render;
 use envmap_render::bake::{Baker, Preset, Target};
 use envmap_render::filter::bake::Bake;
+use envmap_render::image::EnvImage;
 use envmap_render::image::{load_from_memory, LoadOptions};
-use envmap_render::image::{FileAxes, TexelFormat, Texture};
-use envmap_render::EnvImage;
+use envmap_render::image::{texture::Texture, FileAxes, TexelFormat};
 
 /// The camera exposure (EV100) under which Bevy writes a map's values
 /// unscaled: Bevy's exposure is 2^−ev100 / 1.2, so ev100 = −log₂ 1.2.

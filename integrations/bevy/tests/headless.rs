@@ -16,11 +16,11 @@ use bevy::prelude::*;
 use envmap_bevy::headless::{self, Frame, View};
 use envmap_bevy::{bake_image, EnvironmentImages};
 use envmap_core::AnyMapping;
+use envmap_render::image::{EnvImage, RgbImage};
 use envmap_render::image::{Representation, TexelFormat};
 use envmap_render::scene::fill;
 use envmap_render::scene::Mesh as EnvMesh;
 use envmap_render::scene::{render, Camera, EnvSource, RenderOptions};
-use envmap_render::{EnvImage, RgbImage};
 
 /// Bevy's world (GL: y up, right-handed) in envmap's canonical axes (z up).
 fn to_canonical(v: Vec3) -> envmap_core::glam::Vec3 {
