@@ -22,8 +22,8 @@
 #                      and the writer's own name and version (the manifest's
 #                      top-level "envmap": "envmap 0.1.0") are removed;
 #         *.exr        byte for byte once the header's attributes are put in name
-#                      order (envmap's own EXR attributes come out in a random order
-#                      from run to run: see compare);
+#                      order (envmap writes its own attributes in a fixed order, a
+#                      build of another writer may not: see compare);
 #         report.md    (the demo's report) compared with its timing columns blanked;
 #         *.log        only required to exist on both sides.
 #       Prints one line per difference and a final line "N same, M different";
@@ -461,15 +461,14 @@ cmd_compare() {
                 ;;
             *.exr)
                 # Byte for byte, but for the order of the header's attributes.
-                # envmap's EXR writer puts its own attributes (envmap.mapping,
-                # envmap.layout, envmap.axes) in the exr crate's
-                # LayerAttributes::other, a std HashMap, whose iteration order is
-                # seeded at random in every process: two runs of the same binary
-                # write them in different orders (found by running the list twice
-                # with the same binary). The header's length does not depend on
-                # the order, so the offset table and pixel data after it are
-                # still compared byte for byte, as is every attribute's name,
-                # type and value.
+                # envmap's own attributes (envmap.mapping, envmap.layout,
+                # envmap.axes) go through the exr crate's LayerAttributes::other,
+                # a std HashMap seeded at random in every process; envmap writes
+                # them back in its own order, but a build that does not gives
+                # the same file with the attributes in another order. The
+                # header's length does not depend on the order, so the offset
+                # table and pixel data after it are still compared byte for
+                # byte, as is every attribute's name, type and value.
                 if cmp -s "$a/$f" "$b/$f"; then
                     same=$((same + 1))
                 else
