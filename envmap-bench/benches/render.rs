@@ -3,9 +3,10 @@
 //! pixel, per pixel on one and two threads and per vertex on two, beside a
 //! plain copy of the output image's bytes; per pixel with mip-aware lookups
 //! on two threads (`per-pixel-mip`: the map's pyramid built inside each
-//! render, as `envmap render` does, into the memory of the levels the
-//! previous render kept, and read trilinearly at each reflection's
-//! footprint; `mip-levels`: the levels alone, into new memory, and
+//! render by a renderer reused from frame to frame, into the memory of the
+//! levels it built for the previous one, and read trilinearly at each
+//! reflection's footprint; `per-pixel-mip-prebuilt`: from levels made once;
+//! `mip-levels`: the levels alone, into new memory, and
 //! `mip-levels-rebuilt` into the memory of the last); and lit: glossy plastic at
 //! roughness 0.5 by the split sum on two threads, from that sky's maps
 //! (baked once, outside the timing): `plastic-r0.5-split-sum` reads the
@@ -14,7 +15,8 @@
 //! `plastic-r0.5-envmap-chain` the chain envmap's renderer bakes
 //! (`LitEnvironment::bake` at 512²: levels spaced by their lobes, blended
 //! in 1/α, the DFG table on the edges grid), both with a 32² irradiance
-//! map.
+//! map. Every case renders with one [`Renderer`] reused from iteration to
+//! iteration, as a program drawing frame after frame does.
 //!
 //! ```text
 //! RUSTFLAGS="-C target-cpu=native" cargo bench -p envmap-bench --bench render
@@ -29,7 +31,7 @@ use envmap_core::AnyMapping;
 use envmap_render::image::Representation;
 use envmap_render::scene::Builtin;
 use envmap_render::scene::Mesh;
-use envmap_render::scene::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::scene::{Camera, EnvSource, Mode, RenderOptions, Renderer};
 
 fn bench(c: &mut Criterion) {
     let env = Builtin::Sky
@@ -62,27 +64,6 @@ fn bench(c: &mut Criterion) {
     g.bench_function("mip-levels-rebuilt/2-threads", |b| {
         b.iter(|| pool.install(|| again.rebuild(black_box(&env)).expect("levels")))
     });
-    let opts = {
-        let mut o = RenderOptions::default();
-        o.width = width;
-        o.height = height;
-        o.samples = 1;
-        o.mip = true;
-        o
-    };
-    g.bench_function("per-pixel-mip-rebuilt/2-threads", |b| {
-        b.iter(|| {
-            pool.install(|| {
-                again.rebuild(black_box(&env)).expect("levels");
-                let opts = {
-                    let mut o = opts;
-                    o.mip_levels = Some(&again);
-                    o
-                };
-                render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts).expect("render")
-            })
-        })
-    });
     for (name, mode, threads, mip, prebuilt) in [
         ("per-pixel", Mode::PerPixel, 1, false, false),
         ("per-pixel", Mode::PerPixel, 2, false, false),
@@ -101,10 +82,13 @@ fn bench(c: &mut Criterion) {
             o.mip_levels = prebuilt.then_some(&levels);
             o
         };
+        let mut renderer = Renderer::new();
         g.bench_function(format!("{name}/{threads}-threads"), |b| {
             b.iter(|| {
                 pool.install(|| {
-                    render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts).expect("render")
+                    renderer
+                        .render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts)
+                        .expect("render")
                 })
             })
         });
@@ -138,10 +122,13 @@ fn bench(c: &mut Criterion) {
             };
             o
         };
+        let mut renderer = Renderer::new();
         g.bench_function(name, |b| {
             b.iter(|| {
                 pool.install(|| {
-                    render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts).expect("render")
+                    renderer
+                        .render(&mesh, EnvSource::Map(black_box(&env)), &cam, &opts)
+                        .expect("render")
                 })
             })
         });

@@ -615,7 +615,7 @@ pub fn convert_and_render(s: &Settings) -> Vec<Row> {
     use envmap_render::scene::Builtin;
     use envmap_render::scene::Mesh;
     use envmap_render::scene::{fill, smooth};
-    use envmap_render::scene::{render, Camera, EnvSource, RenderOptions};
+    use envmap_render::scene::{Camera, EnvSource, RenderOptions, Renderer};
 
     let (w, face) = s.convert_size;
     let src = fill(
@@ -682,7 +682,11 @@ pub fn convert_and_render(s: &Settings) -> Vec<Row> {
     };
     let cam = Camera::default();
     let render_ms = timed(&mut || {
-        black_box(render(&mesh, EnvSource::Map(&env), &cam, &ropts).expect("render"));
+        black_box(
+            Renderer::new()
+                .render(&mesh, EnvSource::Map(&env), &cam, &ropts)
+                .expect("render"),
+        );
     });
     let pixels = (rw * rh) as usize;
     rows.push(Row {

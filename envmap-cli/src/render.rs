@@ -24,7 +24,7 @@ use envmap_render::scene::Builtin;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
 use envmap_render::scene::{
-    light_table, render, Camera, EnvSource, Mode, Progress, RenderOptions, Shading,
+    light_table, Camera, EnvSource, Mode, Progress, RenderOptions, Renderer, Shading,
 };
 use envmap_render::scene::{LevelBlend, LitEnvironment};
 
@@ -388,7 +388,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
         o
     };
     let t = Instant::now();
-    let img = render(&mesh, source, &cam, &opts)?;
+    let img = Renderer::new().render(&mesh, source, &cam, &opts)?;
     bar.finish_and_clear();
     let elapsed = t.elapsed();
     let sopts = {

@@ -20,7 +20,7 @@ use envmap_core::AnyMapping;
 use envmap_render::image::{Outputs, SaveOptions};
 use envmap_render::scene::Builtin;
 use envmap_render::scene::{fill, smooth};
-use envmap_render::scene::{render, Camera, EnvSource, RenderOptions};
+use envmap_render::scene::{Camera, EnvSource, RenderOptions, Renderer};
 use envmap_render::{
     filter::{convert, ConvertOptions},
     image::{save, Representation},
@@ -346,7 +346,7 @@ fn the_cancel_flag_stops_a_render_and_a_load() {
         o
     };
     let mesh = envmap_render::scene::Mesh::sphere(1.0, 16, 8);
-    let r = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts);
+    let r = Renderer::new().render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts);
     assert!(matches!(r, Err(Error::Cancelled)));
     let l = envmap_render::image::load(big_input(), &{
         let mut o = envmap_render::image::LoadOptions::default();

@@ -14,7 +14,7 @@ use envmap_render::scene::LitEnvironment;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
 use envmap_render::scene::{fill, psnr, smooth};
-use envmap_render::scene::{render, Camera, EnvSource, Mode, RenderOptions, Shading};
+use envmap_render::scene::{Camera, EnvSource, Mode, RenderOptions, Renderer, Shading};
 
 /// `f` in a cube of `face`² texels (GL axes) and its bake at `size`.
 fn baked(f: impl Fn(Vec3) -> [f32; 3] + Sync, face: u32, size: u32) -> (EnvImage, LitEnvironment) {
@@ -90,7 +90,9 @@ fn draw_in(env: EnvSource<'_>, shading: Shading<'_>, size: u32, mode: Mode) -> R
         o.shading = shading;
         o
     };
-    render(&sphere(), env, &cam(), &opts).unwrap()
+    Renderer::new()
+        .render(&sphere(), env, &cam(), &opts)
+        .unwrap()
 }
 
 /// A white Lambertian sphere in a constant environment L reflects L

@@ -16,7 +16,7 @@ use envmap_render::scene::Builtin;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
 use envmap_render::scene::{fill, psnr, smooth};
-use envmap_render::scene::{render, Camera, EnvSource, RenderOptions, Shading};
+use envmap_render::scene::{Camera, EnvSource, RenderOptions, Renderer, Shading};
 
 mod common;
 use common::{envmap, text};
@@ -40,7 +40,9 @@ fn teapot(env: EnvSource<'_>, samples: u32, mip: bool, background: bool) -> RgbI
         o.background = background;
         o
     };
-    render(&Mesh::teapot(10), env, &Camera::default(), &opts).unwrap()
+    Renderer::new()
+        .render(&Mesh::teapot(10), env, &Camera::default(), &opts)
+        .unwrap()
 }
 
 fn displayed(img: &RgbImage) -> Vec<[f32; 3]> {
@@ -182,13 +184,14 @@ fn mip_leaves_a_smooth_mirror_close_and_materials_alone() {
             };
             o
         };
-        render(
-            &Mesh::teapot(6),
-            EnvSource::Map(&env),
-            &Camera::default(),
-            &opts,
-        )
-        .unwrap()
+        Renderer::new()
+            .render(
+                &Mesh::teapot(6),
+                EnvSource::Map(&env),
+                &Camera::default(),
+                &opts,
+            )
+            .unwrap()
     };
     assert_eq!(lit(false).pixels, lit(true).pixels);
 }
@@ -256,14 +259,15 @@ fn every_lookup_on_a_shrinking_mirror_reads_the_levels() {
             o.background = background;
             o
         };
-        render(
-            &Mesh::teapot(6),
-            EnvSource::Map(env),
-            &Camera::default(),
-            &opts,
-        )
-        .unwrap()
-        .pixels
+        Renderer::new()
+            .render(
+                &Mesh::teapot(6),
+                EnvSource::Map(env),
+                &Camera::default(),
+                &opts,
+            )
+            .unwrap()
+            .pixels
     };
     let on_object: Vec<bool> = draw(&white, false, false)
         .iter()
@@ -298,35 +302,42 @@ fn prebuilt_mip_levels_render_the_same() {
         MipLevels::new(&other).unwrap(),
     );
     assert!(own.fits(&env) && !wrong.fits(&env));
-    let built = draw_mip(&env, None);
-    assert_eq!(draw_mip(&env, Some(&own)), built);
-    assert_eq!(draw_mip(&env, Some(&wrong)), built);
+    let renderer = &mut Renderer::new();
+    let built = draw_mip(renderer, &env, None);
+    assert_eq!(draw_mip(renderer, &env, Some(&own)), built);
+    assert_eq!(draw_mip(renderer, &env, Some(&wrong)), built);
 }
 
-/// A small mip-aware render of the teapot in `env`, from `levels` if given.
-fn draw_mip(env: &EnvImage, levels: Option<&envmap_render::scene::MipLevels>) -> Vec<[f32; 3]> {
-    render(
-        &Mesh::teapot(6),
-        EnvSource::Map(env),
-        &Camera::default(),
-        &{
-            let mut o = RenderOptions::default();
-            o.width = 80;
-            o.height = 60;
-            o.mip = true;
-            o.mip_levels = levels;
-            o
-        },
-    )
-    .unwrap()
-    .pixels
+/// A small mip-aware render of the teapot in `env` by `renderer`, from
+/// `levels` if given.
+fn draw_mip(
+    renderer: &mut Renderer,
+    env: &EnvImage,
+    levels: Option<&envmap_render::scene::MipLevels>,
+) -> Vec<[f32; 3]> {
+    renderer
+        .render(
+            &Mesh::teapot(6),
+            EnvSource::Map(env),
+            &Camera::default(),
+            &{
+                let mut o = RenderOptions::default();
+                o.width = 80;
+                o.height = 60;
+                o.mip = true;
+                o.mip_levels = levels;
+                o
+            },
+        )
+        .unwrap()
+        .pixels
 }
 
 /// Levels made again for another map of the same geometry (in place) or of
 /// another size or one whose levels turn odd (anew) render what levels made
-/// for that map render, bit for bit, and so does a render that builds its
-/// own (into the levels the last such render kept, or anew after they are
-/// released).
+/// for that map render, bit for bit, and so does a renderer that builds its
+/// own (into the levels it built for its last render, or anew: a renderer
+/// new to the map).
 #[test]
 fn rebuilt_mip_levels_render_as_levels_made_anew() {
     use envmap_render::scene::MipLevels;
@@ -334,19 +345,20 @@ fn rebuilt_mip_levels_render_as_levels_made_anew() {
     let small = cube(Builtin::Room, 32);
     // 48² faces: 24, 12, 6, 3, 1: levels that cannot be made in place.
     let odd = cube(Builtin::Sky, 48);
-    let draw = draw_mip;
+    let (reused, given) = (&mut Renderer::new(), &mut Renderer::new());
     let mut levels = MipLevels::new(&sky).unwrap();
-    assert_eq!(draw(&sky, Some(&levels)), draw(&sky, None));
+    assert_eq!(
+        draw_mip(given, &sky, Some(&levels)),
+        draw_mip(reused, &sky, None)
+    );
     for env in [&room, &sky, &small, &room, &odd, &odd, &sky] {
         levels.rebuild(env).unwrap();
         assert!(levels.fits(env));
         let fresh = MipLevels::new(env).unwrap();
-        let (again, anew) = (draw(env, Some(&levels)), draw(env, Some(&fresh)));
+        let again = draw_mip(given, env, Some(&levels));
+        let anew = draw_mip(given, env, Some(&fresh));
         assert!(again == anew, "rebuilt levels render otherwise");
-        assert!(again == draw(env, None));
-        if std::ptr::eq(env, &small) {
-            envmap_render::scene::release_kept_levels();
-            assert!(again == draw(env, None));
-        }
+        assert!(again == draw_mip(reused, env, None));
+        assert!(again == draw_mip(&mut Renderer::new(), env, None));
     }
 }

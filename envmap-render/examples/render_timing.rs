@@ -3,14 +3,14 @@
 //! apart, `LIT=1` glossy plastic at roughness 0.5 by the split sum from
 //! the map's own bake, made once, `REBUILD=1` the levels made again in
 //! every render into the last render's memory, `ITERS=n` renders,
-//! `PROFILE=1` a black map).
+//! `PROFILE=1` a black map). One renderer draws every frame.
 use std::time::Instant;
 
 use envmap_core::AnyMapping;
 use envmap_render::image::Representation;
 use envmap_render::scene::Builtin;
 use envmap_render::scene::Mesh;
-use envmap_render::scene::{render, Camera, EnvSource, RenderOptions};
+use envmap_render::scene::{Camera, EnvSource, RenderOptions, Renderer};
 
 fn main() {
     let repr = Representation::default_for(AnyMapping::Cube);
@@ -60,6 +60,7 @@ fn main() {
     let mut again = std::env::var("REBUILD")
         .is_ok()
         .then(|| envmap_render::scene::MipLevels::new(&env).expect("levels"));
+    let mut renderer = Renderer::new();
     for _ in 0..std::env::var("ITERS")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -74,7 +75,9 @@ fn main() {
             o.mip_levels = again.as_ref().or(opts.mip_levels);
             o
         };
-        let img = render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts).expect("render");
+        let img = renderer
+            .render(&mesh, EnvSource::Map(&env), &Camera::default(), &opts)
+            .expect("render");
         println!(
             "{} ms ({} px)",
             t.elapsed().as_secs_f64() * 1e3,

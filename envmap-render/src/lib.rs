@@ -24,7 +24,7 @@
 //! | bake | [`bake::Baker`]`::for_target(..).bake(&image)` |
 //! | write a bake's files | [`bake::Baked::write`] (a directory), [`bake::Baked::files`] (memory), [`bake::Baked::textures`] (upload-ready) |
 //! | read a bake back | [`bake::open`] |
-//! | render, and save the picture | [`scene::render`], [`image::write_rgb`] |
+//! | render, and save the picture | [`scene::Renderer`]`::new().render(..)` (kept from frame to frame), [`image::write_rgb`] |
 //!
 //! Features, all on by default: the file formats `exr`, `image` (PNG, JPEG, Radiance),
 //! `ktx2`, `zstd` (KTX2 supercompression; a C compiler), `dds`, `ktx1`, and

@@ -6,7 +6,7 @@ use envmap_core::{AnyMapping, Atlas, Frame};
 use envmap_render::image::Representation;
 use envmap_render::scene::Mesh;
 use envmap_render::scene::{fill, psnr, smooth};
-use envmap_render::scene::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::scene::{Camera, EnvSource, Mode, RenderOptions, Renderer};
 
 /// The colour is the direction itself, so a pixel says which direction it reflects.
 fn direction_colour(d: Vec3) -> [f32; 3] {
@@ -40,7 +40,9 @@ fn mirror_sphere_reflects_known_directions() {
         o.height = 101;
         o
     };
-    let img = render(&mesh, EnvSource::Map(&env), &cam, &opts).unwrap();
+    let img = Renderer::new()
+        .render(&mesh, EnvSource::Map(&env), &cam, &opts)
+        .unwrap();
     let px = |x: u32, y: u32| Vec3::from(img.pixels[(y * 101 + x) as usize]);
     // The pixel facing the camera reflects straight back towards it (−y).
     assert!((px(50, 50) - Vec3::NEG_Y).length() < 0.02, "{}", px(50, 50));
@@ -97,7 +99,9 @@ fn per_pixel_renders_match_the_reference() {
         o.samples = 1;
         o
     };
-    let reference = render(&mesh, EnvSource::Analytic(&smooth), &cam, &opts).unwrap();
+    let reference = Renderer::new()
+        .render(&mesh, EnvSource::Analytic(&smooth), &cam, &opts)
+        .unwrap();
     for m in AnyMapping::ALL {
         let repr = Representation::default_for(m);
         let cell = if repr.atlas.cell_aspect_w == 3 {
@@ -107,7 +111,9 @@ fn per_pixel_renders_match_the_reference() {
         };
         let (w, h) = repr.atlas.image_size_for_cell_width(cell).unwrap();
         let env = fill(repr, w, h, smooth).unwrap();
-        let img = render(&mesh, EnvSource::Map(&env), &cam, &opts).unwrap();
+        let img = Renderer::new()
+            .render(&mesh, EnvSource::Map(&env), &cam, &opts)
+            .unwrap();
         let p = psnr(&img.pixels, &reference.pixels, |_| true, 1.0);
         println!("{m:>22}: {p:.1} dB");
         // The smooth environment varies by about 1 over the sphere; 40 dB is
@@ -141,13 +147,16 @@ fn per_vertex_differs_at_the_latlong_seam_only() {
         o.background = false;
         o
     };
-    let pp = render(&mesh, EnvSource::Map(&env), &cam, &base).unwrap();
-    let pv = render(&mesh, EnvSource::Map(&env), &cam, &{
-        let mut o = base;
-        o.mode = Mode::PerVertex;
-        o
-    })
-    .unwrap();
+    let pp = Renderer::new()
+        .render(&mesh, EnvSource::Map(&env), &cam, &base)
+        .unwrap();
+    let pv = Renderer::new()
+        .render(&mesh, EnvSource::Map(&env), &cam, &{
+            let mut o = base;
+            o.mode = Mode::PerVertex;
+            o
+        })
+        .unwrap();
     // The latlong seam is the half plane y = 0, x > 0 (u = 0 ≡ 1). On the
     // sphere seen from −y, reflections point along +x (R.x > 0, R.y ≈ 0)
     // on the right-hand limb.
@@ -191,13 +200,16 @@ fn progress_counts_every_band() {
         o.height = 70;
         o
     };
-    let with = render(&mesh, EnvSource::Analytic(&sky), &cam, &{
-        let mut o = opts;
-        o.progress = Some(envmap_render::scene::Progress(&tick));
-        o
-    })
-    .unwrap();
-    let without = render(&mesh, EnvSource::Analytic(&sky), &cam, &opts).unwrap();
+    let with = Renderer::new()
+        .render(&mesh, EnvSource::Analytic(&sky), &cam, &{
+            let mut o = opts;
+            o.progress = Some(envmap_render::scene::Progress(&tick));
+            o
+        })
+        .unwrap();
+    let without = Renderer::new()
+        .render(&mesh, EnvSource::Analytic(&sky), &cam, &opts)
+        .unwrap();
     assert_eq!(with.pixels, without.pixels);
     let mut seen = seen.into_inner().unwrap();
     seen.sort_unstable();
@@ -221,7 +233,7 @@ fn a_bad_mesh_is_an_error_not_a_panic() {
     let env = EnvSource::Analytic(&direction_colour);
     let last = mesh.triangles.len() - 1;
     mesh.triangles[last][1] = 1_000_000;
-    match render(&mesh, env, &cam, &opts) {
+    match Renderer::new().render(&mesh, env, &cam, &opts) {
         Err(Error::MeshIndex {
             triangle, index, ..
         }) => assert_eq!((triangle, index), (last, 1_000_000)),
@@ -230,10 +242,10 @@ fn a_bad_mesh_is_an_error_not_a_panic() {
     let (mut mesh, _) = sphere_scene();
     mesh.normals[3] = Vec3::new(0.0, 0.0, 2.0);
     assert!(matches!(
-        render(&mesh, env, &cam, &opts),
+        Renderer::new().render(&mesh, env, &cam, &opts),
         Err(Error::MeshNormal { vertex: 3, .. })
     ));
     // The same mesh, repaired, renders.
     mesh.normals[3] = mesh.normals[3].normalize();
-    assert!(render(&mesh, env, &cam, &opts).is_ok());
+    assert!(Renderer::new().render(&mesh, env, &cam, &opts).is_ok());
 }

@@ -48,7 +48,7 @@ use envmap_render::image::{EnvImage, Representation, RgbImage};
 use envmap_render::scene::Builtin;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
-use envmap_render::scene::{render, Camera, EnvSource, RenderOptions, Shading};
+use envmap_render::scene::{Camera, EnvSource, RenderOptions, Renderer, Shading};
 use envmap_render::scene::{LevelBlend, LitEnvironment};
 use glam::Vec3;
 
@@ -98,7 +98,7 @@ fn main() -> Result<(), Error> {
     }
     let cam = Camera::default();
     // The CPU: envmap render --material, one sample per pixel, no mip.
-    let cpu = render(&mesh, EnvSource::Map(&levels[0]), &cam, &{
+    let cpu = Renderer::new().render(&mesh, EnvSource::Map(&levels[0]), &cam, &{
         let mut o = RenderOptions::default();
         o.width = WIDTH;
         o.height = HEIGHT;

@@ -35,7 +35,9 @@ use envmap_render::scene::Builtin;
 use envmap_render::scene::LitEnvironment;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
-use envmap_render::scene::{light_table, render, Camera, EnvSource, Mode, RenderOptions, Shading};
+use envmap_render::scene::{
+    light_table, Camera, EnvSource, Mode, RenderOptions, Renderer, Shading,
+};
 use envmap_render::Result;
 
 /// The roughness of the sphere grid's columns.
@@ -120,7 +122,7 @@ fn compare(
 ) -> Result<Compared> {
     let env = EnvSource::Analytic(scene.analytic);
     let t = Instant::now();
-    let split = render(mesh, env, cam, &{
+    let split = Renderer::new().render(mesh, env, cam, &{
         let mut o = *base;
         o.shading = Shading::SplitSum {
             env: &scene.lit,
@@ -133,7 +135,7 @@ fn compare(
     let split_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
     let half = |seed| {
-        render(mesh, env, cam, &{
+        Renderer::new().render(mesh, env, cam, &{
             let mut o = *base;
             o.shading = Shading::Reference {
                 material: m,
@@ -363,19 +365,21 @@ pub(crate) fn run(
     for mapping in [AnyMapping::LatLong, AnyMapping::SphereMapGl] {
         let lit = resampled(&sky.lit, mapping)?;
         for m in seed_materials {
-            seed.push(render(&teapot, EnvSource::Analytic(&sky_fn), &cam, &{
-                let mut o = tbase;
-                o.mode = Mode::PerVertex;
-                o.background = true;
-                o.samples = opts.samples.clamp(1, 8);
-                o.shading = Shading::SplitSum {
-                    env: &lit,
-                    material: m,
-                    multiscatter: false,
-                    dominant: true,
-                };
-                o
-            })?);
+            seed.push(
+                Renderer::new().render(&teapot, EnvSource::Analytic(&sky_fn), &cam, &{
+                    let mut o = tbase;
+                    o.mode = Mode::PerVertex;
+                    o.background = true;
+                    o.samples = opts.samples.clamp(1, 8);
+                    o.shading = Shading::SplitSum {
+                        env: &lit,
+                        material: m,
+                        multiscatter: false,
+                        dominant: true,
+                    };
+                    o
+                })?,
+            );
         }
     }
     save_png(

@@ -15,7 +15,7 @@ use envmap_render::image::{linear_to_srgb, Outputs, SaveOptions};
 use envmap_render::image::{FileAxes, Representation, RgbImage};
 use envmap_render::scene::Builtin;
 use envmap_render::scene::Mesh;
-use envmap_render::scene::{render, Camera, EnvSource, Mode, RenderOptions};
+use envmap_render::scene::{Camera, EnvSource, Mode, RenderOptions, Renderer};
 use envmap_render::{Error, Result};
 
 /// What the demo makes.
@@ -238,7 +238,9 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
     };
     progress(0, total, "reference");
     let sky = |d: Vec3| Builtin::Sky.radiance(d);
-    let reference = render(&mesh, EnvSource::Analytic(&sky), &cam, &ropts)?;
+    // One renderer draws every picture, its memory kept between them.
+    let mut renderer = Renderer::new();
+    let reference = renderer.render(&mesh, EnvSource::Analytic(&sky), &cam, &ropts)?;
     save_png(
         &mut run,
         &reference,
@@ -249,7 +251,7 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
     // The object's pixels: where a render without background is not black
     // (the sky has no black). PSNR and heat maps cover the teapot only, so
     // the background, the same map seen directly, does not drown it.
-    let silhouette = render(&mesh, EnvSource::Analytic(&sky), &cam, &{
+    let silhouette = renderer.render(&mesh, EnvSource::Analytic(&sky), &cam, &{
         let mut o = ropts;
         o.background = false;
         o
@@ -265,8 +267,8 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
         let t = Instant::now();
         let (aw, ah) = size_for_budget(m, opts.texels);
         let env = Builtin::Sky.image(Representation::for_file(m, FileAxes::default()), aw, ah)?;
-        let pp = render(&mesh, EnvSource::Map(&env), &cam, &ropts)?;
-        let pv = render(&mesh, EnvSource::Map(&env), &cam, &{
+        let pp = renderer.render(&mesh, EnvSource::Map(&env), &cam, &ropts)?;
+        let pv = renderer.render(&mesh, EnvSource::Map(&env), &cam, &{
             let mut o = ropts;
             o.mode = Mode::PerVertex;
             o

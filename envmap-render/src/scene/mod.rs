@@ -187,8 +187,8 @@
 //!
 //! The pyramid is built for each render unless made beforehand
 //! ([`MipLevels`], [`RenderOptions::mip_levels`]; made again in place for a
-//! map that changes, [`MipLevels::rebuild`]; a render building its own builds
-//! them into the memory of the last render's, `release_kept_levels`): the map itself is read in place
+//! map that changes, [`MipLevels::rebuild`]); a [`Renderer`] building its
+//! own builds them into the memory of the levels it built last. The map itself is read in place
 //! as level 0 (`Trilinear::over_prepared`); the levels below it (every level down
 //! to 1², about a third of the map's texels) are made from it, each in one
 //! parallel pass over the level above, written straight into its copy with

@@ -19,7 +19,9 @@ use crate::filter::pyramid::{PreparedLevels, Trilinear, TrilinearAhead};
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::filter::weights::TexelWeights;
 use crate::image::{EnvImage, RgbImage};
-use crate::scene::lit::{exact_split_sum, reference, EnvSampling, LitEnvironment, Pcg32};
+use crate::scene::lit::{
+    exact_split_sum, reference, EnvSampling, LitEnvironment, LitSampler, Pcg32,
+};
 use crate::scene::material::Material;
 use crate::scene::mesh::Mesh;
 
@@ -102,13 +104,8 @@ pub struct RenderOptions<'a> {
     /// For [`RenderOptions::mip`]: the map's levels made beforehand
     /// ([`MipLevels::new`]), so that many renders of one map build them
     /// once; ignored unless made from a map of the environment's mapping
-    /// and size (then they are built for the render, as when `None`).
-    /// A render that builds its own levels builds them into the memory of
-    /// the last levels a render built, where it has the same geometry
-    /// ([`MipLevels::rebuild`]), and keeps theirs for the next: a third of
-    /// the map's size stays allocated between renders, one set per process,
-    /// until `release_kept_levels`. (Memory new to the process costs
-    /// the system more to hand out than the levels cost to build.)
+    /// and size (then the [`Renderer`] builds them, as when `None`, into
+    /// the memory of the levels it built last).
     pub mip_levels: Option<&'a MipLevels>,
     /// Called from the workers as bands of rows finish, with the bands done
     /// and their number (for a progress bar on long renders: the reference).
@@ -216,60 +213,6 @@ impl MipLevels {
     #[must_use]
     pub fn fits(&self, map: &EnvImage) -> bool {
         map.mapping() == self.mapping && map.cell_size() == self.cell
-    }
-}
-
-/// The levels the last render that built its own left behind, for the
-/// next to build into ([`RenderOptions::mip_levels`]).
-static KEPT_LEVELS: std::sync::Mutex<Option<MipLevels>> = std::sync::Mutex::new(None);
-
-/// Frees the memory of the mip levels that renders building their own
-/// keep for the next such render ([`RenderOptions::mip_levels`]): about a
-/// third of the size of the last map rendered mip-aware without levels
-/// given. The next such render allocates them anew.
-#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
-#[cfg_attr(feature = "instruments", visibility::make(pub))]
-pub(crate) fn release_kept_levels() {
-    drop(kept_levels().take());
-}
-
-/// The kept levels' slot; a render that panicked while holding it left
-/// nothing half-made in it (it only ever holds whole levels).
-fn kept_levels() -> std::sync::MutexGuard<'static, Option<MipLevels>> {
-    KEPT_LEVELS
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner)
-}
-
-/// Levels a render builds for itself ([`RenderOptions::mip_levels`] not
-/// given): into the kept ones' memory where they have `map`'s geometry,
-/// kept again for the next render when this one is done with them.
-struct OwnLevels(Option<MipLevels>);
-
-impl OwnLevels {
-    /// The levels of `map`, built into the kept levels where they fit.
-    fn of(map: &EnvImage) -> Result<Self> {
-        let kept = kept_levels().take();
-        let levels = match kept {
-            Some(mut l) if l.fits(map) => {
-                l.rebuild(map)?;
-                l
-            }
-            other => {
-                // Levels of another map go before these are made.
-                drop(other);
-                MipLevels::new(map)?
-            }
-        };
-        Ok(Self(Some(levels)))
-    }
-}
-
-impl Drop for OwnLevels {
-    fn drop(&mut self) {
-        if let Some(l) = self.0.take() {
-            *kept_levels() = Some(l);
-        }
     }
 }
 
@@ -454,184 +397,351 @@ impl core::fmt::Debug for EnvSource<'_> {
     }
 }
 
-/// Renders `mesh` (in world coordinates) as a mirror in `env`.
+/// The renderer: draws meshes in environments frame after frame, and keeps
+/// what a frame needs from one to the next, so that a render allocates
+/// nothing it made before: the workers' band buffers and, for mip-aware
+/// renders ([`RenderOptions::mip`]) without levels given, the levels of
+/// the last map, which the next render of a map of the same mapping and
+/// size builds into ([`MipLevels::rebuild`]: no level allocated, no page of
+/// memory new to the process). Memory new to the process costs the system
+/// more to hand out than the levels cost to build; a renderer reused from
+/// frame to frame pays it once. Dropping the renderer frees it all.
 ///
-/// # Errors
-///
-/// A mesh that [`Mesh::validate`] refuses ([`Error::MeshIndex`] for a
-/// triangle past the last vertex, [`Error::MeshCounts`],
-/// [`Error::MeshPosition`], [`Error::MeshNormal`]), checked before anything
-/// is drawn; [`Error::Cancelled`], once `opts.cancel` is set (checked at
-/// every band of rows).
-pub fn render(
-    mesh: &Mesh,
-    env: EnvSource<'_>,
-    cam: &Camera,
-    opts: &RenderOptions,
-) -> Result<RgbImage> {
-    // A triangle's index past the last vertex would be read below.
-    mesh.validate()?;
-    match env {
-        EnvSource::Map(img) => render_map(mesh, Some(img), None, cam, opts),
-        EnvSource::Analytic(f) => render_map(mesh, None, Some(f), cam, opts),
+/// ```
+/// use envmap_render::scene::{environments, Camera, EnvSource, Mesh, RenderOptions, Renderer};
+/// let sky = environments::sky(64, 32);
+/// let mut renderer = Renderer::new();
+/// let opts = RenderOptions { width: 32, height: 24, ..RenderOptions::default() };
+/// for _frame in 0..2 {
+///     let img = renderer.render(&Mesh::sphere(8), EnvSource::Map(&sky), &Camera::default(), &opts)?;
+///     assert_eq!((img.width, img.height), (32, 24));
+/// }
+/// # Ok::<(), envmap_render::Error>(())
+/// ```
+#[derive(Default)]
+pub struct Renderer {
+    /// The levels the last mip-aware render without levels given made,
+    /// for the next to build into.
+    levels: Option<MipLevels>,
+    /// Band buffers, lent to a worker for a frame and given back after.
+    scratch: std::sync::Mutex<Vec<BandScratch>>,
+}
+
+impl core::fmt::Debug for Renderer {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Renderer")
+            .field("levels", &self.levels.is_some())
+            .finish_non_exhaustive()
     }
 }
 
-fn render_map(
-    mesh: &Mesh,
-    env: Option<&EnvImage>,
-    analytic: Option<&(dyn Fn(Vec3) -> [f32; 3] + Sync)>,
-    cam: &Camera,
-    opts: &RenderOptions,
-) -> Result<RgbImage> {
-    let s = opts.samples.clamp(1, 8);
-    let (w, h) = (opts.width.max(1) * s, opts.height.max(1) * s);
-    let view = View::new(cam, w, h);
-    let sampler = env.map(Sampler::new);
-    // World → the map's own axes (see `Representation::frame`).
-    let to_map = env.map_or(Mat3::IDENTITY, |e| {
-        e.representation().frame.matrix().transpose()
-    });
-    let mapping = env.map_or(AnyMapping::LatLong, EnvImage::mapping);
-    let per_vertex = opts.mode == Mode::PerVertex && analytic.is_none();
-    // Mip-aware lookups: the map's levels below its own (the map is read in
-    // place as level 0), built for this render, and the base's texel solid
-    // angles (the texel's angular size where a lookup lands).
-    let built;
-    let mip = match env {
-        Some(e) if opts.mip && opts.filter == Filter::Bilinear && !per_vertex => {
-            match opts.mip_levels.filter(|l| l.fits(e)) {
-                Some(l) => Some((e, l)),
-                None => {
-                    built = OwnLevels::of(e)?;
-                    built.0.as_ref().map(|l| (e, l))
+impl Renderer {
+    /// A renderer holding no memory yet.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Renders `mesh` (in world coordinates) in `env`, shaded as
+    /// `opts.shading` says (a mirror by default).
+    ///
+    /// # Errors
+    ///
+    /// A mesh that [`Mesh::validate`] refuses ([`Error::MeshIndex`] for a
+    /// triangle past the last vertex, [`Error::MeshCounts`],
+    /// [`Error::MeshPosition`], [`Error::MeshNormal`]), checked before
+    /// anything is drawn; [`Error::Cancelled`], once `opts.cancel` is set
+    /// (checked at every band of rows).
+    pub fn render(
+        &mut self,
+        mesh: &Mesh,
+        env: EnvSource<'_>,
+        cam: &Camera,
+        opts: &RenderOptions,
+    ) -> Result<RgbImage> {
+        // A triangle's index past the last vertex would be read below.
+        mesh.validate()?;
+        let (map, analytic) = match env {
+            EnvSource::Map(img) => (Some(img), None),
+            EnvSource::Analytic(f) => (None, Some(f)),
+        };
+        let per_vertex = opts.mode == Mode::PerVertex && analytic.is_none();
+        // Mip-aware lookups: the map's levels below its own (the map is
+        // read in place as level 0), given or built for this render, and
+        // the base's texel solid angles (the texel's angular size where a
+        // lookup lands).
+        let mip = match map {
+            Some(e) if opts.mip && opts.filter == Filter::Bilinear && !per_vertex => {
+                match opts.mip_levels.filter(|l| l.fits(e)) {
+                    Some(l) => Some((e, l)),
+                    None => Some((e, levels_of(&mut self.levels, e)?)),
                 }
             }
-        }
-        _ => None,
-    };
-    let trilinear = mip.map(|(base, l)| Trilinear::over_prepared(base, &l.below));
-    let texels = mip.map(|(_, l)| &l.texels);
-    let background_at_base = mip.is_some_and(|(_, l)| background_stays_at_base(&view, l.least));
-    // Project every vertex once; per-vertex mode also maps R at each vertex.
-    let projected: Vec<(f32, f32, f32)> = mesh.positions.iter().map(|p| view.project(*p)).collect();
-    let vertex_uv: Vec<ChartUv> = if per_vertex {
-        let dirs: Vec<Vec3> = mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .map(|(p, n)| to_map * reflect_view(*n, (view.eye - *p).normalize_or(Vec3::Z)))
-            .collect();
-        let mut uv = vec![ChartUv::default(); dirs.len()];
-        forward_slice::<_, Fine>(&mapping, &dirs, &mut uv);
-        uv
-    } else {
-        Vec::new()
-    };
+            _ => None,
+        };
+        let frame = Frame::new(mesh, map, analytic, mip, cam, opts);
+        let bins = frame.bins();
+        let mut hi = vec![[0.0f32; 3]; (frame.w * frame.h) as usize];
+        let bands_done = std::sync::atomic::AtomicU32::new(0);
+        let total_bands = bins.len() as u32;
+        let pool = &self.scratch;
+        hi.par_chunks_mut((frame.w * BAND) as usize)
+            .zip(bins.par_iter())
+            .enumerate()
+            .for_each_init(
+                || Lent::from(pool),
+                |scratch, (band, (px, tris))| {
+                    if cancel::is_set(opts.cancel) {
+                        return;
+                    }
+                    frame.band(&mut scratch.buffers, band as u32 * BAND, px, tris);
+                    if let Some(Progress(tick)) = opts.progress {
+                        let done =
+                            bands_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                        tick(done, total_bands);
+                    }
+                },
+            );
+        cancel::check(opts.cancel)?;
+        Ok(downsample(hi, frame.w, frame.h, frame.s))
+    }
+}
 
-    // Lit by the split sum: one sampler over the baked maps; per vertex,
-    // the lookup points at every vertex (seed `002`: interpolated across
-    // each triangle in its first vertex's chart, seams and all).
-    let lit_sampler = match opts.shading {
-        Shading::SplitSum { env, .. } => Some(env.sampler()),
-        _ => None,
-    };
-    let per_vertex_lit = opts.mode == Mode::PerVertex && lit_sampler.is_some();
-    let vertex_lit: Vec<(ChartUv, ChartUv)> = match (&lit_sampler, opts.shading) {
-        (
-            Some(ls),
-            Shading::SplitSum {
-                material, dominant, ..
-            },
-        ) if per_vertex_lit => mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .map(|(p, n)| {
-                let n = n.normalize_or(Vec3::Z);
-                ls.lookup_points(
-                    &material,
-                    n,
-                    (view.eye - *p).normalize_or(Vec3::Z),
-                    dominant,
-                )
-            })
-            .collect(),
-        _ => Vec::new(),
-    };
-
-    // The reference: the environment exactly (analytic) or through the map.
-    let look = |d: Vec3| radiance(analytic, sampler.as_ref(), mapping, to_map, opts.filter, d);
-
-    // Bin triangles by the bands of rows they touch.
-    let bands = h.div_ceil(BAND) as usize;
-    let mut bins: Vec<Vec<u32>> = vec![Vec::new(); bands];
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        let v = tri.map(|i| projected[i as usize]);
-        if v.iter()
-            .any(|p| p.2 <= NEAR || !p.0.is_finite() || !p.1.is_finite())
-        {
-            continue;
+/// The levels of `map`, built into the memory of the levels `held` where
+/// they have its geometry, and held there for the next render.
+fn levels_of<'h>(held: &'h mut Option<MipLevels>, map: &EnvImage) -> Result<&'h MipLevels> {
+    let levels = match held.take() {
+        Some(mut l) if l.fits(map) => {
+            l.rebuild(map)?;
+            l
         }
-        let ymin = v.iter().map(|p| p.1).fold(f32::INFINITY, f32::min).max(0.0);
-        let ymax = v
-            .iter()
-            .map(|p| p.1)
-            .fold(f32::NEG_INFINITY, f32::max)
-            .min(h as f32 - 1.0);
-        if ymin > ymax {
-            continue;
+        other => {
+            // Levels of another map go before these are made.
+            drop(other);
+            MipLevels::new(map)?
         }
-        for b in (ymin as u32 / BAND)..=(ymax as u32 / BAND) {
-            bins[b as usize].push(t as u32);
+    };
+    Ok(held.insert(levels))
+}
+
+/// A worker's band buffers for one frame, taken from the renderer's and
+/// given back to them when the worker is done.
+struct Lent<'p> {
+    buffers: BandScratch,
+    pool: &'p std::sync::Mutex<Vec<BandScratch>>,
+}
+
+impl<'p> Lent<'p> {
+    fn from(pool: &'p std::sync::Mutex<Vec<BandScratch>>) -> Self {
+        let buffers = lock(pool).pop().unwrap_or_default();
+        Self { buffers, pool }
+    }
+}
+
+impl Drop for Lent<'_> {
+    fn drop(&mut self) {
+        lock(self.pool).push(core::mem::take(&mut self.buffers));
+    }
+}
+
+/// The band buffers' pool; a worker that panicked while holding it left
+/// only whole buffers in it.
+fn lock(pool: &std::sync::Mutex<Vec<BandScratch>>) -> std::sync::MutexGuard<'_, Vec<BandScratch>> {
+    pool.lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// What every band of one frame reads: the view, the environment and how
+/// it is looked up, the mesh's vertices projected, and what per-vertex and
+/// lit shading computed at the vertices.
+struct Frame<'a> {
+    mesh: &'a Mesh,
+    opts: &'a RenderOptions<'a>,
+    view: View,
+    /// The supersampled image's size, and the supersampling.
+    w: u32,
+    h: u32,
+    s: u32,
+    sampler: Option<Sampler<'a>>,
+    analytic: Option<&'a (dyn Fn(Vec3) -> [f32; 3] + Sync)>,
+    /// World → the map's own axes (see `Representation::frame`).
+    to_map: Mat3,
+    mapping: AnyMapping,
+    per_vertex: bool,
+    trilinear: Option<Trilinear<'a>>,
+    texels: Option<&'a TexelWeights>,
+    background_at_base: bool,
+    projected: Vec<(f32, f32, f32)>,
+    /// Per-vertex mode: R's chart point at each vertex.
+    vertex_uv: Vec<ChartUv>,
+    lit_sampler: Option<LitSampler<'a>>,
+    per_vertex_lit: bool,
+    /// Lit per vertex: the lookup points at each vertex.
+    vertex_lit: Vec<(ChartUv, ChartUv)>,
+}
+
+impl<'a> Frame<'a> {
+    /// Everything computed once per frame: per vertex, the projection, and
+    /// R's chart point (per-vertex mode) or the split sum's lookup points
+    /// (lit per vertex: seed `002`, interpolated across each triangle in
+    /// its first vertex's chart, seams and all).
+    fn new(
+        mesh: &'a Mesh,
+        env: Option<&'a EnvImage>,
+        analytic: Option<&'a (dyn Fn(Vec3) -> [f32; 3] + Sync)>,
+        mip: Option<(&'a EnvImage, &'a MipLevels)>,
+        cam: &Camera,
+        opts: &'a RenderOptions<'a>,
+    ) -> Self {
+        let s = opts.samples.clamp(1, 8);
+        let (w, h) = (opts.width.max(1) * s, opts.height.max(1) * s);
+        let view = View::new(cam, w, h);
+        let to_map = env.map_or(Mat3::IDENTITY, |e| {
+            e.representation().frame.matrix().transpose()
+        });
+        let mapping = env.map_or(AnyMapping::LatLong, EnvImage::mapping);
+        let per_vertex = opts.mode == Mode::PerVertex && analytic.is_none();
+        let projected = mesh.positions.iter().map(|p| view.project(*p)).collect();
+        let vertex_uv = if per_vertex {
+            let dirs: Vec<Vec3> = mesh
+                .positions
+                .iter()
+                .zip(&mesh.normals)
+                .map(|(p, n)| to_map * reflect_view(*n, (view.eye - *p).normalize_or(Vec3::Z)))
+                .collect();
+            let mut uv = vec![ChartUv::default(); dirs.len()];
+            forward_slice::<_, Fine>(&mapping, &dirs, &mut uv);
+            uv
+        } else {
+            Vec::new()
+        };
+        let lit_sampler = match opts.shading {
+            Shading::SplitSum { env, .. } => Some(env.sampler()),
+            _ => None,
+        };
+        let per_vertex_lit = opts.mode == Mode::PerVertex && lit_sampler.is_some();
+        let vertex_lit = match (&lit_sampler, opts.shading) {
+            (
+                Some(ls),
+                Shading::SplitSum {
+                    material, dominant, ..
+                },
+            ) if per_vertex_lit => mesh
+                .positions
+                .iter()
+                .zip(&mesh.normals)
+                .map(|(p, n)| {
+                    let n = n.normalize_or(Vec3::Z);
+                    ls.lookup_points(
+                        &material,
+                        n,
+                        (view.eye - *p).normalize_or(Vec3::Z),
+                        dominant,
+                    )
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        Self {
+            mesh,
+            opts,
+            w,
+            h,
+            s,
+            sampler: env.map(Sampler::new),
+            analytic,
+            to_map,
+            mapping,
+            per_vertex,
+            trilinear: mip.map(|(base, l)| Trilinear::over_prepared(base, &l.below)),
+            texels: mip.map(|(_, l)| &l.texels),
+            background_at_base: mip.is_some_and(|(_, l)| background_stays_at_base(&view, l.least)),
+            view,
+            projected,
+            vertex_uv,
+            lit_sampler,
+            per_vertex_lit,
+            vertex_lit,
         }
     }
 
-    let mut hi = vec![[0.0f32; 3]; (w * h) as usize];
-    let bands_done = std::sync::atomic::AtomicU32::new(0);
-    let total_bands = bins.len() as u32;
-    hi.par_chunks_mut((w * BAND) as usize)
-        .zip(bins.par_iter())
-        .enumerate()
-        .for_each_init(BandScratch::default, |scratch, (band, (px, tris))| {
-            if cancel::is_set(opts.cancel) {
-                return;
+    /// The triangles, binned by the bands of rows they touch.
+    fn bins(&self) -> Vec<Vec<u32>> {
+        let h = self.h;
+        let mut bins: Vec<Vec<u32>> = vec![Vec::new(); h.div_ceil(BAND) as usize];
+        for (t, tri) in self.mesh.triangles.iter().enumerate() {
+            let v = tri.map(|i| self.projected[i as usize]);
+            if v.iter()
+                .any(|p| p.2 <= NEAR || !p.0.is_finite() || !p.1.is_finite())
+            {
+                continue;
             }
-            let BandScratch {
-                hits,
-                hit_at,
-                need,
-                lookups: band_dirs,
-                spread,
-                slot,
-                buffer,
-            } = scratch;
-            let y0 = band as u32 * BAND;
-            let rows = (px.len() / w as usize) as u32;
-            hits.clear();
-            hits.resize(px.len(), None);
-            for &t in tris {
-                let tri = mesh.triangles[t as usize];
-                let v = tri.map(|i| projected[i as usize]);
-                raster(&v, t, y0, rows, w, hits);
+            let ymin = v.iter().map(|p| p.1).fold(f32::INFINITY, f32::min).max(0.0);
+            let ymax = v
+                .iter()
+                .map(|p| p.1)
+                .fold(f32::NEG_INFINITY, f32::max)
+                .min(h as f32 - 1.0);
+            if ymin > ymax {
+                continue;
             }
-            let hits: &[Option<Hit>] = hits;
-            // Lit materials: shaded here, straight into the band (which
-            // starts black), per pixel (per vertex: from lookup points
-            // interpolated across the triangle); the lookups below then
-            // fill only the background. A mirror has no lit pixels.
-            let mirror = matches!(opts.shading, Shading::Mirror);
-            // The pixels hit, in order, found in one pass over `hits` for
-            // the shading and the lookups below (a mirror with its
-            // background looks up every pixel and needs no list).
-            hit_at.clear();
-            if !(mirror && opts.background) {
-                hit_at.extend((0..px.len()).filter(|&k| hits[k].is_some()));
+            for b in (ymin as u32 / BAND)..=(ymax as u32 / BAND) {
+                bins[b as usize].push(t as u32);
             }
-            let hit_at: &[usize] = hit_at;
-            // Whether every hit of the band is shaded already.
-            let mut shaded = false;
-            if let (
+        }
+        bins
+    }
+
+    /// The radiance the reference sees towards world direction `d`: the
+    /// environment exactly (analytic) or through the map.
+    fn look(&self, d: Vec3) -> [f32; 3] {
+        radiance(
+            self.analytic,
+            self.sampler.as_ref(),
+            self.mapping,
+            self.to_map,
+            self.opts.filter,
+            d,
+        )
+    }
+
+    /// One band of rows from `y0`, its pixels `px` (black), the triangles
+    /// `tris` touching it: raster, shading of lit materials, the lookups of
+    /// the mirror and the background.
+    fn band(&self, scratch: &mut BandScratch, y0: u32, px: &mut [[f32; 3]], tris: &[u32]) {
+        let BandScratch { hits, hit_at, .. } = scratch;
+        let rows = (px.len() / self.w as usize) as u32;
+        hits.clear();
+        hits.resize(px.len(), None);
+        for &t in tris {
+            let v = self.mesh.triangles[t as usize].map(|i| self.projected[i as usize]);
+            raster(&v, t, y0, rows, self.w, hits);
+        }
+        // The pixels hit, in order, found in one pass over `hits` for the
+        // shading and the lookups (a mirror with its background looks up
+        // every pixel and needs no list).
+        let mirror = matches!(self.opts.shading, Shading::Mirror);
+        hit_at.clear();
+        if !(mirror && self.opts.background) {
+            hit_at.extend((0..px.len()).filter(|&k| hits[k].is_some()));
+        }
+        // Lit materials: shaded here, straight into the band (which starts
+        // black); the lookups then fill only the background. A mirror has
+        // no lit pixels.
+        if !mirror {
+            self.shade(hits, hit_at, y0, px);
+        }
+        self.look_up(scratch, y0, px);
+    }
+
+    /// Shades the pixels of a band hit (`hit_at`) with the lit material:
+    /// the split sum eight at a time per pixel, the exact split sum for the
+    /// band's hits at once (the oracle's integrals run in parallel over
+    /// them), per vertex and the reference one at a time.
+    fn shade(&self, hits: &[Option<Hit>], hit_at: &[usize], y0: u32, px: &mut [[f32; 3]]) {
+        let (mesh, view) = (self.mesh, &self.view);
+        match (&self.lit_sampler, self.opts.shading) {
+            (
                 Some(ls),
                 Shading::SplitSum {
                     material,
@@ -639,186 +749,202 @@ fn render_map(
                     dominant,
                     ..
                 },
-            ) = (&lit_sampler, opts.shading)
-            {
-                if !per_vertex_lit {
-                    // Per pixel: eight at a time.
-                    for chunk in hit_at.chunks(LANES) {
-                        let (mut ns, mut vs) = ([Vec3::Z; LANES], [Vec3::Z; LANES]);
-                        for (j, &k) in chunk.iter().enumerate() {
-                            if let Some(hit) = &hits[k] {
-                                (ns[j], vs[j]) = surface(mesh, hit, &view);
-                            }
-                        }
-                        let mut out = [[0.0f32; 3]; LANES];
-                        let n = chunk.len();
-                        ls.shade8(
-                            &material,
-                            &ns[..n],
-                            &vs[..n],
-                            multiscatter,
-                            dominant,
-                            &mut out,
-                        );
-                        for (j, &k) in chunk.iter().enumerate() {
-                            px[k] = out[j];
+            ) if !self.per_vertex_lit => {
+                for chunk in hit_at.chunks(LANES) {
+                    let (mut ns, mut vs) = ([Vec3::Z; LANES], [Vec3::Z; LANES]);
+                    for (j, &k) in chunk.iter().enumerate() {
+                        if let Some(hit) = &hits[k] {
+                            (ns[j], vs[j]) = surface(mesh, hit, view);
                         }
                     }
-                    shaded = true;
+                    let mut out = [[0.0f32; 3]; LANES];
+                    let n = chunk.len();
+                    ls.shade8(
+                        &material,
+                        &ns[..n],
+                        &vs[..n],
+                        multiscatter,
+                        dominant,
+                        &mut out,
+                    );
+                    for (j, &k) in chunk.iter().enumerate() {
+                        px[k] = out[j];
+                    }
                 }
             }
-            // The exact split sum: the band's hits at once (the oracle's
-            // integrals run in parallel over them).
-            if let Shading::ExactSplitSum {
-                oracle,
-                material,
-                multiscatter,
-                dominant,
-            } = opts.shading
-            {
-                let at = &hit_at;
-                let (ns, vs): (Vec<Vec3>, Vec<Vec3>) = at
+            (
+                _,
+                Shading::ExactSplitSum {
+                    oracle,
+                    material,
+                    multiscatter,
+                    dominant,
+                },
+            ) => {
+                let (ns, vs): (Vec<Vec3>, Vec<Vec3>) = hit_at
                     .iter()
-                    .filter_map(|&k| hits[k].as_ref().map(|hit| surface(mesh, hit, &view)))
+                    .filter_map(|&k| hits[k].as_ref().map(|hit| surface(mesh, hit, view)))
                     .unzip();
                 let out = exact_split_sum(oracle, &material, &ns, &vs, multiscatter, dominant);
-                for (&k, o) in at.iter().zip(out) {
+                for (&k, o) in hit_at.iter().zip(out) {
                     px[k] = o;
                 }
-                shaded = true;
             }
-            // Per vertex and the reference: one at a time.
-            if !mirror && !shaded {
+            _ => {
                 for (k, hit) in hits.iter().enumerate() {
-                    let Some(hit) = hit else { continue };
-                    let (n, v) = surface(mesh, hit, &view);
-                    px[k] = match (&lit_sampler, opts.shading) {
-                        (
-                            Some(ls),
-                            Shading::SplitSum {
-                                material,
-                                multiscatter,
-                                ..
-                            },
-                        ) if per_vertex_lit => {
-                            let tri = mesh.triangles[hit.tri as usize];
-                            let lerp = |pick: fn(&(ChartUv, ChartUv)) -> ChartUv| {
-                                let [p, q, r] = tri.map(|i| pick(&vertex_lit[i as usize]));
-                                ChartUv::new(
-                                    p.chart,
-                                    p.u * hit.w[0] + q.u * hit.w[1] + r.u * hit.w[2],
-                                    p.v * hit.w[0] + q.v * hit.w[1] + r.v * hit.w[2],
-                                )
-                            };
-                            let (sp, ir) = (lerp(|x| x.0), lerp(|x| x.1));
-                            ls.shade_at(&material, n.dot(v), sp, ir, multiscatter)
-                        }
-                        (
-                            _,
-                            Shading::Reference {
-                                material,
-                                samples,
-                                light,
-                                seed,
-                            },
-                        ) => {
-                            let pixel = u64::from(y0 + k as u32 / w) * u64::from(w)
-                                + u64::from(k as u32 % w);
-                            let mut rng = Pcg32::new(pixel ^ seed.rotate_left(40));
-                            reference(&look, light, &material, n, v, samples, &mut rng)
-                        }
-                        _ => [0.0; 3],
-                    };
-                }
-            }
-            // Directions to look up: the reflection (per pixel), or the view
-            // ray for the background.
-            // With mip-aware lookups, also each direction's footprint: the
-            // angle it turns through from one pixel to the next.
-            // Only the pixels that need them: the background (when shown)
-            // and mirror hits; `need[j]` is the pixel of lookup `j`.
-            need.clear();
-            match (mirror, opts.background) {
-                (true, true) => need.extend(0..px.len()),
-                (true, false) => need.extend_from_slice(hit_at),
-                (false, true) => missed(hit_at, px.len(), need),
-                (false, false) => {}
-            }
-            let need: &[usize] = need;
-            band_lookups(mesh, &view, hits, need, w, y0, opts.fresnel_f0, band_dirs);
-            let BandLookups {
-                dirs,
-                fresnel: fres,
-                on_object,
-            } = band_dirs;
-            spread.clear();
-            if trilinear.is_some() {
-                let bg = background_at_base;
-                let (on, out) = (&on_object[..], (&mut *spread, &mut *slot));
-                footprints(
-                    mesh, &projected, &view, hits, need, dirs, w, y0, bg, on, out,
-                );
-            }
-            // The looked-up values, `vals[j]` for pixel `need[j]`: straight
-            // into the band when every pixel is looked up (a mirror with its
-            // background), else into a buffer scattered afterwards.
-            let every = need.len() == px.len();
-            buffer.clear();
-            if !every {
-                buffer.resize(need.len(), [0.0; 3]);
-            }
-            let vals: &mut [[f32; 3]] = if every { &mut *px } else { &mut *buffer };
-            if let (Some(sampler), None) = (sampler.as_ref(), analytic) {
-                lookups(
-                    sampler,
-                    &mapping,
-                    per_vertex,
-                    trilinear.as_ref().zip(texels),
-                    mesh,
-                    hits,
-                    need,
-                    dirs,
-                    spread,
-                    &vertex_uv,
-                    to_map,
-                    opts.filter,
-                    vals,
-                );
-            } else {
-                let f = analytic.unwrap_or(&|_| [0.0; 3]);
-                for (v, d) in vals.iter_mut().zip(dirs.iter()) {
-                    *v = f(*d);
-                }
-            }
-            let tinted = |v: [f32; 3], f: f32| [0, 1, 2].map(|c| v[c] * f * opts.tint[c]);
-            if every {
-                for ((out, hit), f) in px.iter_mut().zip(hits).zip(fres.iter()) {
-                    if hit.is_some() {
-                        *out = tinted(*out, *f);
+                    if let Some(hit) = hit {
+                        px[k] = self.shade_one(hit, y0 + k as u32 / self.w, k as u32 % self.w);
                     }
                 }
-            } else {
-                // The lit pixels are in place; the rest black but these.
-                for ((&k, v), f) in need.iter().zip(buffer.iter()).zip(fres.iter()) {
-                    px[k] = match hits[k] {
-                        None => *v,
-                        Some(_) => tinted(*v, *f),
-                    };
+            }
+        }
+    }
+
+    /// One pixel `(x, y)` hit, lit per vertex (from the lookup points
+    /// interpolated across the triangle) or by the reference.
+    fn shade_one(&self, hit: &Hit, y: u32, x: u32) -> [f32; 3] {
+        let (n, v) = surface(self.mesh, hit, &self.view);
+        match (&self.lit_sampler, self.opts.shading) {
+            (
+                Some(ls),
+                Shading::SplitSum {
+                    material,
+                    multiscatter,
+                    ..
+                },
+            ) if self.per_vertex_lit => {
+                let tri = self.mesh.triangles[hit.tri as usize];
+                let lerp = |pick: fn(&(ChartUv, ChartUv)) -> ChartUv| {
+                    let [p, q, r] = tri.map(|i| pick(&self.vertex_lit[i as usize]));
+                    ChartUv::new(
+                        p.chart,
+                        p.u * hit.w[0] + q.u * hit.w[1] + r.u * hit.w[2],
+                        p.v * hit.w[0] + q.v * hit.w[1] + r.v * hit.w[2],
+                    )
+                };
+                let (sp, ir) = (lerp(|x| x.0), lerp(|x| x.1));
+                ls.shade_at(&material, n.dot(v), sp, ir, multiscatter)
+            }
+            (
+                _,
+                Shading::Reference {
+                    material,
+                    samples,
+                    light,
+                    seed,
+                },
+            ) => {
+                let pixel = u64::from(y) * u64::from(self.w) + u64::from(x);
+                let mut rng = Pcg32::new(pixel ^ seed.rotate_left(40));
+                let look = |d: Vec3| self.look(d);
+                reference(&look, light, &material, n, v, samples, &mut rng)
+            }
+            _ => [0.0; 3],
+        }
+    }
+
+    /// The environment lookups of a band: the reflection of a mirror's
+    /// pixels, the view ray of the background's (when shown), each with
+    /// its footprint when mip-aware, looked up and tinted into `px`.
+    fn look_up(&self, scratch: &mut BandScratch, y0: u32, px: &mut [[f32; 3]]) {
+        let BandScratch {
+            hits,
+            hit_at,
+            need,
+            lookups: band_dirs,
+            spread,
+            slot,
+            buffer,
+        } = scratch;
+        let (opts, w) = (self.opts, self.w);
+        let mirror = matches!(opts.shading, Shading::Mirror);
+        // `need[j]` is the pixel of lookup `j`.
+        need.clear();
+        match (mirror, opts.background) {
+            (true, true) => need.extend(0..px.len()),
+            (true, false) => need.extend_from_slice(hit_at),
+            (false, true) => missed(hit_at, px.len(), need),
+            (false, false) => {}
+        }
+        let (hits, need): (&[Option<Hit>], &[usize]) = (hits, need);
+        band_lookups(
+            self.mesh,
+            &self.view,
+            hits,
+            need,
+            w,
+            y0,
+            opts.fresnel_f0,
+            band_dirs,
+        );
+        let BandLookups {
+            dirs,
+            fresnel: fres,
+            on_object,
+        } = band_dirs;
+        // With mip-aware lookups, each direction's footprint: the angle it
+        // turns through from one pixel to the next.
+        spread.clear();
+        if self.trilinear.is_some() {
+            let bg = self.background_at_base;
+            let (on, out) = (&on_object[..], (&mut *spread, &mut *slot));
+            let (mesh, projected, view) = (self.mesh, &self.projected, &self.view);
+            footprints(mesh, projected, view, hits, need, dirs, w, y0, bg, on, out);
+        }
+        // The looked-up values, `vals[j]` for pixel `need[j]`: straight
+        // into the band when every pixel is looked up (a mirror with its
+        // background), else into a buffer scattered afterwards.
+        let every = need.len() == px.len();
+        buffer.clear();
+        if !every {
+            buffer.resize(need.len(), [0.0; 3]);
+        }
+        let vals: &mut [[f32; 3]] = if every { &mut *px } else { &mut *buffer };
+        if let (Some(sampler), None) = (self.sampler.as_ref(), self.analytic) {
+            lookups(
+                sampler,
+                &self.mapping,
+                self.per_vertex,
+                self.trilinear.as_ref().zip(self.texels),
+                self.mesh,
+                hits,
+                need,
+                dirs,
+                spread,
+                &self.vertex_uv,
+                self.to_map,
+                opts.filter,
+                vals,
+            );
+        } else {
+            let f = self.analytic.unwrap_or(&|_| [0.0; 3]);
+            for (v, d) in vals.iter_mut().zip(dirs.iter()) {
+                *v = f(*d);
+            }
+        }
+        let tinted = |v: [f32; 3], f: f32| [0, 1, 2].map(|c| v[c] * f * opts.tint[c]);
+        if every {
+            for ((out, hit), f) in px.iter_mut().zip(hits).zip(fres.iter()) {
+                if hit.is_some() {
+                    *out = tinted(*out, *f);
                 }
             }
-            if let Some(Progress(tick)) = opts.progress {
-                let done = bands_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                tick(done, total_bands);
+        } else {
+            // The lit pixels are in place; the rest black but these.
+            for ((&k, v), f) in need.iter().zip(buffer.iter()).zip(fres.iter()) {
+                px[k] = match hits[k] {
+                    None => *v,
+                    Some(_) => tinted(*v, *f),
+                };
             }
-        });
-    cancel::check(opts.cancel)?;
-    Ok(downsample(hi, w, h, s))
+        }
+    }
 }
 
-/// The buffers a worker's bands are made in, kept from band to band:
-/// allocating them for each band (a megabyte and a half for a band of a
-/// 1080p frame) handed the system pages to fault in and zero, more or
-/// fewer from render to render as the allocator kept or returned them.
+/// The buffers a worker's bands are made in, kept from band to band and,
+/// in the [`Renderer`], from frame to frame: allocating them for each band
+/// (a megabyte and a half for a band of a 1080p frame) hands the system
+/// pages to fault in and zero.
 #[derive(Default)]
 struct BandScratch {
     /// What each pixel of the band sees.

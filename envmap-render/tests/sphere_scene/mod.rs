@@ -20,7 +20,7 @@ use envmap_render::scene::Builtin;
 use envmap_render::scene::LitEnvironment;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;
-use envmap_render::scene::{render, Camera, EnvSource, RenderOptions, Shading};
+use envmap_render::scene::{Camera, EnvSource, RenderOptions, Renderer, Shading};
 
 /// The sphere and the camera, in envmap's z-up axes.
 pub(crate) fn scene() -> (Mesh, Camera) {
@@ -54,7 +54,9 @@ pub(crate) fn draw(env: &EnvImage, shading: Shading<'_>, px: u32) -> RgbImage {
         o.shading = shading;
         o
     };
-    render(&mesh, EnvSource::Map(env), &cam, &opts).expect("render")
+    Renderer::new()
+        .render(&mesh, EnvSource::Map(env), &cam, &opts)
+        .expect("render")
 }
 
 /// The sphere's pixels.
@@ -69,7 +71,8 @@ pub(crate) fn mask(px: u32) -> Vec<bool> {
         o.background = false;
         o
     };
-    render(&mesh, EnvSource::Analytic(&white), &cam, &opts)
+    Renderer::new()
+        .render(&mesh, EnvSource::Analytic(&white), &cam, &opts)
         .expect("render")
         .pixels
         .iter()
