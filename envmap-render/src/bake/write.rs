@@ -11,7 +11,8 @@ use envmap_core::AnyMapping;
 use super::preset::{Preset, Target};
 use crate::error::{Error, Result};
 use crate::filter::bake::{
-    bake_owned, bake_owned_streaming, chain_sizes, Bake, BakeOptions, LevelReport,
+    bake_owned, bake_owned_streaming, chain_sizes, Bake, BakeOptions, Irradiance, LevelReport,
+    SpecularChain,
 };
 use crate::filter::dfg::{DfgGrid, DfgTable};
 use crate::filter::sh::{IrradianceScale, NAMES};
@@ -361,115 +362,14 @@ impl<'p> Files<'p> {
         levels_staged: bool,
     ) -> Result<Vec<(PathBuf, Clamped)>> {
         let (dir, opts, preset) = (self.dir, self.opts, self.preset);
-        let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
-        if preset.container == FileFormat::Exr {
-            if let Some(chain) = bake.chain.as_ref().filter(|_| !levels_staged) {
-                let n = chain.levels.len();
-                for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
-                    self.stage_level(run, (k, n), level, r)?;
-                }
-            }
-            if let Some(irr) = &bake.irradiance {
-                let content = match opts.irradiance_scale {
-                    IrradianceScale::EOverPi => {
-                        "irradiance E/pi (the radiance a white Lambertian surface reflects)"
-                            .to_owned()
-                    }
-                    IrradianceScale::E => "irradiance E (not divided by pi)".to_owned(),
-                };
-                self.stage_exr(run, &irr.image, "irradiance", content)?;
-            }
+        let clamped_total = if preset.container == FileFormat::Exr {
+            self.stage_exr_maps(run, bake, levels_staged)?;
+            Vec::new()
         } else {
-            let mut texture = |run: &mut Outputs<'_>,
-                               levels: &[EnvImage],
-                               name: &str,
-                               kv: &[(&str, &[u8])]|
-             -> Result<()> {
-                let tex = Texture::from_env(levels)?;
-                let path = dir.join(name);
-                let clamped = if preset.container == FileFormat::Ktx {
-                    let (bytes, c) = ktx1_with_keys(&tex, preset, kv, &path)?;
-                    run.stage_bytes(&path, &bytes)?;
-                    c
-                } else {
-                    run.stage_texture(&tex, &path, preset.texture)?
-                };
-                clamped_total.push((path, clamped));
-                Ok(())
-            };
-            let ext = preset.container.extension();
-            let sh_key = filament_sh_key(bake, preset);
-            if let Some(chain) = &bake.chain {
-                let kv: Vec<(&str, &[u8])> = if preset.container == FileFormat::Ktx {
-                    vec![("sh", sh_key.as_bytes())]
-                } else {
-                    Vec::new()
-                };
-                texture(
-                    run,
-                    &chain.levels,
-                    &texture_name(dir, preset, preset.specular),
-                    &kv,
-                )?;
-                if preset.container == FileFormat::Ktx {
-                    texture(
-                        run,
-                        &chain.levels[..1],
-                        &texture_name(dir, preset, "skybox"),
-                        &[],
-                    )?;
-                }
-            }
-            if let Some(irr) = &bake.irradiance {
-                texture(
-                    run,
-                    std::slice::from_ref(&irr.image),
-                    &texture_name(dir, preset, preset.irradiance),
-                    &[],
-                )?;
-            }
-            if preset.container == FileFormat::Ktx {
-                run.stage_bytes(dir.join("sh.txt"), filament_sh_txt(bake, preset).as_bytes())?;
-            }
-            if let (Some(t), Some(Target::Gltf)) = (&bake.dfg, preset.target) {
-                // glTF-IBL-Sampler's LUT: R = scale, G = bias, N·V across,
-                // roughness down (row 0 = roughness 0.5/size, or 0 on the edges
-                // grid: the manifest's `dfg.grid`).
-                let lut = Texture::new(TextureKind::Flat, vec![vec![t.single_scatter_image()]])?;
-                let path = dir.join(format!("lut_ggx.{ext}"));
-                let c = run.stage_texture(
-                    &lut,
-                    &path,
-                    TextureOptions {
-                        zstd: None,
-                        ..preset.texture
-                    },
-                )?;
-                clamped_total.push((path, c));
-            }
-        }
+            self.stage_textures(run, bake)?
+        };
         if let Some(t) = &bake.dfg {
-            let (x, y) = dfg_axes(t);
-            let axes = format!("{x}, {y}; height-correlated Smith GGX");
-            for (file, form, image) in [
-                (
-                    "dfg.exr",
-                    "DFG single scatter: R = scale, G = bias (F0 scale + bias)",
-                    t.single_scatter_image(),
-                ),
-                (
-                    "dfg_multiscatter.exr",
-                    "DFG multiscatter (Filament): R = bias, G = scale + bias",
-                    t.multiscatter_image(),
-                ),
-            ] {
-                let o = SaveOptions {
-                    exr_precision: ExrPrecision::F32,
-                    content: Some(format!("{form}; {axes}")),
-                    ..self.save.clone()
-                };
-                run.stage_rgb(&image, dir.join(file), &o)?;
-            }
+            self.stage_dfg(run, t)?;
         }
         run.stage_bytes(
             dir.join("sh.json"),
@@ -480,6 +380,135 @@ impl<'p> Files<'p> {
             manifest(dir, preset, provenance, bake, opts).as_bytes(),
         )?;
         Ok(clamped_total)
+    }
+
+    /// Stages an OpenEXR bake's images: the chain's levels (unless
+    /// `levels_staged`) and the irradiance map, each described by what it
+    /// holds.
+    fn stage_exr_maps(
+        &self,
+        run: &mut Outputs<'_>,
+        bake: &Bake,
+        levels_staged: bool,
+    ) -> Result<()> {
+        if let Some(chain) = bake.chain.as_ref().filter(|_| !levels_staged) {
+            let n = chain.levels.len();
+            for (k, (level, r)) in chain.levels.iter().zip(&chain.reports).enumerate() {
+                self.stage_level(run, (k, n), level, r)?;
+            }
+        }
+        if let Some(irr) = &bake.irradiance {
+            let content = match self.opts.irradiance_scale {
+                IrradianceScale::EOverPi => {
+                    "irradiance E/pi (the radiance a white Lambertian surface reflects)".to_owned()
+                }
+                IrradianceScale::E => "irradiance E (not divided by pi)".to_owned(),
+            };
+            self.stage_exr(run, &irr.image, "irradiance", content)?;
+        }
+        Ok(())
+    }
+
+    /// Stages a texture container's files (KTX 1, KTX2, DDS): the
+    /// specular chain, KTX 1's skybox, the irradiance map, KTX 1's
+    /// `sh.txt` and glTF's LUT; returns what packing clamped per file.
+    fn stage_textures(
+        &self,
+        run: &mut Outputs<'_>,
+        bake: &Bake,
+    ) -> Result<Vec<(PathBuf, Clamped)>> {
+        let (dir, preset) = (self.dir, self.preset);
+        let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
+        let ext = preset.container.extension();
+        let sh_key = filament_sh_key(bake, preset);
+        if let Some(chain) = &bake.chain {
+            let kv: Vec<(&str, &[u8])> = if preset.container == FileFormat::Ktx {
+                vec![("sh", sh_key.as_bytes())]
+            } else {
+                Vec::new()
+            };
+            let name = texture_name(dir, preset, preset.specular);
+            clamped_total.push(self.stage_texture_file(run, &chain.levels, &name, &kv)?);
+            if preset.container == FileFormat::Ktx {
+                let name = texture_name(dir, preset, "skybox");
+                clamped_total.push(self.stage_texture_file(run, &chain.levels[..1], &name, &[])?);
+            }
+        }
+        if let Some(irr) = &bake.irradiance {
+            let name = texture_name(dir, preset, preset.irradiance);
+            let levels = std::slice::from_ref(&irr.image);
+            clamped_total.push(self.stage_texture_file(run, levels, &name, &[])?);
+        }
+        if preset.container == FileFormat::Ktx {
+            run.stage_bytes(dir.join("sh.txt"), filament_sh_txt(bake, preset).as_bytes())?;
+        }
+        if let (Some(t), Some(Target::Gltf)) = (&bake.dfg, preset.target) {
+            // glTF-IBL-Sampler's LUT: R = scale, G = bias, N·V across,
+            // roughness down (row 0 = roughness 0.5/size, or 0 on the edges
+            // grid: the manifest's `dfg.grid`).
+            let lut = Texture::new(TextureKind::Flat, vec![vec![t.single_scatter_image()]])?;
+            let path = dir.join(format!("lut_ggx.{ext}"));
+            let c = run.stage_texture(
+                &lut,
+                &path,
+                TextureOptions {
+                    zstd: None,
+                    ..preset.texture
+                },
+            )?;
+            clamped_total.push((path, c));
+        }
+        Ok(clamped_total)
+    }
+
+    /// Stages `levels` as the texture file `name` in the preset's
+    /// container (KTX 1 with the key/value pairs `kv`); returns its path
+    /// and what packing clamped.
+    fn stage_texture_file(
+        &self,
+        run: &mut Outputs<'_>,
+        levels: &[EnvImage],
+        name: &str,
+        kv: &[(&str, &[u8])],
+    ) -> Result<(PathBuf, Clamped)> {
+        let preset = self.preset;
+        let tex = Texture::from_env(levels)?;
+        let path = self.dir.join(name);
+        let clamped = if preset.container == FileFormat::Ktx {
+            let (bytes, c) = ktx1_with_keys(&tex, preset, kv, &path)?;
+            run.stage_bytes(&path, &bytes)?;
+            c
+        } else {
+            run.stage_texture(&tex, &path, preset.texture)?
+        };
+        Ok((path, clamped))
+    }
+
+    /// Stages the DFG table's two OpenEXR files (single scatter and
+    /// Filament's multiscatter form) in f32, each described with its axes.
+    fn stage_dfg(&self, run: &mut Outputs<'_>, t: &DfgTable) -> Result<()> {
+        let (x, y) = dfg_axes(t);
+        let axes = format!("{x}, {y}; height-correlated Smith GGX");
+        for (file, form, image) in [
+            (
+                "dfg.exr",
+                "DFG single scatter: R = scale, G = bias (F0 scale + bias)",
+                t.single_scatter_image(),
+            ),
+            (
+                "dfg_multiscatter.exr",
+                "DFG multiscatter (Filament): R = bias, G = scale + bias",
+                t.multiscatter_image(),
+            ),
+        ] {
+            let o = SaveOptions {
+                exr_precision: ExrPrecision::F32,
+                content: Some(format!("{form}; {axes}")),
+                ..self.save.clone()
+            };
+            run.stage_rgb(&image, self.dir.join(file), &o)?;
+        }
+        Ok(())
     }
 }
 
@@ -673,69 +702,10 @@ pub(crate) fn manifest(
     b: &Bake,
     opts: &BakeOptions,
 ) -> String {
-    let specular = b.chain.as_ref().map(|chain| {
-        let levels: Vec<serde_json::Value> = chain
-            .reports
-            .iter()
-            .enumerate()
-            .map(|(k, r)| {
-                serde_json::json!({
-                    "level": k,
-                    "file": level_file(dir, preset, k),
-                    "size": r.size,
-                    "perceptual_roughness": r.roughness,
-                    "alpha": r.roughness * r.roughness,
-                    "method": r.method,
-                    "samples": r.samples,
-                    "exact_source_level": r.source_level,
-                    "expected_relative_rms_error_smooth_light": r.estimated_error(),
-                    "measured": r.measured.map(|m| serde_json::json!({
-                        "texels": m.texels,
-                        "relative_rms_error": m.relative_rms,
-                        "bias": m.bias,
-                        "seconds": m.seconds,
-                        "against": "the oracle: the input as given, piecewise constant over its own texels, by adaptive quadrature (envmap_render::filter::oracle)",
-                    })),
-                    "texels_clamped_at_zero": r.clamped,
-                    "seconds": r.seconds,
-                })
-            })
-            .collect();
-        serde_json::json!({
-            "integral": "LD(R) = ∫ L(l) D(h) (n·l)⁺ dl / ∫ D(h) (n·l)⁺ dl, N = V = R, GGX D, alpha = roughness²",
-            "value": "radiance (the prefiltered radiance LD, same units as the input)",
-            "roughness_rule": opts.rule.name(),
-            "roughness_rule_formula": opts.rule.formula(),
-            "base_cube_size": chain.base_size,
-            "fis_lod_bias": opts.lod_bias,
-            "bright_texels": {
-                "count": chain.bright.texels,
-                "points": chain.bright.points,
-                "energy_share": chain.bright.energy_share,
-                "energy_per_channel": chain.bright.energy,
-                "threshold": chain.bright.threshold,
-                "rule": format!("split from the input's own texels before any resampling: largest absolute channel above both its solid-angle-weighted 99th percentile and 4 × its solid-angle mean, at most {} texels (the largest); each cut into parts at most 1/4 of the narrowest level's lobe across, each part with its exact solid angle; added to every level by a tree over the parts (Barnes-Hut: a node added whole at its centre when at most 1/16 of the lobe across, or 1/32 of its distance from the lobe)", opts.bright_max),
-            },
-            "energy": {
-                "unit": "Σ Ω·L per channel (R, G, B) over texels with their exact solid angles",
-                "input": chain.energy.input,
-                "input_negative": chain.energy.negative,
-                "negative_share": chain.energy.negative_share(),
-                "negative_policy": "negative texels (lossy compression's ringing) are kept: every integral is of the data as given, so they cancel the overshoots they ring with; outputs are clamped at zero and counted (texels_clamped_at_zero)",
-                "base_cube": chain.energy.base,
-                "split": chain.energy.split,
-                "relative_gap": chain.energy.gap(),
-                "base_cube_method": format!("footprint average: each texel the mean of the input's bilinear reconstruction over {0}×{0} points of its footprint", chain.energy.footprint_samples),
-            },
-            "clamp": chain.clamp.map(|c| serde_json::json!({
-                "luminance": c.threshold,
-                "texels": c.texels,
-                "energy_removed": c.energy_removed,
-            })),
-            "preparation_seconds": chain.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
-            "levels": levels,
-        })
-    });
+    let specular = b
+        .chain
+        .as_ref()
+        .map(|chain| specular_json(dir, preset, chain, opts));
     let m = serde_json::json!({
         "envmap": crate::image::metadata::software(),
         "input": provenance.input,
@@ -750,45 +720,138 @@ pub(crate) fn manifest(
         "mirrored": preset.mirrored.then_some("x negated, as cmgen's default (Filament's shaders expect it)"),
         "seconds": { "load": provenance.load_seconds, "bake": provenance.bake_seconds },
         "specular": specular,
-        "irradiance": b.irradiance.as_ref().map(|i| serde_json::json!({
-            "file": if preset.container == FileFormat::Exr { file_name(preset, "irradiance") } else { texture_name(dir, preset, preset.irradiance) },
-            "size": i.image.cell_size().0,
-            "value": opts.irradiance_scale.name(),
-            "value_note": "E/pi is the outgoing radiance of a white Lambertian surface (what engines expect); E = pi × that",
-            "method": i.method,
-            "exact_source_level": i.source_level,
-            "texels_clamped_at_zero": i.clamped,
-            "measured": b.checked.and_then(|c| c.irradiance).map(|m| serde_json::json!({
-                "texels": m.texels,
-                "relative_rms_error": m.relative_rms,
-                "bias": m.bias,
-                "against": "the oracle's E (scaled as value says) of the input itself",
-            })),
-        })),
+        "irradiance": b.irradiance.as_ref().map(|i| irradiance_json(dir, preset, b, i, opts)),
         "sh": {
             "file": "sh.json",
             "window": preset.sh_window.map(|_| b.sh_cutoff),
             "measured_relative_error": b.checked.map(|c| c.sh9),
         },
-        "dfg": b.dfg.as_ref().map(|t| serde_json::json!({
-            "files": {
-                "dfg.exr": "single scatter: R = scale, G = bias (F0·scale + bias)",
-                "dfg_multiscatter.exr": "Filament's multiscatter form: R = bias, G = scale + bias",
-            },
-            "size": t.size(),
-            "grid": t.grid().name(),
-            "x": dfg_axes(t).0,
-            "y": dfg_axes(t).1,
-            "lookup": match t.grid() {
-                DfgGrid::TexelCentres => "sample the texture at (N·V, roughness) with linear filtering".to_owned(),
-                DfgGrid::Edges => format!("sample the texture at ((size - 1)·x + 0.5) / size = ({} x + 0.5) / {} for x = N·V and x = roughness, with linear filtering: N·V and roughness of 0 and 1 are exact", t.size() - 1, t.size()),
-            },
-            "visibility": "height-correlated Smith GGX",
-            "precision": "computed in f64 by quadrature, stored as f32",
-        })),
+        "dfg": b.dfg.as_ref().map(dfg_json),
         "stages_seconds": b.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
     });
     serde_json::to_string_pretty(&m).unwrap_or_default()
+}
+
+/// The manifest's `specular` entry: what the chain's levels hold, how
+/// they were made (rule, bright texels, energy, clamp) and every level.
+fn specular_json(
+    dir: &Path,
+    preset: &Preset,
+    chain: &SpecularChain,
+    opts: &BakeOptions,
+) -> serde_json::Value {
+    let levels: Vec<serde_json::Value> = chain
+        .reports
+        .iter()
+        .enumerate()
+        .map(|(k, r)| level_json(dir, preset, k, r))
+        .collect();
+    serde_json::json!({
+        "integral": "LD(R) = ∫ L(l) D(h) (n·l)⁺ dl / ∫ D(h) (n·l)⁺ dl, N = V = R, GGX D, alpha = roughness²",
+        "value": "radiance (the prefiltered radiance LD, same units as the input)",
+        "roughness_rule": opts.rule.name(),
+        "roughness_rule_formula": opts.rule.formula(),
+        "base_cube_size": chain.base_size,
+        "fis_lod_bias": opts.lod_bias,
+        "bright_texels": {
+            "count": chain.bright.texels,
+            "points": chain.bright.points,
+            "energy_share": chain.bright.energy_share,
+            "energy_per_channel": chain.bright.energy,
+            "threshold": chain.bright.threshold,
+            "rule": format!("split from the input's own texels before any resampling: largest absolute channel above both its solid-angle-weighted 99th percentile and 4 × its solid-angle mean, at most {} texels (the largest); each cut into parts at most 1/4 of the narrowest level's lobe across, each part with its exact solid angle; added to every level by a tree over the parts (Barnes-Hut: a node added whole at its centre when at most 1/16 of the lobe across, or 1/32 of its distance from the lobe)", opts.bright_max),
+        },
+        "energy": {
+            "unit": "Σ Ω·L per channel (R, G, B) over texels with their exact solid angles",
+            "input": chain.energy.input,
+            "input_negative": chain.energy.negative,
+            "negative_share": chain.energy.negative_share(),
+            "negative_policy": "negative texels (lossy compression's ringing) are kept: every integral is of the data as given, so they cancel the overshoots they ring with; outputs are clamped at zero and counted (texels_clamped_at_zero)",
+            "base_cube": chain.energy.base,
+            "split": chain.energy.split,
+            "relative_gap": chain.energy.gap(),
+            "base_cube_method": format!("footprint average: each texel the mean of the input's bilinear reconstruction over {0}×{0} points of its footprint", chain.energy.footprint_samples),
+        },
+        "clamp": chain.clamp.map(|c| serde_json::json!({
+            "luminance": c.threshold,
+            "texels": c.texels,
+            "energy_removed": c.energy_removed,
+        })),
+        "preparation_seconds": chain.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
+        "levels": levels,
+    })
+}
+
+/// The manifest's entry for level `k` of the chain: its file, size,
+/// roughness, how it was made and, when checked, its measured error.
+fn level_json(dir: &Path, preset: &Preset, k: usize, r: &LevelReport) -> serde_json::Value {
+    serde_json::json!({
+        "level": k,
+        "file": level_file(dir, preset, k),
+        "size": r.size,
+        "perceptual_roughness": r.roughness,
+        "alpha": r.roughness * r.roughness,
+        "method": r.method,
+        "samples": r.samples,
+        "exact_source_level": r.source_level,
+        "expected_relative_rms_error_smooth_light": r.estimated_error(),
+        "measured": r.measured.map(|m| serde_json::json!({
+            "texels": m.texels,
+            "relative_rms_error": m.relative_rms,
+            "bias": m.bias,
+            "seconds": m.seconds,
+            "against": "the oracle: the input as given, piecewise constant over its own texels, by adaptive quadrature (envmap_render::filter::oracle)",
+        })),
+        "texels_clamped_at_zero": r.clamped,
+        "seconds": r.seconds,
+    })
+}
+
+/// The manifest's `irradiance` entry: the map's file, size, scale, how
+/// it was made and, when checked, its measured error.
+fn irradiance_json(
+    dir: &Path,
+    preset: &Preset,
+    b: &Bake,
+    i: &Irradiance,
+    opts: &BakeOptions,
+) -> serde_json::Value {
+    serde_json::json!({
+        "file": if preset.container == FileFormat::Exr { file_name(preset, "irradiance") } else { texture_name(dir, preset, preset.irradiance) },
+        "size": i.image.cell_size().0,
+        "value": opts.irradiance_scale.name(),
+        "value_note": "E/pi is the outgoing radiance of a white Lambertian surface (what engines expect); E = pi × that",
+        "method": i.method,
+        "exact_source_level": i.source_level,
+        "texels_clamped_at_zero": i.clamped,
+        "measured": b.checked.and_then(|c| c.irradiance).map(|m| serde_json::json!({
+            "texels": m.texels,
+            "relative_rms_error": m.relative_rms,
+            "bias": m.bias,
+            "against": "the oracle's E (scaled as value says) of the input itself",
+        })),
+    })
+}
+
+/// The manifest's `dfg` entry: the two files, the table's grid and axes,
+/// and how to sample it.
+fn dfg_json(t: &DfgTable) -> serde_json::Value {
+    serde_json::json!({
+        "files": {
+            "dfg.exr": "single scatter: R = scale, G = bias (F0·scale + bias)",
+            "dfg_multiscatter.exr": "Filament's multiscatter form: R = bias, G = scale + bias",
+        },
+        "size": t.size(),
+        "grid": t.grid().name(),
+        "x": dfg_axes(t).0,
+        "y": dfg_axes(t).1,
+        "lookup": match t.grid() {
+            DfgGrid::TexelCentres => "sample the texture at (N·V, roughness) with linear filtering".to_owned(),
+            DfgGrid::Edges => format!("sample the texture at ((size - 1)·x + 0.5) / size = ({} x + 0.5) / {} for x = N·V and x = roughness, with linear filtering: N·V and roughness of 0 and 1 are exact", t.size() - 1, t.size()),
+        },
+        "visibility": "height-correlated Smith GGX",
+        "precision": "computed in f64 by quadrature, stored as f32",
+    })
 }
 
 /// Where a DFG table's columns and rows sit, in words (its grid).

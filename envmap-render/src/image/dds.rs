@@ -133,79 +133,7 @@ pub(crate) fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<Textu
         ddsfile::Dds::read(bytes).map_err(|e| fail(format!("the header does not parse: {e}")))?;
     let hd = &dds.header;
     let (w, h) = (hd.width, hd.height);
-    if w == 0 || h == 0 {
-        return Err(fail(format!("a {w}×{h} image is empty")));
-    }
-    if hd.depth.is_some_and(|d| d > 1) || hd.caps2.contains(Caps2::VOLUME) {
-        return Err(fail("volume (3D) textures are not supported".into()));
-    }
-    let (format, cube) = match &dds.header10 {
-        Some(h10) => {
-            let number = h10.dxgi_format as u32;
-            let format = TexelFormat::from_dxgi_format(number).ok_or_else(|| {
-                fail(format!(
-                    "DXGI format {number} ({:?}) is not supported; envmap reads R16G16B16A16_FLOAT (10), \
-                     R32G32B32A32_FLOAT (2), R11G11B10_FLOAT (26), R9G9B9E5_SHAREDEXP (67) and R32G32B32_FLOAT (6)",
-                    h10.dxgi_format
-                ))
-            })?;
-            if h10.resource_dimension != D3D10ResourceDimension::Texture2D {
-                return Err(fail(format!(
-                    "resource dimension {:?} is not supported (2D textures and cubes only)",
-                    h10.resource_dimension
-                )));
-            }
-            if h10.array_size != 1 {
-                return Err(fail(format!(
-                    "array textures (arraySize {}) are not supported",
-                    h10.array_size
-                )));
-            }
-            let cube = h10.misc_flag.contains(ddsfile::MiscFlag::TEXTURECUBE);
-            (format, cube)
-        }
-        None => {
-            let fourcc = hd.spf.fourcc.as_ref().map(|f| f.0);
-            let format = match fourcc {
-                Some(113) => TexelFormat::Rgba16f,
-                Some(116) => TexelFormat::Rgba32f,
-                Some(code) => {
-                    let text: String = code
-                        .to_le_bytes()
-                        .iter()
-                        .map(|&c| if c.is_ascii_graphic() { c as char } else { '?' })
-                        .collect();
-                    return Err(fail(format!(
-                        "FourCC {code} ({text:?}) is not supported (block-compressed or other legacy \
-                         formats); envmap reads DX10-header files and FourCC 113 and 116"
-                    )));
-                }
-                None => return Err(fail(
-                    "bitmask (8-bit) pixel formats are not supported; envmap reads float formats"
-                        .into(),
-                )),
-            };
-            (format, hd.caps2.contains(Caps2::CUBEMAP))
-        }
-    };
-    let kind = if cube {
-        if w != h {
-            return Err(fail(format!("a cube with non-square {w}×{h} faces")));
-        }
-        if hd.caps2 & Caps2::CUBEMAP_ALLFACES != Caps2::CUBEMAP_ALLFACES && dds.header10.is_none() {
-            return Err(fail("a cube without all six faces is not supported".into()));
-        }
-        TextureKind::Cube
-    } else {
-        TextureKind::Flat
-    };
-    let n = hd.mip_map_count.unwrap_or(1).max(1) as usize;
-    if n > full_chain(w, h) {
-        return Err(fail(format!(
-            "mip count {n} is more than the {} levels of a {w}×{h} chain",
-            full_chain(w, h)
-        )));
-    }
+    let (format, kind, n) = check_header(&dds).map_err(fail)?;
     check_texels(kind, w, h, n, max_texels).map_err(|e| e.in_file(path))?;
     let level_lens: Vec<u64> = (0..n)
         .map(|p| level_bytes(TextureKind::Flat, w, h, p, format).unwrap_or(u64::MAX))
@@ -218,20 +146,7 @@ pub(crate) fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<Textu
             dds.data.len()
         )));
     }
-    let mut levels: Vec<Vec<RgbImage>> = vec![Vec::with_capacity(kind.faces()); n];
-    let mut at = 0usize;
-    for _ in 0..kind.faces() {
-        for (p, &len) in level_lens.iter().enumerate() {
-            let (lw, lh) = level_size(w, h, p);
-            let bytes = &dds.data[at..at + len as usize];
-            at += len as usize;
-            levels[p].push(RgbImage {
-                width: lw,
-                height: lh,
-                pixels: format.unpack(bytes),
-            });
-        }
-    }
+    let levels = face_major_levels(&dds.data, format, kind, (w, h), &level_lens);
     let texture = Texture::new(kind, levels).map_err(|e| e.in_file(path))?;
     Ok(TextureFile {
         texture,
@@ -248,4 +163,121 @@ pub(crate) fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<Textu
             level_bytes: level_lens.iter().map(|l| l * kind.faces() as u64).collect(),
         },
     })
+}
+
+/// The texel format, the kind and the level count of a parsed file,
+/// refusing (in this order) an empty image, a volume, a format envmap
+/// does not read, a cube it cannot, and more levels than the size has.
+fn check_header(
+    dds: &ddsfile::Dds,
+) -> std::result::Result<(TexelFormat, TextureKind, usize), String> {
+    let hd = &dds.header;
+    let (w, h) = (hd.width, hd.height);
+    if w == 0 || h == 0 {
+        return Err(format!("a {w}×{h} image is empty"));
+    }
+    if hd.depth.is_some_and(|d| d > 1) || hd.caps2.contains(Caps2::VOLUME) {
+        return Err("volume (3D) textures are not supported".into());
+    }
+    let (format, cube) = match &dds.header10 {
+        Some(h10) => dx10_format(h10)?,
+        None => (legacy_format(hd)?, hd.caps2.contains(Caps2::CUBEMAP)),
+    };
+    let kind = if cube {
+        if w != h {
+            return Err(format!("a cube with non-square {w}×{h} faces"));
+        }
+        if hd.caps2 & Caps2::CUBEMAP_ALLFACES != Caps2::CUBEMAP_ALLFACES && dds.header10.is_none() {
+            return Err("a cube without all six faces is not supported".into());
+        }
+        TextureKind::Cube
+    } else {
+        TextureKind::Flat
+    };
+    let n = hd.mip_map_count.unwrap_or(1).max(1) as usize;
+    if n > full_chain(w, h) {
+        return Err(format!(
+            "mip count {n} is more than the {} levels of a {w}×{h} chain",
+            full_chain(w, h)
+        ));
+    }
+    Ok((format, kind, n))
+}
+
+/// The texel format of a DX10 header and whether it is a cube: a 2D
+/// texture (or one cube) in a DXGI format envmap reads.
+fn dx10_format(h10: &ddsfile::Header10) -> std::result::Result<(TexelFormat, bool), String> {
+    let number = h10.dxgi_format as u32;
+    let format = TexelFormat::from_dxgi_format(number).ok_or_else(|| {
+        format!(
+            "DXGI format {number} ({:?}) is not supported; envmap reads R16G16B16A16_FLOAT (10), \
+             R32G32B32A32_FLOAT (2), R11G11B10_FLOAT (26), R9G9B9E5_SHAREDEXP (67) and R32G32B32_FLOAT (6)",
+            h10.dxgi_format
+        )
+    })?;
+    if h10.resource_dimension != D3D10ResourceDimension::Texture2D {
+        return Err(format!(
+            "resource dimension {:?} is not supported (2D textures and cubes only)",
+            h10.resource_dimension
+        ));
+    }
+    if h10.array_size != 1 {
+        return Err(format!(
+            "array textures (arraySize {}) are not supported",
+            h10.array_size
+        ));
+    }
+    let cube = h10.misc_flag.contains(ddsfile::MiscFlag::TEXTURECUBE);
+    Ok((format, cube))
+}
+
+/// The texel format of a file without a DX10 header: only the legacy
+/// FourCC codes of the two float formats.
+fn legacy_format(hd: &ddsfile::Header) -> std::result::Result<TexelFormat, String> {
+    let fourcc = hd.spf.fourcc.as_ref().map(|f| f.0);
+    match fourcc {
+        Some(113) => Ok(TexelFormat::Rgba16f),
+        Some(116) => Ok(TexelFormat::Rgba32f),
+        Some(code) => {
+            let text: String = code
+                .to_le_bytes()
+                .iter()
+                .map(|&c| if c.is_ascii_graphic() { c as char } else { '?' })
+                .collect();
+            Err(format!(
+                "FourCC {code} ({text:?}) is not supported (block-compressed or other legacy \
+                 formats); envmap reads DX10-header files and FourCC 113 and 116"
+            ))
+        }
+        None => Err(
+            "bitmask (8-bit) pixel formats are not supported; envmap reads float formats".into(),
+        ),
+    }
+}
+
+/// The levels of face-major texel data (each face with its whole chain,
+/// largest level first), regrouped level by level; `data` holds at least
+/// the bytes of `level_lens` for every face.
+fn face_major_levels(
+    data: &[u8],
+    format: TexelFormat,
+    kind: TextureKind,
+    (w, h): (u32, u32),
+    level_lens: &[u64],
+) -> Vec<Vec<RgbImage>> {
+    let mut levels: Vec<Vec<RgbImage>> = vec![Vec::with_capacity(kind.faces()); level_lens.len()];
+    let mut at = 0usize;
+    for _ in 0..kind.faces() {
+        for (p, &len) in level_lens.iter().enumerate() {
+            let (lw, lh) = level_size(w, h, p);
+            let bytes = &data[at..at + len as usize];
+            at += len as usize;
+            levels[p].push(RgbImage {
+                width: lw,
+                height: lh,
+                pixels: format.unpack(bytes),
+            });
+        }
+    }
+    levels
 }

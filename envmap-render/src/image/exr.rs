@@ -443,11 +443,62 @@ pub(super) fn encode<W: Write + Seek>(
     compression: ExrCompression,
     out: &mut W,
 ) -> Result<()> {
-    use ::exr::block::writer::ChunksWriter;
-    use ::exr::meta::attribute::{AttributeValue, ChannelDescription, SampleType, Text};
-    use ::exr::meta::header::{Header, LayerAttributes};
+    use ::exr::meta::attribute::SampleType;
     use ::exr::prelude::SmallVec;
-    let (w, h) = (view.width as usize, view.height as usize);
+    let (attributes, tags) = layer_attributes(view);
+    let sample = match precision {
+        ExrPrecision::F32 => SampleType::F32,
+        ExrPrecision::F16 => SampleType::F16,
+    };
+    // `auto` in f32 with empty cells (a cube cross's corners): the file is
+    // RLE, but only the blocks that cross an empty cell are compressed (to
+    // a few bytes for the empty part); the rest are stored raw, as an RLE
+    // file stores any block compression does not shrink (the OpenEXR
+    // file layout: a chunk whose size is its pixels' is not compressed).
+    let sparse = view
+        .atlas
+        .filter(|_| {
+            compression == ExrCompression::Auto && precision == ExrPrecision::F32 && view.height > 0
+        })
+        .and_then(|a| EmptyCells::of(&a, view.height));
+    let file_codec = if sparse.is_some() {
+        ::exr::prelude::Compression::RLE
+    } else {
+        codec(compression, precision)
+    };
+    let header = layer_header(view, sample, file_codec, attributes);
+    let reorder = TagOrder::of(&header, &tags);
+    let start = out.stream_position().map_err(|e| Error::write(path, e))?;
+    let mut headers = SmallVec::new();
+    headers.push(header);
+    let result = ::exr::block::write(&mut *out, headers, true, |meta, writer| {
+        write_blocks(&meta, writer, view, sample, sparse)
+    });
+    result.map_err(|e| match e {
+        ::exr::error::Error::Io(io) => Error::write(path, io),
+        other => Error::Encode {
+            path: path.to_path_buf(),
+            format: FileFormat::Exr.name(),
+            message: other.to_string(),
+        },
+    })?;
+    if let Some(order) = reorder {
+        order.write(start, out).map_err(|e| Error::write(path, e))?;
+    }
+    Ok(())
+}
+
+/// The layer's attributes (software, comments, the tags as text) and the
+/// tags as written, in their order: a later tag of a name replaces an
+/// earlier one's value, as the header's map does.
+fn layer_attributes(
+    view: View<'_>,
+) -> (
+    ::exr::meta::header::LayerAttributes,
+    Vec<(::exr::meta::attribute::Text, ::exr::meta::attribute::Text)>,
+) {
+    use ::exr::meta::attribute::{AttributeValue, Text};
+    use ::exr::meta::header::LayerAttributes;
     let text = |s: &str| Text::new_or_none(metadata::ascii(s));
     let mut attributes = LayerAttributes {
         software_name: text(&metadata::software()),
@@ -456,8 +507,6 @@ pub(super) fn encode<W: Write + Seek>(
     if !view.description.is_empty() {
         attributes.comments = text(view.description);
     }
-    // The tags in their order (a later tag of a name replacing an earlier
-    // one's value, as the header's map does).
     let mut tags: Vec<(Text, Text)> = Vec::new();
     for (k, v) in view.tags {
         if let (Some(k), Some(v)) = (text(k), text(v)) {
@@ -472,101 +521,104 @@ pub(super) fn encode<W: Write + Seek>(
             .other
             .insert(k.clone(), AttributeValue::Text(v.clone()));
     }
-    let sample = match precision {
-        ExrPrecision::F32 => SampleType::F32,
-        ExrPrecision::F16 => SampleType::F16,
-    };
+    (attributes, tags)
+}
+
+/// The header of `view`'s one layer: B, G and R channels of `sample`,
+/// scan lines in increasing order, compressed by `compression`.
+fn layer_header(
+    view: View<'_>,
+    sample: ::exr::meta::attribute::SampleType,
+    compression: ::exr::prelude::Compression,
+    attributes: ::exr::meta::header::LayerAttributes,
+) -> ::exr::meta::header::Header {
+    use ::exr::meta::attribute::{ChannelDescription, Text};
+    use ::exr::meta::header::Header;
+    use ::exr::prelude::SmallVec;
+    let (w, h) = (view.width as usize, view.height as usize);
     let channels: SmallVec<[ChannelDescription; 5]> = ["B", "G", "R"]
         .into_iter()
         .map(|c| ChannelDescription::named(c, sample))
         .collect();
-    // `auto` in f32 with empty cells (a cube cross's corners): the file is
-    // RLE, but only the blocks that cross an empty cell are compressed (to
-    // a few bytes for the empty part); the rest are stored raw, as an RLE
-    // file stores any block compression does not shrink (the OpenEXR
-    // file layout: a chunk whose size is its pixels' is not compressed).
-    let sparse = view
-        .atlas
-        .filter(|_| {
-            compression == ExrCompression::Auto && precision == ExrPrecision::F32 && view.height > 0
-        })
-        .and_then(|a| EmptyCells::of(&a, view.height));
-    let header = Header::new(Text::from(""), (w, h), channels)
+    Header::new(Text::from(""), (w, h), channels)
         .with_encoding(
-            if sparse.is_some() {
-                ::exr::prelude::Compression::RLE
-            } else {
-                codec(compression, precision)
-            },
+            compression,
             ::exr::meta::BlockDescription::ScanLines,
             ::exr::meta::attribute::LineOrder::Increasing,
         )
-        .with_attributes(attributes);
-    let reorder = TagOrder::of(&header, &tags);
-    let start = out.stream_position().map_err(|e| Error::write(path, e))?;
-    let mut headers = SmallVec::new();
-    headers.push(header);
-    let result = ::exr::block::write(&mut *out, headers, true, |meta, writer| {
-        let header = &meta.headers[0];
-        // Each channel of the (sorted) list: which of R, G, B it is.
-        let order: Vec<usize> = header
-            .channels
-            .list
-            .iter()
-            .map(|c| usize::from(c.name.eq("G")) + 2 * usize::from(c.name.eq("B")))
+        .with_attributes(attributes)
+}
+
+/// Writes every scan-line block of `view` in order, a batch of blocks at
+/// a time, the blocks of a batch made and compressed in parallel.
+fn write_blocks(
+    meta: &::exr::meta::MetaData,
+    writer: &mut impl ::exr::block::writer::ChunksWriter,
+    view: View<'_>,
+    sample: ::exr::meta::attribute::SampleType,
+    sparse: Option<EmptyCells>,
+) -> ::exr::error::UnitResult {
+    let w = view.width as usize;
+    let header = &meta.headers[0];
+    // Each channel of the (sorted) list: which of R, G, B it is.
+    let order: Vec<usize> = header
+        .channels
+        .list
+        .iter()
+        .map(|c| usize::from(c.name.eq("G")) + 2 * usize::from(c.name.eq("B")))
+        .collect();
+    let blocks: Vec<(usize, ::exr::block::BlockIndex)> =
+        ::exr::block::enumerate_ordered_header_block_indices(&meta.headers).collect();
+    let lines = blocks
+        .first()
+        .map_or(1, |(_, b)| b.pixel_size.height().max(1));
+    let per_batch = (BATCH_BYTES / (lines * w * header.channels.bytes_per_pixel).max(1)).max(1);
+    for batch in blocks.chunks(per_batch) {
+        use crate::par::*;
+        let chunks: Vec<::exr::error::Result<(usize, ::exr::block::chunk::Chunk)>> = batch
+            .par_iter()
+            .map(|&(i, index)| {
+                block_chunk(&meta.headers, view, index, &order, sample, sparse).map(|c| (i, c))
+            })
             .collect();
-        let blocks: Vec<(usize, ::exr::block::BlockIndex)> =
-            ::exr::block::enumerate_ordered_header_block_indices(&meta.headers).collect();
-        let lines = blocks
-            .first()
-            .map_or(1, |(_, b)| b.pixel_size.height().max(1));
-        let per_batch = (BATCH_BYTES / (lines * w * header.channels.bytes_per_pixel).max(1)).max(1);
-        for batch in blocks.chunks(per_batch) {
-            use crate::par::*;
-            let chunks: Vec<::exr::error::Result<(usize, ::exr::block::chunk::Chunk)>> = batch
-                .par_iter()
-                .map(|&(i, index)| {
-                    let (y0, bh) = (index.pixel_position.y(), index.pixel_size.height());
-                    let data = match view.stream {
-                        None => block_bytes(view.pixels, w, index, &order, sample),
-                        Some(stream) => {
-                            // The block's rows made now, and encoded.
-                            let mut rows = vec![[0.0f32; 3]; bh * w];
-                            stream.rows(y0 as u32, &mut rows);
-                            let at = ::exr::block::BlockIndex {
-                                pixel_position: ::exr::math::Vec2(0, 0),
-                                ..index
-                            };
-                            block_bytes(&rows, w, at, &order, sample)
-                        }
-                    };
-                    if sparse.is_some_and(|e| !e.crossed(y0, bh)) {
-                        return Ok((i, raw_chunk(y0, data)));
-                    }
-                    ::exr::block::UncompressedBlock { index, data }
-                        .compress_to_chunk(&meta.headers)
-                        .map(|c| (i, c))
-                })
-                .collect();
-            for chunk in chunks {
-                let (i, chunk) = chunk?;
-                writer.write_chunk(i, chunk)?;
-            }
+        for chunk in chunks {
+            let (i, chunk) = chunk?;
+            writer.write_chunk(i, chunk)?;
         }
-        Ok(())
-    });
-    result.map_err(|e| match e {
-        ::exr::error::Error::Io(io) => Error::write(path, io),
-        other => Error::Encode {
-            path: path.to_path_buf(),
-            format: FileFormat::Exr.name(),
-            message: other.to_string(),
-        },
-    })?;
-    if let Some(order) = reorder {
-        order.write(start, out).map_err(|e| Error::write(path, e))?;
     }
     Ok(())
+}
+
+/// The chunk of the block at `index`: its rows (from the pixels, or made
+/// now by the view's stream) compressed, or stored raw when `sparse` says
+/// the block crosses no empty cell.
+fn block_chunk(
+    headers: &[::exr::meta::header::Header],
+    view: View<'_>,
+    index: ::exr::block::BlockIndex,
+    order: &[usize],
+    sample: ::exr::meta::attribute::SampleType,
+    sparse: Option<EmptyCells>,
+) -> ::exr::error::Result<::exr::block::chunk::Chunk> {
+    let w = view.width as usize;
+    let (y0, bh) = (index.pixel_position.y(), index.pixel_size.height());
+    let data = match view.stream {
+        None => block_bytes(view.pixels, w, index, order, sample),
+        Some(stream) => {
+            // The block's rows made now, and encoded.
+            let mut rows = vec![[0.0f32; 3]; bh * w];
+            stream.rows(y0 as u32, &mut rows);
+            let at = ::exr::block::BlockIndex {
+                pixel_position: ::exr::math::Vec2(0, 0),
+                ..index
+            };
+            block_bytes(&rows, w, at, order, sample)
+        }
+    };
+    if sparse.is_some_and(|e| !e.crossed(y0, bh)) {
+        return Ok(raw_chunk(y0, data));
+    }
+    ::exr::block::UncompressedBlock { index, data }.compress_to_chunk(headers)
 }
 
 /// The place of the tags' attributes in an OpenEXR header, to write them

@@ -191,6 +191,59 @@ pub(crate) fn writer_name() -> String {
 /// A read-only format, or a zstd level outside 1–22.
 pub(crate) fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
     let format = opts.format;
+    check_write_options(opts)?;
+    let n = tex.level_count();
+    let raw_lens: Vec<usize> = (0..n).map(|p| tex.level_len(p, format)).collect();
+    // Under zstd each level is packed, then compressed as one frame (by
+    // several workers for the large levels); without, the levels are
+    // packed straight into their place in the file.
+    let (compressed, mut clamped) = match opts.zstd {
+        None => (None, Clamped::default()),
+        Some(level) => {
+            let (frames, clamped) = compress_levels(tex, format, &raw_lens, level)?;
+            (Some(frames), clamped)
+        }
+    };
+    let stored_lens: Vec<usize> = match &compressed {
+        Some(c) => c.iter().map(Vec::len).collect(),
+        None => raw_lens.clone(),
+    };
+    let dfd = dfd(format);
+    let kvd = file_key_values(tex);
+    let align = if opts.zstd.is_some() {
+        1
+    } else {
+        level_alignment(format)
+    };
+    let layout = Layout::new(n, dfd.len(), kvd.len(), align, &stored_lens);
+    // Zeroed: the padding between sections must be zeros.
+    let mut out = vec![0u8; layout.len];
+    let head = head_bytes(
+        tex,
+        format,
+        opts.zstd.is_some(),
+        &layout,
+        &stored_lens,
+        &raw_lens,
+    );
+    out[..head.len()].copy_from_slice(&head);
+    out[layout.dfd_offset..layout.kvd_offset].copy_from_slice(&dfd);
+    out[layout.kvd_offset..layout.kvd_offset + kvd.len()].copy_from_slice(&kvd);
+    for p in 0..n {
+        let at = layout.levels[p];
+        let dst = &mut out[at..at + stored_lens[p]];
+        match &compressed {
+            Some(c) => dst.copy_from_slice(&c[p]),
+            None => clamped.add(tex.pack_level_into(p, format, dst)),
+        }
+    }
+    Ok((out, clamped))
+}
+
+/// Refuses what [`encode`] cannot write before any work is done: a
+/// read-only format, zstd in a build without it, a zstd level zstd lacks.
+fn check_write_options(opts: TextureOptions) -> Result<()> {
+    let format = opts.format;
     if !format.is_writable() {
         return Err(Error::unsupported(format!(
             "{} is read only; write one of {}",
@@ -209,77 +262,110 @@ pub(crate) fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Cl
             )));
         }
     }
-    let n = tex.level_count();
-    let raw_lens: Vec<usize> = (0..n).map(|p| tex.level_len(p, format)).collect();
-    // Under zstd each level is packed, then compressed as one frame (by
-    // several workers for the large levels); without, the levels are
-    // packed straight into their place in the file.
-    let mut clamped = Clamped::default();
-    let compressed: Option<Vec<Vec<u8>>> = match opts.zstd {
-        None => None,
-        Some(level) => {
-            // Each level packed and compressed as one frame; level 0 (three
-            // quarters of the bytes) by zstd's own workers, the others on
-            // the pool meanwhile.
-            let one = |p: usize| {
-                let mut raw = vec![0u8; raw_lens[p]];
-                let c = tex.pack_level_into(p, format, &mut raw);
-                compress(&raw, level).map(|z| (z, c))
-            };
-            let (first, rest) = crate::par::join(
-                || one(0),
-                || {
-                    (1..n)
-                        .into_par_iter()
-                        .map(one)
-                        .collect::<std::io::Result<Vec<_>>>()
-                },
-            );
-            let all = std::iter::once(first)
-                .chain(rest.map_or_else(|e| vec![Err(e)], |v| v.into_iter().map(Ok).collect()))
+    Ok(())
+}
+
+/// Each level of `tex` packed in `format` and compressed as one zstd
+/// frame at `level`, largest level first, with what packing clamped.
+/// Level 0 (three quarters of the bytes) is compressed by zstd's own
+/// workers, the others on the pool meanwhile.
+fn compress_levels(
+    tex: &Texture,
+    format: TexelFormat,
+    raw_lens: &[usize],
+    level: i32,
+) -> Result<(Vec<Vec<u8>>, Clamped)> {
+    let n = raw_lens.len();
+    let one = |p: usize| {
+        let mut raw = vec![0u8; raw_lens[p]];
+        let c = tex.pack_level_into(p, format, &mut raw);
+        compress(&raw, level).map(|z| (z, c))
+    };
+    let (first, rest) = crate::par::join(
+        || one(0),
+        || {
+            (1..n)
+                .into_par_iter()
+                .map(one)
                 .collect::<std::io::Result<Vec<_>>>()
-                .map_err(|e| Error::codec("KTX2", format!("zstd compression failed: {e}")))?;
-            Some(
-                all.into_iter()
-                    .map(|(z, c)| {
-                        clamped.add(c);
-                        z
-                    })
-                    .collect(),
-            )
-        }
-    };
-    let stored_lens: Vec<usize> = match &compressed {
-        Some(c) => c.iter().map(Vec::len).collect(),
-        None => raw_lens.clone(),
-    };
-    let (w, h) = tex.size();
-    let faces = tex.kind().faces() as u32;
-    let dfd = dfd(format);
+        },
+    );
+    let all = std::iter::once(first)
+        .chain(rest.map_or_else(|e| vec![Err(e)], |v| v.into_iter().map(Ok).collect()))
+        .collect::<std::io::Result<Vec<_>>>()
+        .map_err(|e| Error::codec("KTX2", format!("zstd compression failed: {e}")))?;
+    let mut clamped = Clamped::default();
+    let frames = all
+        .into_iter()
+        .map(|(z, c)| {
+            clamped.add(c);
+            z
+        })
+        .collect();
+    Ok((frames, clamped))
+}
+
+/// The key/value data a written file carries: its orientation, its
+/// writer, and the texture's own tags.
+fn file_key_values(tex: &Texture) -> Vec<u8> {
     let writer = writer_name();
     let mut entries = vec![("KTXorientation", "rd"), ("KTXwriter", writer.as_str())];
     entries.extend(tex.tags().iter().map(|(k, v)| (k.as_str(), v.as_str())));
-    let kvd = key_values(&entries);
-    let dfd_offset = (HEADER_LEN + LEVEL_ENTRY * n).next_multiple_of(4);
-    let kvd_offset = dfd_offset + dfd.len();
-    let align = if opts.zstd.is_some() {
-        1
-    } else {
-        level_alignment(format)
-    };
-    // Offsets: smallest level first after the key/value data.
-    let mut offsets = vec![0usize; n];
-    let mut at = kvd_offset + kvd.len();
-    for p in (0..n).rev() {
-        at = at.next_multiple_of(align);
-        offsets[p] = at;
-        at += stored_lens[p];
+    key_values(&entries)
+}
+
+/// Where each section of a written file starts, and the file's length.
+struct Layout {
+    dfd_offset: usize,
+    dfd_len: usize,
+    kvd_offset: usize,
+    kvd_len: usize,
+    /// Each level's offset, largest level first.
+    levels: Vec<usize>,
+    len: usize,
+}
+
+impl Layout {
+    /// The sections in file order: header and level index, DFD, key/value
+    /// data, then the levels smallest first, each at the next multiple of
+    /// `align`.
+    fn new(n: usize, dfd_len: usize, kvd_len: usize, align: usize, stored_lens: &[usize]) -> Self {
+        let dfd_offset = (HEADER_LEN + LEVEL_ENTRY * n).next_multiple_of(4);
+        let kvd_offset = dfd_offset + dfd_len;
+        let mut levels = vec![0usize; n];
+        let mut at = kvd_offset + kvd_len;
+        for p in (0..n).rev() {
+            at = at.next_multiple_of(align);
+            levels[p] = at;
+            at += stored_lens[p];
+        }
+        Self {
+            dfd_offset,
+            dfd_len,
+            kvd_offset,
+            kvd_len,
+            levels,
+            len: at,
+        }
     }
-    // Zeroed: the padding between sections must be zeros.
-    let mut out = vec![0u8; at];
-    let mut head = Vec::with_capacity(dfd_offset);
+}
+
+/// The identifier, the header words, the section index and the level
+/// index of a file laid out as `layout`.
+fn head_bytes(
+    tex: &Texture,
+    format: TexelFormat,
+    zstd: bool,
+    layout: &Layout,
+    stored_lens: &[usize],
+    raw_lens: &[usize],
+) -> Vec<u8> {
+    let (w, h) = tex.size();
+    let faces = tex.kind().faces() as u32;
+    let n = layout.levels.len();
+    let mut head = Vec::with_capacity(layout.dfd_offset);
     head.extend_from_slice(&IDENTIFIER);
-    let scheme = u32::from(opts.zstd.is_some()) * 2;
+    let scheme = u32::from(zstd) * 2;
     for v in [
         format.vk_format(),
         format.type_size(),
@@ -293,26 +379,21 @@ pub(crate) fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Cl
     ] {
         head.extend_from_slice(&v.to_le_bytes());
     }
-    for v in [dfd_offset, dfd.len(), kvd_offset, kvd.len()] {
+    for v in [
+        layout.dfd_offset,
+        layout.dfd_len,
+        layout.kvd_offset,
+        layout.kvd_len,
+    ] {
         head.extend_from_slice(&(v as u32).to_le_bytes());
     }
     head.extend_from_slice(&[0; 16]); // sgdByteOffset, sgdByteLength
     for p in 0..n {
-        for v in [offsets[p], stored_lens[p], raw_lens[p]] {
+        for v in [layout.levels[p], stored_lens[p], raw_lens[p]] {
             head.extend_from_slice(&(v as u64).to_le_bytes());
         }
     }
-    out[..head.len()].copy_from_slice(&head);
-    out[dfd_offset..kvd_offset].copy_from_slice(&dfd);
-    out[kvd_offset..kvd_offset + kvd.len()].copy_from_slice(&kvd);
-    for p in 0..n {
-        let dst = &mut out[offsets[p]..offsets[p] + stored_lens[p]];
-        match &compressed {
-            Some(c) => dst.copy_from_slice(&c[p]),
-            None => clamped.add(tex.pack_level_into(p, format, dst)),
-        }
-    }
-    Ok((out, clamped))
+    head
 }
 
 /// One level as one zstd frame at `level`; levels above 1 MiB are split
@@ -505,63 +586,13 @@ impl From<&str> for Failure {
     }
 }
 
+/// Decodes a file's bytes: the header checked, then the texel count
+/// against the limit, then the level index, the DFD and the key/value data
+/// against the file, and only then the levels.
 fn decode_inner(b: &[u8], max_texels: u64) -> std::result::Result<TextureFile, Failure> {
-    if b.len() < 12 || b[..12] != IDENTIFIER {
-        return Err("not a KTX 2.0 file (the identifier «KTX 20» is missing)".into());
-    }
-    if b.len() < HEADER_LEN {
-        return Err(format!("the header is cut short: {} of 80 bytes", b.len()).into());
-    }
-    let h = |i: usize| u32_at(b, 12 + 4 * i);
-    let (vk, type_size, w, hgt, depth, layers, faces, level_count, scheme) =
-        (h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8));
-    let format = TexelFormat::from_vk_format(vk).ok_or_else(|| unsupported_format(vk))?;
-    if type_size != format.type_size() {
-        return Err(format!(
-            "typeSize is {type_size}; {} has {}",
-            format.vk_name(),
-            format.type_size()
-        )
-        .into());
-    }
-    if depth != 0 {
-        return Err(format!("3D textures (pixelDepth {depth}) are not supported").into());
-    }
-    if layers != 0 {
-        return Err(format!("array textures (layerCount {layers}) are not supported").into());
-    }
-    if w == 0 || hgt == 0 {
-        return Err(format!(
-            "a {w}×{hgt} texture ({}) is not supported",
-            if w == 0 { "no width" } else { "1D" }
-        )
-        .into());
-    }
-    let kind = match faces {
-        1 => TextureKind::Flat,
-        6 if w == hgt => TextureKind::Cube,
-        6 => return Err(format!("faceCount 6 with non-square {w}×{hgt} faces").into()),
-        _ => return Err(format!("faceCount {faces}; 1 or 6 are valid").into()),
-    };
-    let n = (level_count as usize).max(1);
-    if n > full_chain(w, hgt) {
-        return Err(format!(
-            "levelCount {level_count} is more than the {} levels of a {w}×{hgt} chain",
-            full_chain(w, hgt)
-        )
-        .into());
-    }
-    let zstd =
-        match scheme {
-            0 => false,
-            2 => true,
-            1 => return Err("BasisLZ supercompression (scheme 1) is not supported".into()),
-            3 => return Err(
-                "ZLIB supercompression (scheme 3) is not supported; envmap reads none or Zstandard"
-                    .into(),
-            ),
-            s => return Err(format!("unknown supercompression scheme {s}").into()),
-        };
+    let hd = parse_header(b)?;
+    let (w, hgt) = hd.size;
+    let (kind, format, n, zstd) = (hd.kind, hd.format, hd.levels, hd.zstd);
     check_texels(kind, w, hgt, n, max_texels).map_err(Failure::Error)?;
     let index = section(
         b,
@@ -569,14 +600,9 @@ fn decode_inner(b: &[u8], max_texels: u64) -> std::result::Result<TextureFile, F
         (LEVEL_ENTRY * n) as u64,
         "level index",
     )?;
-    let dfd_bytes = section(
-        b,
-        u64::from(h(9)),
-        u64::from(h(10)),
-        "Data Format Descriptor",
-    )?;
+    let dfd_bytes = section(b, hd.dfd.0, hd.dfd.1, "Data Format Descriptor")?;
     check_dfd(dfd_bytes, format, zstd)?;
-    let kvd = section(b, u64::from(h(11)), u64::from(h(12)), "key/value data")?;
+    let kvd = section(b, hd.kvd.0, hd.kvd.1, "key/value data")?;
     let key_values = parse_key_values(kvd)?;
     let find = |k: &str| {
         key_values
@@ -586,83 +612,12 @@ fn decode_inner(b: &[u8], max_texels: u64) -> std::result::Result<TextureFile, F
     };
     let orientation = find("KTXorientation");
     let writer = find("KTXwriter");
-    let (flip_x, flip_y) = match orientation.as_deref().map(str::as_bytes) {
-        None | Some(b"rd") => (false, false),
-        Some([x @ (b'r' | b'l'), y @ (b'd' | b'u'), ..]) if kind == TextureKind::Flat => {
-            (*x == b'l', *y == b'u')
-        }
-        Some(o) => {
-            return Err(format!(
-                "KTXorientation {:?} is not supported for {} (envmap reads rd{})",
-                String::from_utf8_lossy(o),
-                if kind == TextureKind::Cube {
-                    "a cube"
-                } else {
-                    "this texture"
-                },
-                if kind == TextureKind::Cube {
-                    ", which the spec requires of cubes"
-                } else {
-                    ", ru, ld, lu"
-                }
-            )
-            .into())
-        }
-    };
-    let mut spans = Vec::with_capacity(n);
-    for p in 0..n {
-        let e = &index[LEVEL_ENTRY * p..];
-        let (off, len, raw) = (u64_at(e, 0), u64_at(e, 8), u64_at(e, 16));
-        let want = level_bytes(kind, w, hgt, p, format).ok_or("a level's size overflows")?;
-        if raw != want {
-            return Err(format!(
-                "level {p}: uncompressedByteLength is {raw}; a {}×{} {} level of {} is {want} bytes",
-                level_size(w, hgt, p).0,
-                level_size(w, hgt, p).1,
-                if kind == TextureKind::Cube { "cube" } else { "2D" },
-                format.vk_name()
-            )
-            .into());
-        }
-        if !zstd && len != want {
-            return Err(format!("level {p}: byteLength is {len}, expected {want}").into());
-        }
-        let data = section(b, off, len, &format!("level {p}"))?;
-        spans.push((data, want));
-    }
+    let flips = orientation_flips(orientation.as_deref(), kind)?;
+    let spans = level_spans(b, index, &hd)?;
     let levels = spans
         .par_iter()
         .enumerate()
-        .map(|(p, &(data, want))| {
-            let raw;
-            let data = if zstd {
-                raw = decompress(data, want as usize)
-                    .map_err(|e| format!("level {p}: the zstd data does not decode: {e}"))?;
-                if raw.len() as u64 != want {
-                    return Err(format!(
-                        "level {p}: the zstd data holds {} bytes, expected {want}",
-                        raw.len()
-                    ));
-                }
-                &raw[..]
-            } else {
-                data
-            };
-            let (lw, lh) = level_size(w, hgt, p);
-            let face_bytes = lw as usize * lh as usize * format.bytes();
-            Ok(data
-                .chunks_exact(face_bytes)
-                .map(|f| {
-                    let mut img = RgbImage {
-                        width: lw,
-                        height: lh,
-                        pixels: format.unpack(f),
-                    };
-                    flip(&mut img, flip_x, flip_y);
-                    img
-                })
-                .collect::<Vec<_>>())
-        })
+        .map(|(p, &(data, want))| decode_level(&hd, p, data, want, flips))
         .collect::<std::result::Result<Vec<_>, String>>()?;
     let level_lens = spans.iter().map(|(d, _)| d.len() as u64).collect();
     let texture = Texture::new(kind, levels)
@@ -683,6 +638,196 @@ fn decode_inner(b: &[u8], max_texels: u64) -> std::result::Result<TextureFile, F
             level_bytes: level_lens,
         },
     })
+}
+
+/// What a file's header says, checked: a texture envmap reads.
+struct Header {
+    format: TexelFormat,
+    kind: TextureKind,
+    size: (u32, u32),
+    /// The levels stored (`levelCount`, 0 read as 1).
+    levels: usize,
+    zstd: bool,
+    /// The DFD's offset and length, not yet checked against the file.
+    dfd: (u64, u64),
+    /// The key/value data's offset and length, not yet checked.
+    kvd: (u64, u64),
+}
+
+/// Reads the identifier and the header words, refusing, in the words'
+/// order, what envmap does not read.
+fn parse_header(b: &[u8]) -> std::result::Result<Header, String> {
+    if b.len() < 12 || b[..12] != IDENTIFIER {
+        return Err("not a KTX 2.0 file (the identifier «KTX 20» is missing)".into());
+    }
+    if b.len() < HEADER_LEN {
+        return Err(format!("the header is cut short: {} of 80 bytes", b.len()));
+    }
+    let h = |i: usize| u32_at(b, 12 + 4 * i);
+    let (vk, type_size, w, hgt, depth, layers, faces, level_count, scheme) =
+        (h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8));
+    let format = TexelFormat::from_vk_format(vk).ok_or_else(|| unsupported_format(vk))?;
+    if type_size != format.type_size() {
+        return Err(format!(
+            "typeSize is {type_size}; {} has {}",
+            format.vk_name(),
+            format.type_size()
+        ));
+    }
+    if depth != 0 {
+        return Err(format!(
+            "3D textures (pixelDepth {depth}) are not supported"
+        ));
+    }
+    if layers != 0 {
+        return Err(format!(
+            "array textures (layerCount {layers}) are not supported"
+        ));
+    }
+    if w == 0 || hgt == 0 {
+        return Err(format!(
+            "a {w}×{hgt} texture ({}) is not supported",
+            if w == 0 { "no width" } else { "1D" }
+        ));
+    }
+    let kind = match faces {
+        1 => TextureKind::Flat,
+        6 if w == hgt => TextureKind::Cube,
+        6 => return Err(format!("faceCount 6 with non-square {w}×{hgt} faces")),
+        _ => return Err(format!("faceCount {faces}; 1 or 6 are valid")),
+    };
+    let n = (level_count as usize).max(1);
+    if n > full_chain(w, hgt) {
+        return Err(format!(
+            "levelCount {level_count} is more than the {} levels of a {w}×{hgt} chain",
+            full_chain(w, hgt)
+        ));
+    }
+    let zstd = supercompression(scheme)?;
+    Ok(Header {
+        format,
+        kind,
+        size: (w, hgt),
+        levels: n,
+        zstd,
+        dfd: (u64::from(h(9)), u64::from(h(10))),
+        kvd: (u64::from(h(11)), u64::from(h(12))),
+    })
+}
+
+/// Whether `supercompressionScheme` is Zstandard (2) rather than none
+/// (0); the schemes envmap does not read are refused by name.
+fn supercompression(scheme: u32) -> std::result::Result<bool, String> {
+    match scheme {
+        0 => Ok(false),
+        2 => Ok(true),
+        1 => Err("BasisLZ supercompression (scheme 1) is not supported".into()),
+        3 => Err(
+            "ZLIB supercompression (scheme 3) is not supported; envmap reads none or Zstandard"
+                .into(),
+        ),
+        s => Err(format!("unknown supercompression scheme {s}")),
+    }
+}
+
+/// Which axes `KTXorientation` reverses (x, y) against top-left first;
+/// a cube must be `rd`, as the spec requires.
+fn orientation_flips(
+    orientation: Option<&str>,
+    kind: TextureKind,
+) -> std::result::Result<(bool, bool), String> {
+    match orientation.map(str::as_bytes) {
+        None | Some(b"rd") => Ok((false, false)),
+        Some([x @ (b'r' | b'l'), y @ (b'd' | b'u'), ..]) if kind == TextureKind::Flat => {
+            Ok((*x == b'l', *y == b'u'))
+        }
+        Some(o) => Err(format!(
+            "KTXorientation {:?} is not supported for {} (envmap reads rd{})",
+            String::from_utf8_lossy(o),
+            if kind == TextureKind::Cube {
+                "a cube"
+            } else {
+                "this texture"
+            },
+            if kind == TextureKind::Cube {
+                ", which the spec requires of cubes"
+            } else {
+                ", ru, ld, lu"
+            }
+        )),
+    }
+}
+
+/// Each level's stored bytes and its length once decompressed, from the
+/// level index, each length checked against the header's texture and
+/// each span against the file.
+fn level_spans<'b>(
+    b: &'b [u8],
+    index: &[u8],
+    hd: &Header,
+) -> std::result::Result<Vec<(&'b [u8], u64)>, String> {
+    let (w, hgt) = hd.size;
+    let (kind, format) = (hd.kind, hd.format);
+    let mut spans = Vec::with_capacity(hd.levels);
+    for p in 0..hd.levels {
+        let e = &index[LEVEL_ENTRY * p..];
+        let (off, len, raw) = (u64_at(e, 0), u64_at(e, 8), u64_at(e, 16));
+        let want = level_bytes(kind, w, hgt, p, format).ok_or("a level's size overflows")?;
+        if raw != want {
+            return Err(format!(
+                "level {p}: uncompressedByteLength is {raw}; a {}×{} {} level of {} is {want} bytes",
+                level_size(w, hgt, p).0,
+                level_size(w, hgt, p).1,
+                if kind == TextureKind::Cube { "cube" } else { "2D" },
+                format.vk_name()
+            ));
+        }
+        if !hd.zstd && len != want {
+            return Err(format!("level {p}: byteLength is {len}, expected {want}"));
+        }
+        let data = section(b, off, len, &format!("level {p}"))?;
+        spans.push((data, want));
+    }
+    Ok(spans)
+}
+
+/// Level `p`'s faces from its stored bytes (`want` bytes once
+/// decompressed), turned top-left first by `flips`.
+fn decode_level(
+    hd: &Header,
+    p: usize,
+    data: &[u8],
+    want: u64,
+    (flip_x, flip_y): (bool, bool),
+) -> std::result::Result<Vec<RgbImage>, String> {
+    let raw;
+    let data = if hd.zstd {
+        raw = decompress(data, want as usize)
+            .map_err(|e| format!("level {p}: the zstd data does not decode: {e}"))?;
+        if raw.len() as u64 != want {
+            return Err(format!(
+                "level {p}: the zstd data holds {} bytes, expected {want}",
+                raw.len()
+            ));
+        }
+        &raw[..]
+    } else {
+        data
+    };
+    let (lw, lh) = level_size(hd.size.0, hd.size.1, p);
+    let face_bytes = lw as usize * lh as usize * hd.format.bytes();
+    Ok(data
+        .chunks_exact(face_bytes)
+        .map(|f| {
+            let mut img = RgbImage {
+                width: lw,
+                height: lh,
+                pixels: hd.format.unpack(f),
+            };
+            flip(&mut img, flip_x, flip_y);
+            img
+        })
+        .collect::<Vec<_>>())
 }
 
 /// Turns an image stored with other axes (`l`: right to left, `u`: bottom
