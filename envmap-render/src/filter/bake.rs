@@ -19,6 +19,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use envmap_core::glam::Mat3;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Atlas, ChartUv, Mapping};
 
@@ -37,7 +38,7 @@ use crate::filter::sh::{
 };
 use crate::filter::specular::{
     exact_level, finest_sampled_level, lobe_width, prefilter_level, split_bright, texel_pitch,
-    BrightReport, LevelJob, Method, RoughnessRule, PART,
+    Bright, BrightReport, LevelJob, Method, RoughnessRule, PART,
 };
 use crate::filter::weights::channel_energy;
 use crate::filter::{convert, ConvertOptions};
@@ -849,37 +850,35 @@ fn chain_checked(
         Atlas::CUBE_HORIZONTAL_STRIP,
         opts.axes.frame(AnyMapping::Cube),
     )?;
-    // The base: a cube with about as many texels as the source (a 4096 ×
-    // 2048 latlong gives 1024² faces), the power of two at or below, at
-    // least twice the chain's level 0 (level 1's lobe then spans a dozen
-    // base texels or more: at level 0's own size it spans about three, and
-    // the base's box filter shows in level 1) and at most 2048.
     let src_texels = u64::from(src.width()) * u64::from(src.height());
-    let per_face = ((src_texels as f64 / 6.0).sqrt() * 1.05).max(1.0) as u32;
-    let floor_pow2 = 1u32 << (31 - per_face.leading_zeros());
-    let top = sizes.iter().copied().max().unwrap_or(1);
-    let base_size = floor_pow2.clamp((2 * top).min(2048), 2048);
+    let base_size = base_size(src_texels, &sizes);
     let copts = ConvertOptions {
         cancel: opts.cancel,
         ..ConvertOptions::default()
     };
     progress(0, sizes.len());
     let t0 = Instant::now();
-    // Where the time goes, stage by stage.
-    let mut stages: Vec<(&'static str, f64)> = Vec::new();
-    let mut last = Instant::now();
-    let mut tr = |name: &'static str| {
-        stages.push((name, last.elapsed().as_secs_f64()));
-        last = Instant::now();
-    };
+    let mut stages = Stages::new();
     let mut level0 = convert(src, cube, 6 * sizes[0], sizes[0], &copts, None)?;
     let level0_seconds = t0.elapsed().as_secs_f64();
-    tr("level 0 resampled");
+    stages.mark("level 0 resampled");
     let input_energy = channel_energy(src);
-    tr("input energy");
+    stages.mark("input energy");
     // What the rest needs of the input once it is the working copy below.
-    let src_frame = src.representation().frame.matrix();
-    let input_pitch = texel_pitch(src);
+    let below = Below {
+        opts,
+        sizes: &sizes,
+        cube,
+        copts,
+        base_size,
+        src_texels,
+        src_frame: src.representation().frame.matrix(),
+        input_pitch: texel_pitch(src),
+        input_energy: input_energy.total,
+        input_negative: input_energy.negative,
+        oracle,
+        progress,
+    };
     // The brightest texels, split from the input's own texels before any
     // resampling; each cut into parts no wider than the narrowest lobe's
     // cluster cell. An input the bake owns is worked on in place, else
@@ -895,16 +894,7 @@ fn chain_checked(
     let n = sizes.len();
     // Level 0 is final here: it is handed out while the rest is made.
     let clamped0 = clamp_negative(&mut level0);
-    let report0 = LevelReport {
-        size: sizes[0],
-        roughness: 0.0,
-        method: "resampled",
-        samples: 0,
-        source_level: None,
-        clamped: clamped0,
-        seconds: level0_seconds,
-        measured: None,
-    };
+    let report0 = level_report(sizes[0], 0.0, None, clamped0, level0_seconds, None);
     // A level handed out whose sink fails stops the bake at the next
     // level (the sink's error is the one returned).
     let failed = AtomicBool::new(false);
@@ -914,8 +904,141 @@ fn chain_checked(
             Some(f) => f(k, img, report).inspect_err(|_| failed.store(true, Ordering::Relaxed)),
         }
     };
+    let hand_out = Hand {
+        hand: &hand,
+        failed: &failed,
+    };
     // Everything after level 0, made while level 0 is handed out.
-    let make_rest = || -> Result<_> {
+    let (handed0, rest) = join(
+        || hand(0, &level0, &report0),
+        || below.make(rest_src, &mut stages, &hand_out),
+    );
+    handed0?;
+    let (more, more_reports, bright, energy) = rest?;
+    let mut levels = Vec::with_capacity(n);
+    levels.push(level0);
+    levels.extend(more);
+    let mut reports = Vec::with_capacity(n);
+    reports.push(report0);
+    reports.extend(more_reports);
+    Ok(SpecularChain {
+        levels,
+        reports,
+        bright,
+        energy,
+        clamp,
+        base_size,
+        stages: stages.done,
+    })
+}
+
+/// The base cube's face size for an input of `src_texels` and a chain of
+/// `sizes`: about as many texels as the source (a 4096 × 2048 latlong
+/// gives 1024² faces), the power of two at or below, at least twice the
+/// chain's level 0 (level 1's lobe then spans a dozen base texels or more:
+/// at level 0's own size it spans about three, and the base's box filter
+/// shows in level 1) and at most 2048.
+fn base_size(src_texels: u64, sizes: &[u32]) -> u32 {
+    let per_face = ((src_texels as f64 / 6.0).sqrt() * 1.05).max(1.0) as u32;
+    let floor_pow2 = 1u32 << (31 - per_face.leading_zeros());
+    let top = sizes.iter().copied().max().unwrap_or(1);
+    floor_pow2.clamp((2 * top).min(2048), 2048)
+}
+
+/// Where a bake's time goes, stage by stage: each stage's name and the
+/// seconds since the one before.
+struct Stages {
+    done: Vec<(&'static str, f64)>,
+    last: Instant,
+}
+
+impl Stages {
+    fn new() -> Self {
+        Self {
+            done: Vec::new(),
+            last: Instant::now(),
+        }
+    }
+
+    /// The stage `name` ends now.
+    fn mark(&mut self, name: &'static str) {
+        self.done.push((name, self.last.elapsed().as_secs_f64()));
+        self.last = Instant::now();
+    }
+}
+
+/// How levels are handed out: the sink's call, and the flag its failure
+/// sets (which stops the levels still to make).
+struct Hand<'h> {
+    hand: &'h (dyn Fn(usize, &EnvImage, &LevelReport) -> Result<()> + Sync),
+    failed: &'h AtomicBool,
+}
+
+/// A level's report.
+fn level_report(
+    size: u32,
+    roughness: f32,
+    method: Option<Method>,
+    clamped: u64,
+    seconds: f64,
+    measured: Option<LevelError>,
+) -> LevelReport {
+    LevelReport {
+        size,
+        roughness,
+        method: match method {
+            None => "resampled",
+            Some(Method::Exact { .. }) => "exact",
+            Some(Method::Sampled { .. }) => "sampled",
+        },
+        samples: match method {
+            Some(Method::Sampled { samples }) => samples,
+            _ => 0,
+        },
+        source_level: match method {
+            Some(Method::Exact { level }) => Some(level),
+            _ => None,
+        },
+        clamped,
+        seconds,
+        measured,
+    }
+}
+
+/// What the levels below level 0 are made from: the bake's options and
+/// what it knows of its input.
+struct Below<'a> {
+    opts: &'a BakeOptions<'a>,
+    sizes: &'a [u32],
+    cube: Representation,
+    copts: ConvertOptions<'a>,
+    base_size: u32,
+    src_texels: u64,
+    /// The input's axes.
+    src_frame: Mat3,
+    /// The input's texel pitch (radians).
+    input_pitch: f64,
+    input_energy: [f64; 3],
+    input_negative: [f64; 3],
+    oracle: Option<&'a Oracle<'a>>,
+    progress: &'a (dyn Fn(usize, usize) + Sync),
+}
+
+/// The levels below level 0, their reports, the bright split's report and
+/// the energy accounting.
+type LevelsBelow = (Vec<EnvImage>, Vec<LevelReport>, BrightReport, EnergyReport);
+
+impl Below<'_> {
+    /// Splits the bright texels from `rest_src` (the input, clamped), makes
+    /// the base cube of the rest and its pyramid, and every level below
+    /// level 0, handing each out as the next is made.
+    fn make(
+        &self,
+        mut rest_src: EnvImage,
+        stages: &mut Stages,
+        hand: &Hand<'_>,
+    ) -> Result<LevelsBelow> {
+        let (opts, n) = (self.opts, self.sizes.len());
         let narrowest = (1..n)
             .map(|k| opts.rule.roughness(k, n))
             .filter(|&r| r > 0.0)
@@ -923,16 +1046,53 @@ fn chain_checked(
         let alpha_min = f64::from(narrowest) * f64::from(narrowest);
         let mut bright =
             split_bright(&mut rest_src, opts.bright_max, lobe_width(alpha_min) / PART)?;
-        tr("bright texels split");
-        // The base cube: the footprint average of the rest, each texel the mean
-        // over N × N points of its footprint of the input's bilinear
-        // reconstruction (which integrates to the input's own integral), N ≥ 2
-        // making the points at most 2/3 of an input texel apart, so that the
-        // base's energy plus the split's is the input's (a nearest-texel
-        // average would not be: its points divide the input's texels
-        // unevenly).
-        let input_texel = (4.0 * std::f64::consts::PI / src_texels.max(1) as f64).sqrt();
-        let base_texel = std::f64::consts::FRAC_PI_2 / f64::from(base_size);
+        stages.mark("bright texels split");
+        let (base, n_foot) = self.base_cube(rest_src)?;
+        stages.mark("base cube");
+        let base_energy = channel_energy(&base);
+        // The split points from the input's axes into the base's.
+        let to_base = base.representation().frame.matrix().transpose() * self.src_frame;
+        for d in &mut bright.dirs {
+            *d = (to_base * *d).normalize();
+        }
+        let energy = EnergyReport {
+            input: self.input_energy,
+            negative: self.input_negative,
+            base: base_energy.total,
+            split: bright.report.energy,
+            footprint_samples: n_foot,
+        };
+        let rest = Pyramid::new(base, 1)?;
+        stages.mark("pyramid");
+        cancel::check(opts.cancel)?;
+        let plans = self.plans(&rest);
+        // Only the levels the samples read are prepared for trilinear reads.
+        let first = plans
+            .iter()
+            .filter_map(|&(r, m)| match m {
+                Method::Sampled { samples } => {
+                    Some(finest_sampled_level(&rest, r, samples, opts.lod_bias))
+                }
+                Method::Exact { .. } => None,
+            })
+            .min()
+            .unwrap_or(rest.len() - 1);
+        let sampler = Trilinear::starting_at(&rest, first);
+        stages.mark("bordered levels");
+        let (levels, reports) = self.levels(&rest, &sampler, &bright, &plans, hand)?;
+        Ok((levels, reports, bright.report, energy))
+    }
+
+    /// The base cube: the footprint average of `rest_src`, each texel the
+    /// mean over N × N points of its footprint of the input's bilinear
+    /// reconstruction (which integrates to the input's own integral), N ≥ 2
+    /// making the points at most 2/3 of an input texel apart, so that the
+    /// base's energy plus the split's is the input's (a nearest-texel
+    /// average would not be: its points divide the input's texels
+    /// unevenly). With N.
+    fn base_cube(&self, mut rest_src: EnvImage) -> Result<(EnvImage, u32)> {
+        let input_texel = (4.0 * std::f64::consts::PI / self.src_texels.max(1) as f64).sqrt();
+        let base_texel = std::f64::consts::FRAC_PI_2 / f64::from(self.base_size);
         // A base between one and two times as dense as the input takes at
         // least 3 × 3 points: 2 × 2 there fall unevenly on the input's
         // texels, and the base's energy drifts from the input's.
@@ -949,40 +1109,26 @@ fn chain_checked(
         }
         let base = convert(
             &rest_src,
-            cube,
-            6 * base_size,
-            base_size,
+            self.cube,
+            6 * self.base_size,
+            self.base_size,
             &ConvertOptions {
                 filter: Filter::Bilinear,
                 samples: Some(n_foot),
-                ..copts
+                ..self.copts
             },
             None,
         )?;
-        drop(rest_src);
-        tr("base cube");
-        let base_energy = channel_energy(&base);
-        // The split points from the input's axes into the base's.
-        let to_base = base.representation().frame.matrix().transpose() * src_frame;
-        for d in &mut bright.dirs {
-            *d = (to_base * *d).normalize();
-        }
-        let energy = EnergyReport {
-            input: input_energy.total,
-            negative: input_energy.negative,
-            base: base_energy.total,
-            split: bright.report.energy,
-            footprint_samples: n_foot,
-        };
-        let mut reports: Vec<LevelReport> = Vec::with_capacity(sizes.len());
-        let rest = Pyramid::new(base, 1)?;
-        tr("pyramid");
-        cancel::check(opts.cancel)?;
-        // Each level's roughness and method: exact where that costs no more
-        // than sampling (a source texel's weight, eight output texels at a
-        // time, costs about a sixteenth of a sample's trilinear read), or when
-        // asked.
-        let plans: Vec<(f32, Method)> = sizes
+        Ok((base, n_foot))
+    }
+
+    /// Each level's roughness and method: exact where that costs no more
+    /// than sampling (a source texel's weight, eight output texels at a
+    /// time, costs about a sixteenth of a sample's trilinear read), or when
+    /// asked.
+    fn plans(&self, rest: &Pyramid) -> Vec<(f32, Method)> {
+        let (opts, n) = (self.opts, self.sizes.len());
+        self.sizes
             .iter()
             .enumerate()
             .skip(1)
@@ -995,13 +1141,13 @@ fn chain_checked(
                     // edges as the sharpest thing in the map: twice the samples
                     // (level 1 of a 512² chain from a 512 × 256 input, say).
                     let alpha = f64::from(roughness) * f64::from(roughness);
-                    if lobe_width(alpha) < SHARP_TEXELS * input_pitch {
+                    if lobe_width(alpha) < SHARP_TEXELS * self.input_pitch {
                         n.saturating_mul(2).min(4096)
                     } else {
                         n
                     }
                 });
-                let el = exact_level(&rest, roughness);
+                let el = exact_level(rest, roughness);
                 let src_texels = rest.level(el).pixels().len() as u64;
                 let method = if opts.exact
                     || src_texels <= EXACT_PER_SAMPLE * u64::from(samples)
@@ -1013,44 +1159,46 @@ fn chain_checked(
                 };
                 (roughness, method)
             })
-            .collect();
-        // Only the levels the samples read are prepared for trilinear reads.
-        let first = plans
-            .iter()
-            .filter_map(|&(r, m)| match m {
-                Method::Sampled { samples } => {
-                    Some(finest_sampled_level(&rest, r, samples, opts.lod_bias))
-                }
-                Method::Exact { .. } => None,
-            })
-            .min()
-            .unwrap_or(rest.len() - 1);
-        let sampler = Trilinear::starting_at(&rest, first);
-        tr("bordered levels");
-        let mut levels: Vec<EnvImage> = Vec::with_capacity(sizes.len());
-        for (i, (&size, &(roughness, method))) in sizes[1..].iter().zip(&plans).enumerate() {
+            .collect()
+    }
+
+    /// The levels below level 0 as `plans` say, each measured against the
+    /// oracle when asked; level k is made while level k − 1 is handed out
+    /// (level 0 already was).
+    fn levels(
+        &self,
+        rest: &Pyramid,
+        sampler: &Trilinear<'_>,
+        bright: &Bright,
+        plans: &[(f32, Method)],
+        hand: &Hand<'_>,
+    ) -> Result<(Vec<EnvImage>, Vec<LevelReport>)> {
+        let (opts, n) = (self.opts, self.sizes.len());
+        let mut levels: Vec<EnvImage> = Vec::with_capacity(n);
+        let mut reports: Vec<LevelReport> = Vec::with_capacity(n);
+        for (i, (&size, &(roughness, method))) in self.sizes[1..].iter().zip(plans).enumerate() {
             let k = i + 1;
-            if failed.load(Ordering::Relaxed) {
+            if hand.failed.load(Ordering::Relaxed) {
                 return Err(Error::Cancelled);
             }
-            progress(k, n);
+            (self.progress)(k, n);
             let make = || -> Result<_> {
                 let t = Instant::now();
                 let job = LevelJob {
-                    rest: &rest,
-                    sampler: &sampler,
-                    bright: &bright,
+                    rest,
+                    sampler,
+                    bright,
                     roughness,
                     method,
                     lod_bias: opts.lod_bias,
                     level: k as u32,
                     cancel: opts.cancel,
                 };
-                let mut img = prefilter_level(&job, cube, 6 * size, size)?;
+                let mut img = prefilter_level(&job, self.cube, 6 * size, size)?;
                 let clamped = clamp_negative(&mut img);
                 let seconds = t.elapsed().as_secs_f64();
                 // --check: every level, exact or sampled, against the oracle.
-                let measured = match oracle {
+                let measured = match self.oracle {
                     Some(o) if opts.check > 0 => {
                         Some(measure_level(o, roughness, &img, opts.check, k as u32)?)
                     }
@@ -1058,59 +1206,28 @@ fn chain_checked(
                 };
                 Ok((img, clamped, seconds, measured))
             };
-            // Level k is made while level k − 1 is handed out (level 0
-            // was already).
             let previous = || match (levels.last(), reports.last()) {
-                (Some(prev), Some(r)) => hand(k - 1, prev, r),
+                (Some(prev), Some(r)) => (hand.hand)(k - 1, prev, r),
                 _ => Ok(()),
             };
             let (handed, made) = join(previous, make);
             handed?;
             let (img, clamped, seconds, measured) = made?;
-            reports.push(LevelReport {
+            reports.push(level_report(
                 size,
                 roughness,
-                method: match method {
-                    Method::Exact { .. } => "exact",
-                    Method::Sampled { .. } => "sampled",
-                },
-                samples: match method {
-                    Method::Sampled { samples } => samples,
-                    Method::Exact { .. } => 0,
-                },
-                source_level: match method {
-                    Method::Exact { level } => Some(level),
-                    Method::Sampled { .. } => None,
-                },
+                Some(method),
                 clamped,
                 seconds,
                 measured,
-            });
+            ));
             levels.push(img);
         }
         if let (Some(last), Some(r)) = (levels.last(), reports.last()) {
-            hand(n - 1, last, r)?;
+            (hand.hand)(n - 1, last, r)?;
         }
-        Ok((levels, reports, bright.report, energy))
-    };
-    let (handed0, rest) = join(|| hand(0, &level0, &report0), make_rest);
-    handed0?;
-    let (more, more_reports, bright, energy) = rest?;
-    let mut levels = Vec::with_capacity(n);
-    levels.push(level0);
-    levels.extend(more);
-    let mut reports = Vec::with_capacity(n);
-    reports.push(report0);
-    reports.extend(more_reports);
-    Ok(SpecularChain {
-        levels,
-        reports,
-        bright,
-        energy,
-        clamp,
-        base_size,
-        stages,
-    })
+        Ok((levels, reports))
+    }
 }
 
 /// The irradiance map and how it was made.
