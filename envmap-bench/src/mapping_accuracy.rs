@@ -16,38 +16,18 @@
 
 use std::f64::consts::{PI, TAU};
 
-use envmap_core::glam::Vec3;
+use envmap_core::glam::{DVec3, Vec3};
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 
 use crate::accuracy::SplitMix64;
 
-/// A direction in `f64`.
-pub type D3 = [f64; 3];
-
-fn d3(v: Vec3) -> D3 {
-    [f64::from(v.x), f64::from(v.y), f64::from(v.z)]
-}
-
-fn dot(a: D3, b: D3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn normalize(a: D3) -> D3 {
-    let l = dot(a, a).sqrt();
-    [a[0] / l, a[1] / l, a[2] / l]
-}
-
 /// The angle in radians between two non-zero vectors, in `f64`, as
 /// `atan2(|a × b|, a · b)` (accurate for tiny and nearly opposite angles).
 #[must_use]
-pub fn angle(a: D3, b: D3) -> f64 {
-    let (a, b) = (normalize(a), normalize(b));
-    let c = [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ];
-    dot(c, c).sqrt().atan2(dot(a, b))
+pub fn angle(a: DVec3, b: DVec3) -> f64 {
+    // Divided by the lengths (glam's `normalize` multiplies by the reciprocal).
+    let (a, b) = (a / a.length(), b / b.length());
+    a.cross(b).length().atan2(a.dot(b))
 }
 
 fn copysign(x: f64, s: f64) -> f64 {
@@ -58,8 +38,8 @@ fn copysign(x: f64, s: f64) -> f64 {
 /// are decided by exact comparisons, identical in `f32` and `f64` away from
 /// ties; the implementation's choice is the one being measured).
 #[must_use]
-pub fn forward_f64(m: AnyMapping, chart: u32, d: D3) -> (f64, f64) {
-    let [x, y, z] = d;
+pub fn forward_f64(m: AnyMapping, chart: u32, d: DVec3) -> (f64, f64) {
+    let DVec3 { x, y, z } = d;
     match m {
         AnyMapping::LatLong => {
             let mut u = y.atan2(x) / TAU;
@@ -146,13 +126,13 @@ pub fn forward_f64(m: AnyMapping, chart: u32, d: D3) -> (f64, f64) {
 /// The `f64` inverse map of a chart point (assumed inside its chart), a unit
 /// vector.
 #[must_use]
-pub fn inverse_f64(m: AnyMapping, c: ChartUv) -> D3 {
+pub fn inverse_f64(m: AnyMapping, c: ChartUv) -> DVec3 {
     inverse_f64_at(m, c.chart, f64::from(c.u), f64::from(c.v))
 }
 
-fn inverse_f64_at(m: AnyMapping, chart: u32, u: f64, v: f64) -> D3 {
+fn inverse_f64_at(m: AnyMapping, chart: u32, u: f64, v: f64) -> DVec3 {
     let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
-    let d = match m {
+    let [x, y, z] = match m {
         AnyMapping::LatLong => {
             let (phi, theta) = (TAU * u, PI * v);
             [
@@ -225,7 +205,9 @@ fn inverse_f64_at(m: AnyMapping, chart: u32, u: f64, v: f64) -> D3 {
             [k * a, k * b, theta.cos()]
         }
     };
-    normalize(d)
+    // Divided by the length (glam's `normalize` multiplies by the reciprocal).
+    let d = DVec3::new(x, y, z);
+    d / d.length()
 }
 
 /// A uniformly distributed unit direction rounded to `f32`.
@@ -257,11 +239,11 @@ pub fn directions(m: AnyMapping, n: usize) -> Vec<Vec3> {
         }
     }
     let singular = match m {
-        AnyMapping::SphereMap => Some([0.0, 0.0, 1.0]),
-        AnyMapping::SphereMapGl => Some([0.0, 0.0, -1.0]),
+        AnyMapping::SphereMap => Some(DVec3::Z),
+        AnyMapping::SphereMapGl => Some(DVec3::NEG_Z),
         _ => None,
     };
-    v.retain(|d| singular.is_none_or(|s| angle(d3(*d), s) >= 1e-3));
+    v.retain(|d| singular.is_none_or(|s| angle(d.as_dvec3(), s) >= 1e-3));
     v
 }
 
@@ -358,7 +340,8 @@ pub fn measure_forward(m: AnyMapping, dirs: &[Vec3], out: &[ChartUv]) -> Forward
             e.bad_chart.get_or_insert_with(|| format!("{d} gave {c:?}"));
             continue;
         }
-        let dd = normalize(d3(*d));
+        let dd = d.as_dvec3();
+        let dd = dd / dd.length();
         let (u, v) = forward_f64(m, c.chart, dd);
         let mut du = (f64::from(c.u) - u).abs();
         if m == AnyMapping::LatLong {
@@ -380,7 +363,7 @@ pub fn measure_forward(m: AnyMapping, dirs: &[Vec3], out: &[ChartUv]) -> Forward
 pub fn measure_inverse(m: AnyMapping, cs: &[ChartUv], out: &[Vec3]) -> InverseErrors {
     let mut e = InverseErrors::default();
     for (c, d) in cs.iter().zip(out) {
-        let err = angle(d3(*d), inverse_f64(m, *c));
+        let err = angle(d.as_dvec3(), inverse_f64(m, *c));
         let err = if err.is_nan() { f64::INFINITY } else { err };
         e.all.add(err, || format!("{c:?}"));
         if !near_rim(m, *c) {

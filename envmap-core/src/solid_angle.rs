@@ -55,6 +55,7 @@
 
 use core::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, SQRT_2, TAU};
 
+use glam::DVec3;
 use libm::{acos, asin, atan, atan2, ceil, cos, fabs, sin, sqrt};
 
 /// Solid angle of `[u0, u1] × [v0, v1]` in a latitude–longitude chart.
@@ -99,12 +100,12 @@ pub fn latlong(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
 #[inline]
 pub fn cube_face(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
     oriented(u0, u1, v0, v1, |u0, u1, v0, v1| {
-        let a = Vec3d::new(2.0 * u0 - 1.0, 2.0 * v0 - 1.0, 1.0);
+        let a = DVec3::new(2.0 * u0 - 1.0, 2.0 * v0 - 1.0, 1.0);
         let dx = 2.0 * (u1 - u0);
         let dy = 2.0 * (v1 - v0);
-        let ex = Vec3d::new(dx, 0.0, 0.0);
-        let ey = Vec3d::new(0.0, dy, 0.0);
-        let diagonal = Vec3d::new(dx, dy, 0.0);
+        let ex = DVec3::new(dx, 0.0, 0.0);
+        let ey = DVec3::new(0.0, dy, 0.0);
+        let diagonal = DVec3::new(dx, dy, 0.0);
         // Triangles (a, a + ex, a + diagonal) and (a, a + diagonal,
         // a + ey), their four corners measured once.
         let (la, lb, lc, ld) = (
@@ -474,59 +475,10 @@ fn gauss_legendre_entire(a: f64, length: f64, f: impl Fn(f64) -> f64) -> f64 {
     half * sum
 }
 
-/// A 3-vector of f64, for the few operations the triangle formula needs.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Vec3d {
-    /// x component.
-    x: f64,
-    /// y component.
-    y: f64,
-    /// z component.
-    z: f64,
-}
-
-impl Vec3d {
-    /// The vector `(x, y, z)`.
-    #[inline]
-    const fn new(x: f64, y: f64, z: f64) -> Self {
-        Self { x, y, z }
-    }
-
-    /// Dot product.
-    #[inline]
-    fn dot(self, o: Self) -> f64 {
-        self.x * o.x + self.y * o.y + self.z * o.z
-    }
-
-    /// Cross product.
-    #[inline]
-    fn cross(self, o: Self) -> Self {
-        Self::new(
-            self.y * o.z - self.z * o.y,
-            self.z * o.x - self.x * o.z,
-            self.x * o.y - self.y * o.x,
-        )
-    }
-
-    /// Euclidean length.
-    #[inline]
-    fn length(self) -> f64 {
-        sqrt(self.dot(self))
-    }
-}
-
-impl core::ops::Add for Vec3d {
-    type Output = Self;
-    #[inline]
-    fn add(self, o: Self) -> Self {
-        Self::new(self.x + o.x, self.y + o.y, self.z + o.z)
-    }
-}
-
 /// Solid angle of the spherical triangle with vertices `a`, `a + e1`, `a + e2` (any lengths,
 /// not through the origin), 2·atan2 of [`triangle_tangent`].
 #[inline]
-fn spherical_triangle(a: Vec3d, e1: Vec3d, e2: Vec3d) -> f64 {
+fn spherical_triangle(a: DVec3, e1: DVec3, e2: DVec3) -> f64 {
     let lengths = (a.length(), (a + e1).length(), (a + e2).length());
     let (numerator, denominator) = triangle_tangent(a, e1, e2, lengths);
     2.0 * atan2(numerator, denominator)
@@ -538,7 +490,7 @@ fn spherical_triangle(a: Vec3d, e1: Vec3d, e2: Vec3d) -> f64 {
 /// lengths (corners shared by two triangles are measured once). The triple product is taken as
 /// `a·(e1 × e2)` from the edge vectors, so a small triangle keeps its relative precision.
 #[inline]
-fn triangle_tangent(a: Vec3d, e1: Vec3d, e2: Vec3d, (la, lb, lc): (f64, f64, f64)) -> (f64, f64) {
+fn triangle_tangent(a: DVec3, e1: DVec3, e2: DVec3, (la, lb, lc): (f64, f64, f64)) -> (f64, f64) {
     let (b, c) = (a + e1, a + e2);
     let numerator = fabs(a.dot(e1.cross(e2)));
     let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
@@ -1008,17 +960,17 @@ impl Polygon {
         let point = |v: [f64; 2]| {
             let z = 1.0 - sx * v[0] - sy * v[1];
             if outer {
-                Vec3d::new(sx * (1.0 - sy * v[1]), sy * (1.0 - sx * v[0]), z)
+                DVec3::new(sx * (1.0 - sy * v[1]), sy * (1.0 - sx * v[0]), z)
             } else {
-                Vec3d::new(v[0], v[1], z)
+                DVec3::new(v[0], v[1], z)
             }
         };
         let linear = |dx: f64, dy: f64| {
             let dz = -sx * dx - sy * dy;
             if outer {
-                Vec3d::new(-sx * sy * dy, -sx * sy * dx, dz)
+                DVec3::new(-sx * sy * dy, -sx * sy * dx, dz)
             } else {
-                Vec3d::new(dx, dy, dz)
+                DVec3::new(dx, dy, dz)
             }
         };
         let first = self.vertices[0];
@@ -1320,9 +1272,9 @@ mod tests {
         let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
         let z = 1.0 - fabs(x) - fabs(y);
         let p = if z >= 0.0 {
-            Vec3d::new(x, y, z)
+            DVec3::new(x, y, z)
         } else {
-            Vec3d::new((1.0 - fabs(y)).copysign(x), (1.0 - fabs(x)).copysign(y), z)
+            DVec3::new((1.0 - fabs(y)).copysign(x), (1.0 - fabs(x)).copysign(y), z)
         };
         4.0 / (p.length() * p.dot(p))
     }
@@ -1893,7 +1845,7 @@ mod tests {
     #[test]
     fn equal_area_octahedral_has_constant_jacobian() {
         // Clarberg's map as in pbrt-v4's EqualAreaSquareToSphere; its Jacobian is 4π everywhere.
-        fn map(u: f64, v: f64) -> Vec3d {
+        fn map(u: f64, v: f64) -> DVec3 {
             let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
             let (ax, ay) = (fabs(x), fabs(y));
             let signed_distance = 1.0 - (ax + ay);
@@ -1901,7 +1853,7 @@ mod tests {
             let phi = if r == 0.0 { 1.0 } else { (ay - ax) / r + 1.0 } * FRAC_PI_4;
             let z = (1.0 - r * r).copysign(signed_distance);
             let k = r * sqrt((2.0 - r * r).max(0.0));
-            Vec3d::new(cos(phi).copysign(x) * k, sin(phi).copysign(y) * k, z)
+            DVec3::new(cos(phi).copysign(x) * k, sin(phi).copysign(y) * k, z)
         }
         let h = 1e-6;
         for (u, v) in [
@@ -1912,13 +1864,7 @@ mod tests {
             (0.52, 0.13),
             (0.83, 0.31),
         ] {
-            let diff = |a: Vec3d, b: Vec3d| {
-                Vec3d::new(
-                    (a.x - b.x) / (2.0 * h),
-                    (a.y - b.y) / (2.0 * h),
-                    (a.z - b.z) / (2.0 * h),
-                )
-            };
+            let diff = |a: DVec3, b: DVec3| (a - b) / (2.0 * h);
             let du = diff(map(u + h, v), map(u - h, v));
             let dv = diff(map(u, v + h), map(u, v - h));
             let jacobian = du.cross(dv).length();

@@ -22,127 +22,13 @@
 //! found). The README's Rust examples also run here, as doctests.
 #![forbid(unsafe_code)]
 
+use envmap_core::{AnyMapping, ChartUv};
+use glam::{DVec3, Vec3};
 use std::cell::RefCell;
 use std::f64::consts::{PI, TAU};
-use std::ops::{Add, Div, Mul, Neg, Sub};
-
-use envmap_core::{AnyMapping, ChartUv};
-use glam::Vec3;
 
 /// 4π, the solid angle of the whole sphere.
 pub const FOUR_PI: f64 = 4.0 * PI;
-
-/// A 3-vector of f64, for reference computations (the workspace builds glam
-/// without its f64 types).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct DVec3 {
-    /// x component.
-    pub x: f64,
-    /// y component.
-    pub y: f64,
-    /// z component.
-    pub z: f64,
-}
-
-impl DVec3 {
-    /// (0, 0, 0).
-    pub const ZERO: DVec3 = DVec3::new(0.0, 0.0, 0.0);
-    /// (1, 0, 0).
-    pub const X: DVec3 = DVec3::new(1.0, 0.0, 0.0);
-    /// (0, 1, 0).
-    pub const Y: DVec3 = DVec3::new(0.0, 1.0, 0.0);
-    /// (0, 0, 1).
-    pub const Z: DVec3 = DVec3::new(0.0, 0.0, 1.0);
-    /// (0, 0, −1).
-    pub const NEG_Z: DVec3 = DVec3::new(0.0, 0.0, -1.0);
-
-    /// A vector from its components.
-    #[must_use]
-    pub const fn new(x: f64, y: f64, z: f64) -> Self {
-        Self { x, y, z }
-    }
-
-    /// Dot product.
-    #[must_use]
-    pub fn dot(self, o: DVec3) -> f64 {
-        self.x * o.x + self.y * o.y + self.z * o.z
-    }
-
-    /// Cross product.
-    #[must_use]
-    pub fn cross(self, o: DVec3) -> DVec3 {
-        DVec3::new(
-            self.y * o.z - self.z * o.y,
-            self.z * o.x - self.x * o.z,
-            self.x * o.y - self.y * o.x,
-        )
-    }
-
-    /// Euclidean length.
-    #[must_use]
-    pub fn length(self) -> f64 {
-        self.dot(self).sqrt()
-    }
-
-    /// The unit vector in the same direction (NaN for the zero vector).
-    #[must_use]
-    pub fn normalize(self) -> DVec3 {
-        self / self.length()
-    }
-
-    /// Rounded to f32, component by component.
-    #[must_use]
-    pub fn as_vec3(self) -> Vec3 {
-        Vec3::new(self.x as f32, self.y as f32, self.z as f32)
-    }
-
-    /// The product `m · self` with the f32 matrix `m`, in f64.
-    #[must_use]
-    pub fn transformed(self, m: glam::Mat3) -> DVec3 {
-        to_f64(m.x_axis) * self.x + to_f64(m.y_axis) * self.y + to_f64(m.z_axis) * self.z
-    }
-}
-
-impl Add for DVec3 {
-    type Output = DVec3;
-    fn add(self, o: DVec3) -> DVec3 {
-        DVec3::new(self.x + o.x, self.y + o.y, self.z + o.z)
-    }
-}
-
-impl Sub for DVec3 {
-    type Output = DVec3;
-    fn sub(self, o: DVec3) -> DVec3 {
-        DVec3::new(self.x - o.x, self.y - o.y, self.z - o.z)
-    }
-}
-
-impl Mul<f64> for DVec3 {
-    type Output = DVec3;
-    fn mul(self, s: f64) -> DVec3 {
-        DVec3::new(self.x * s, self.y * s, self.z * s)
-    }
-}
-
-impl Div<f64> for DVec3 {
-    type Output = DVec3;
-    fn div(self, s: f64) -> DVec3 {
-        DVec3::new(self.x / s, self.y / s, self.z / s)
-    }
-}
-
-impl Neg for DVec3 {
-    type Output = DVec3;
-    fn neg(self) -> DVec3 {
-        DVec3::new(-self.x, -self.y, -self.z)
-    }
-}
-
-/// `v` converted to f64 (exactly).
-#[must_use]
-pub fn to_f64(v: Vec3) -> DVec3 {
-    DVec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
-}
 
 /// `v` normalised in f64.
 ///
@@ -151,7 +37,7 @@ pub fn to_f64(v: Vec3) -> DVec3 {
 /// zero vector for the zero vector.
 #[must_use]
 pub fn unit_f64(v: Vec3) -> DVec3 {
-    let d = to_f64(v);
+    let d = v.as_dvec3();
     let len = d.length();
     if len == 0.0 {
         DVec3::ZERO
@@ -165,14 +51,15 @@ pub fn unit_f64(v: Vec3) -> DVec3 {
 /// nearly opposite angles alike.
 #[must_use]
 pub fn angle(a: DVec3, b: DVec3) -> f64 {
-    let (a, b) = (a.normalize(), b.normalize());
+    // Divided by the lengths (glam's `normalize` multiplies by the reciprocal).
+    let (a, b) = (a / a.length(), b / b.length());
     a.cross(b).length().atan2(a.dot(b))
 }
 
 /// [`angle`] between two `f32` vectors, computed in f64.
 #[must_use]
 pub fn angle_f32(a: Vec3, b: Vec3) -> f64 {
-    angle(to_f64(a), to_f64(b))
+    angle(a.as_dvec3(), b.as_dvec3())
 }
 
 /// A unit direction in f64 from two numbers in `[0, 1]`, uniformly
@@ -190,7 +77,8 @@ pub fn uniform_direction(s: f64, t: f64) -> DVec3 {
 #[must_use]
 pub fn perpendicular_basis(d: DVec3) -> (DVec3, DVec3) {
     let helper = if d.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
-    let e1 = d.cross(helper).normalize();
+    let e1 = d.cross(helper);
+    let e1 = e1 / e1.length();
     let e2 = d.cross(e1);
     (e1, e2)
 }

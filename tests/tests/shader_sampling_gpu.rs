@@ -20,6 +20,7 @@
 mod gpu;
 
 use envmap_core::shaders::ALL_WGSL;
+use glam::DVec3;
 use gpu::{gpu, Binding, Gpu, Level};
 
 const SIZE: u32 = 64;
@@ -41,42 +42,28 @@ fn level_probe(g: &Gpu, w: u32, h: u32, levels: u32) -> wgpu::TextureView {
 }
 
 /// The camera: pixel (x, y)'s direction, unnormalised, in f64.
-fn pixel_dir(forward: [f64; 3], right: [f64; 3], up: [f64; 3], x: f64, y: f64) -> [f64; 3] {
+fn pixel_dir(forward: DVec3, right: DVec3, up: DVec3, x: f64, y: f64) -> DVec3 {
     let t = (FOV_DEG.to_radians() / 2.0).tan();
     let h = f64::from(SIZE) / 2.0;
     let sx = (x + 0.5 - h) / h * t;
     let sy = -(y + 0.5 - h) / h * t;
-    core::array::from_fn(|i| forward[i] + right[i] * sx + up[i] * sy)
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn len(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+    forward + right * sx + up * sy
 }
 
 /// The angular footprint of pixel (x, y) as the helper computes it from
 /// the derivatives (one-pixel differences of the direction), in f64.
-fn footprint(cam: ([f64; 3], [f64; 3], [f64; 3]), x: u32, y: u32) -> f64 {
+fn footprint(cam: (DVec3, DVec3, DVec3), x: u32, y: u32) -> f64 {
     let (f, r, u) = cam;
     let d = pixel_dir(f, r, u, f64::from(x), f64::from(y));
     let dx = pixel_dir(f, r, u, f64::from(x) + 1.0, f64::from(y));
     let dy = pixel_dir(f, r, u, f64::from(x), f64::from(y) + 1.0);
-    let ddx: [f64; 3] = core::array::from_fn(|i| dx[i] - d[i]);
-    let ddy: [f64; 3] = core::array::from_fn(|i| dy[i] - d[i]);
-    let l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    len(cross(d, ddx)).max(len(cross(d, ddy))) / l2
+    let (ddx, ddy) = (dx - d, dy - d);
+    d.cross(ddx).length().max(d.cross(ddy).length()) / d.length_squared()
 }
 
 struct View {
     name: &'static str,
-    cam: ([f64; 3], [f64; 3], [f64; 3]),
+    cam: (DVec3, DVec3, DVec3),
 }
 
 /// A map under test: its level probe, sampler, helpers and expectation.
@@ -90,7 +77,7 @@ struct Map<'a> {
     /// The WGSL sampling helper.
     sample_fn: &'a str,
     /// The level a pixel of direction `d` and footprint `fp` asks for.
-    expected: &'a dyn Fn([f64; 3], f64) -> f64,
+    expected: &'a dyn Fn(DVec3, f64) -> f64,
     /// The last level.
     max_level: f64,
 }
@@ -108,7 +95,7 @@ fn check_map(g: &Gpu, m: &Map<'_>, views: &[View]) {
     } = *m;
     for v in views {
         let (f, r, u) = v.cam;
-        let vec = |a: [f64; 3]| format!("vec3<f32>({:.9}, {:.9}, {:.9})", a[0], a[1], a[2]);
+        let vec = |a: DVec3| format!("vec3<f32>({:.9}, {:.9}, {:.9})", a.x, a.y, a.z);
         let src = format!(
             "{ALL_WGSL}
 @group(0) @binding(0) var t: texture_2d<f32>;
@@ -252,13 +239,21 @@ fn footprint_levels_have_no_seam_line_and_no_pole_wedges() {
         // Turned a little, so that the seam (y = 0) runs inside a 2 × 2
         // quad of pixels, where the derivatives see it, as it does in
         // general.
-        cam: ([1.0, -0.01, 0.1], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]),
+        cam: (
+            DVec3::new(1.0, -0.01, 0.1),
+            DVec3::new(0.0, -1.0, 0.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ),
     };
     let pole = View {
         name: "looking into the pole (+z)",
-        cam: ([0.013, 0.021, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        cam: (
+            DVec3::new(0.013, 0.021, 1.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ),
     };
-    let latlong_expected = |_d: [f64; 3], fp: f64| (fp * 512.0 / std::f64::consts::PI).log2();
+    let latlong_expected = |_d: DVec3, fp: f64| (fp * 512.0 / std::f64::consts::PI).log2();
     let m = Map {
         name: "latlong",
         texture: &latlong,
@@ -279,17 +274,25 @@ fn footprint_levels_have_no_seam_line_and_no_pole_wedges() {
         [
             View {
                 name: "looking into the lower pole (-z), where the folds meet",
-                cam: ([0.013, 0.021, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+                cam: (
+                    DVec3::new(0.013, 0.021, -1.0),
+                    DVec3::new(1.0, 0.0, 0.0),
+                    DVec3::new(0.0, 1.0, 0.0),
+                ),
             },
             View {
                 name: "looking along a fold (x = 0, z < 0)",
-                cam: ([0.011, 0.6, -0.8], [1.0, 0.0, 0.0], [0.0, 0.8, 0.6]),
+                cam: (
+                    DVec3::new(0.011, 0.6, -0.8),
+                    DVec3::new(1.0, 0.0, 0.0),
+                    DVec3::new(0.0, 0.8, 0.6),
+                ),
             },
         ]
     };
-    let oct_expected = |d: [f64; 3], fp: f64| {
-        let l = len(d);
-        let p = l / (d[0].abs() + d[1].abs() + d[2].abs());
+    let oct_expected = |d: DVec3, fp: f64| {
+        let l = d.length();
+        let p = l / (d.x.abs() + d.y.abs() + d.z.abs());
         let texel = 2.0 / (1024.0 * p.powf(1.5));
         (fp / texel).log2()
     };
@@ -304,7 +307,7 @@ fn footprint_levels_have_no_seam_line_and_no_pole_wedges() {
     };
     check_map(&g, &m, &views());
     let ea_expected =
-        |_d: [f64; 3], fp: f64| (fp * 1024.0 / (4.0 * std::f64::consts::PI).sqrt()).log2();
+        |_d: DVec3, fp: f64| (fp * 1024.0 / (4.0 * std::f64::consts::PI).sqrt()).log2();
     let m = Map {
         name: "equal-area octahedral",
         texture: &oct,

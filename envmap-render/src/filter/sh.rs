@@ -168,7 +168,7 @@ use std::f64::consts::PI;
 
 use crate::par::*;
 use envmap_core::atlas::{Cell, Turn};
-use envmap_core::glam::{Mat3, Vec3};
+use envmap_core::glam::{DMat3, DVec3, Vec3};
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, ChartUv, Frame, Mapping};
 use envmap_simd::{Dir8, Exact, Mapping8, Uv8, LANES};
@@ -236,7 +236,7 @@ fn unit(d: DVec3) -> Option<DVec3> {
     if !d.is_finite() {
         return None;
     }
-    let m = d.max_abs();
+    let m = d.x.abs().max(d.y.abs()).max(d.z.abs());
     if m == 0.0 {
         return None;
     }
@@ -348,8 +348,7 @@ impl Sh9 {
     /// [`ShKind::Irradiance`]. NaN for a zero or non-finite direction.
     #[must_use]
     pub fn eval(&self, dir: Vec3) -> [f32; 3] {
-        self.eval_f64(DVec3::from_vec3(dir).to_array())
-            .map(|v| v as f32)
+        self.eval_f64(dir.as_dvec3().to_array()).map(|v| v as f32)
     }
 
     /// [`Sh9::eval`] in f64.
@@ -368,7 +367,7 @@ impl Sh9 {
     /// whatever the kind of the coefficients.
     #[must_use]
     pub fn irradiance_at(&self, dir: Vec3, scale: IrradianceScale) -> [f32; 3] {
-        let e = self.irradiance().eval_f64(DVec3::from_vec3(dir).to_array());
+        let e = self.irradiance().eval_f64(dir.as_dvec3().to_array());
         e.map(|v| (v * scale.factor()) as f32)
     }
 
@@ -388,11 +387,11 @@ impl Sh9 {
     #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
     pub(crate) fn transformed(&self, m: [[f64; 3]; 3]) -> Option<Sh9> {
-        let m = DMat3 { r: m };
+        let m = DMat3::from_cols_array_2d(&m).transpose();
         if !m.is_finite() {
             return None;
         }
-        if m.transpose().mul(m).max_abs_diff(DMat3::IDENTITY) > 1e-4 + 1e-9 {
+        if max_abs_diff(m.transpose() * m, DMat3::IDENTITY) > 1e-4 + 1e-9 {
             return None;
         }
         Some(self.apply(orthonormalize(m)?))
@@ -406,7 +405,7 @@ impl Sh9 {
         if frame == Frame::IDENTITY {
             return *self;
         }
-        match orthonormalize(DMat3::from_mat3(frame.matrix())) {
+        match orthonormalize(frame.matrix().as_dmat3()) {
             Some(m) => self.apply(m),
             // A frame is orthogonal within 10⁻⁴: never reached.
             None => Sh9 {
@@ -530,11 +529,12 @@ impl Sh9 {
         let mut out = [[0.0; 3]; 9];
         for ch in 0..3 {
             out[0][ch] = c[0][ch];
-            let a = mt.apply(DVec3::new(c[3][ch], c[1][ch], c[2][ch]));
+            let a = mt * DVec3::new(c[3][ch], c[1][ch], c[2][ch]);
             out[3][ch] = a.x;
             out[1][ch] = a.y;
             out[2][ch] = a.z;
-            let q = mt.mul(quadratic(c, ch)).mul(m).r;
+            // By rows: q[r][s] is row r, column s.
+            let q = (mt * quadratic(c, ch) * m).transpose().to_cols_array_2d();
             let sym = |r: usize, s: usize| 0.5 * (q[r][s] + q[s][r]);
             let (xx, yy, zz) = (q[0][0], q[1][1], q[2][2]);
             out[4][ch] = 2.0 * sym(0, 1) / Y2;
@@ -558,9 +558,8 @@ fn quadratic(c: &[[f64; 3]; 9], ch: usize) -> DMat3 {
     let yy = -Y20 * c6 - Y22 * c8;
     let zz = 2.0 * Y20 * c6;
     let (xy, yz, xz) = (0.5 * Y2 * c4, 0.5 * Y2 * c5, 0.5 * Y2 * c7);
-    DMat3 {
-        r: [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]],
-    }
+    // Symmetric: these rows are its columns too.
+    DMat3::from_cols_array_2d(&[[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
 }
 
 /// The orthogonal matrix nearest `m` (its polar factor), by Newton's
@@ -569,8 +568,8 @@ fn quadratic(c: &[[f64; 3]; 9], ch: usize) -> DMat3 {
 fn orthonormalize(m: DMat3) -> Option<DMat3> {
     let mut x = m;
     for _ in 0..40 {
-        let next = x.plus(x.inverse().transpose()).scaled(0.5);
-        let step = next.max_abs_diff(x);
+        let next = (x + inverse_by_cofactors(x).transpose()) * 0.5;
+        let step = max_abs_diff(next, x);
         x = next;
         if !x.is_finite() {
             return None;
@@ -685,7 +684,7 @@ impl Quadric {
     }
 
     fn value(&self, n: DVec3) -> f64 {
-        self.c + self.b.dot(n) + n.dot(self.q.apply(n))
+        self.c + self.b.dot(n) + n.dot(self.q * n)
     }
 
     /// The minimum over the sphere and where it is: the lowest of
@@ -717,19 +716,27 @@ impl Quadric {
     /// Hessian is not positive definite), with backtracking.
     fn refine(&self, mut n: DVec3) -> (f64, DVec3) {
         let mut f = self.value(n);
-        let scale = self.b.length() + 2.0 * self.q.r.iter().flatten().map(|v| v.abs()).sum::<f64>();
+        // |q| summed by rows.
+        let q_abs = self
+            .q
+            .transpose()
+            .to_cols_array()
+            .iter()
+            .map(|v| v.abs())
+            .sum::<f64>();
+        let scale = self.b.length() + 2.0 * q_abs;
         if scale.is_nan() || scale <= 0.0 || !f.is_finite() {
             return (f, n);
         }
-        let q2 = self.q.scaled(2.0);
+        let q2 = self.q * 2.0;
         for _ in 0..100 {
-            let g = self.b + q2.apply(n);
+            let g = self.b + q2 * n;
             let gn = g.dot(n);
-            let (t1, t2) = n.orthonormal_pair();
+            let (t1, t2) = orthonormal_pair(n);
             let (g1, g2) = (t1.dot(g), t2.dot(g));
-            let h11 = t1.dot(q2.apply(t1)) - gn;
-            let h22 = t2.dot(q2.apply(t2)) - gn;
-            let h12 = t1.dot(q2.apply(t2));
+            let h11 = t1.dot(q2 * t1) - gn;
+            let h22 = t2.dot(q2 * t2) - gn;
+            let h12 = t1.dot(q2 * t2);
             let det = h11 * h22 - h12 * h12;
             let (mut s1, mut s2) = if h11 > 0.0 && det > 0.0 {
                 (-(h22 * g1 - h12 * g2) / det, -(h11 * g2 - h12 * g1) / det)
@@ -746,7 +753,8 @@ impl Quadric {
             }
             let mut moved = false;
             for _ in 0..50 {
-                let m = (n + t1 * s1 + t2 * s2).normalize();
+                let m = n + t1 * s1 + t2 * s2;
+                let m = m / m.length();
                 let fm = self.value(m);
                 if fm < f {
                     (n, f) = (m, fm);
@@ -762,6 +770,15 @@ impl Quadric {
         }
         (f, n)
     }
+}
+
+/// Two unit vectors perpendicular to the unit `n` and to each other (not
+/// glam's `any_orthonormal_pair`, which builds another pair).
+fn orthonormal_pair(n: DVec3) -> (DVec3, DVec3) {
+    let a = if n.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
+    let t1 = n.cross(a);
+    let t1 = t1 / t1.length();
+    (t1, n.cross(t1))
 }
 
 // ---------------------------------------------------------------------------
@@ -1174,7 +1191,7 @@ fn careful_row(
             continue;
         }
         let c = ChartUv::new(chart, texel_center(i, cw), texel_center(j, ch));
-        let Some(d) = mapping.inverse(c).and_then(|d| unit(DVec3::from_vec3(d))) else {
+        let Some(d) = mapping.inverse(c).and_then(|d| unit(d.as_dvec3())) else {
             continue;
         };
         let p = poly(d);
@@ -1413,9 +1430,8 @@ type Source = [f32; 8];
 /// Texels of a level with nonzero weight and radiance, as [`Source`]s in
 /// the axes of `out_frame`, and the count of non-finite ones.
 fn sources(level: &EnvImage, out_frame: Frame) -> (Vec<Source>, u64) {
-    let to_out = DMat3::from_mat3(out_frame.matrix())
-        .transpose()
-        .mul(DMat3::from_mat3(level.representation().frame.matrix()));
+    let to_out = out_frame.matrix().as_dmat3().transpose()
+        * level.representation().frame.matrix().as_dmat3();
     let mapping = level.mapping();
     let (cw, ch) = level.cell_size();
     let weights = TexelWeights::new(mapping, cw, ch);
@@ -1443,10 +1459,7 @@ fn sources(level: &EnvImage, out_frame: Frame) -> (Vec<Source>, u64) {
                     continue;
                 }
                 let c = ChartUv::new(chart, texel_center(i, cw), texel_center(j, ch));
-                let Some(d) = mapping
-                    .inverse(c)
-                    .and_then(|d| unit(to_out.apply(DVec3::from_vec3(d))))
-                else {
+                let Some(d) = mapping.inverse(c).and_then(|d| unit(to_out * d.as_dvec3())) else {
                     continue;
                 };
                 let lw = l.map(|v| (f64::from(v) * wt) as f32);
@@ -1611,151 +1624,36 @@ pub(crate) fn irradiance_map_exact(
 }
 
 // ---------------------------------------------------------------------------
-// f64 vectors and matrices (the workspace's glam has no f64 types)
+// f64 matrix steps glam computes otherwise
 // ---------------------------------------------------------------------------
 
-/// A vector in f64.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct DVec3 {
-    x: f64,
-    y: f64,
-    z: f64,
+/// The largest |a − b| over the entries, by rows; NaN differences are
+/// passed over (glam's `abs_diff_eq` only compares with a bound, and fails
+/// on NaN).
+fn max_abs_diff(a: DMat3, b: DMat3) -> f64 {
+    (a - b)
+        .transpose()
+        .to_cols_array()
+        .iter()
+        .fold(0.0, |m, d| m.max(d.abs()))
 }
 
-impl DVec3 {
-    const Z: DVec3 = DVec3::new(0.0, 0.0, 1.0);
-    const fn new(x: f64, y: f64, z: f64) -> Self {
-        Self { x, y, z }
-    }
-    fn from_array(a: [f64; 3]) -> Self {
-        Self::new(a[0], a[1], a[2])
-    }
-    fn from_vec3(v: Vec3) -> Self {
-        Self::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
-    }
-    fn to_array(self) -> [f64; 3] {
-        [self.x, self.y, self.z]
-    }
-    fn dot(self, o: Self) -> f64 {
-        self.x * o.x + self.y * o.y + self.z * o.z
-    }
-    fn length(self) -> f64 {
-        self.dot(self).sqrt()
-    }
-    fn normalize(self) -> Self {
-        self / self.length()
-    }
-    fn is_finite(self) -> bool {
-        self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
-    }
-    fn max_abs(self) -> f64 {
-        self.x.abs().max(self.y.abs()).max(self.z.abs())
-    }
-    fn cross(self, o: Self) -> Self {
-        Self::new(
-            self.y * o.z - self.z * o.y,
-            self.z * o.x - self.x * o.z,
-            self.x * o.y - self.y * o.x,
-        )
-    }
-    /// Two unit vectors perpendicular to the unit `self` and to each other.
-    fn orthonormal_pair(self) -> (Self, Self) {
-        let a = if self.x.abs() < 0.6 {
-            Self::new(1.0, 0.0, 0.0)
-        } else {
-            Self::new(0.0, 1.0, 0.0)
-        };
-        let t1 = self.cross(a).normalize();
-        (t1, self.cross(t1))
-    }
-}
-
-impl core::ops::Add for DVec3 {
-    type Output = DVec3;
-    fn add(self, o: DVec3) -> DVec3 {
-        DVec3::new(self.x + o.x, self.y + o.y, self.z + o.z)
-    }
-}
-
-impl core::ops::Mul<f64> for DVec3 {
-    type Output = DVec3;
-    fn mul(self, k: f64) -> DVec3 {
-        DVec3::new(self.x * k, self.y * k, self.z * k)
-    }
-}
-
-impl core::ops::Div<f64> for DVec3 {
-    type Output = DVec3;
-    fn div(self, k: f64) -> DVec3 {
-        DVec3::new(self.x / k, self.y / k, self.z / k)
-    }
-}
-
-/// A 3 × 3 matrix in f64, by rows: `m.r[i][j]` is row i, column j.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct DMat3 {
-    r: [[f64; 3]; 3],
-}
-
-impl DMat3 {
-    #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
-    const IDENTITY: DMat3 = DMat3 {
-        r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+/// The inverse by cofactors, each divided by the determinant (non-finite
+/// for a singular matrix). glam's `inverse` multiplies by the determinant's
+/// reciprocal instead, which rounds differently.
+fn inverse_by_cofactors(m: DMat3) -> DMat3 {
+    // By rows: m[i][j] is row i, column j.
+    let m = m.transpose().to_cols_array_2d();
+    let cof = |i: usize, j: usize| {
+        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+        let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+        m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1]
     };
-    fn from_mat3(m: Mat3) -> Self {
-        let c = [m.x_axis, m.y_axis, m.z_axis];
-        Self {
-            r: core::array::from_fn(|i| core::array::from_fn(|j| f64::from(c[j][i]))),
-        }
-    }
-    fn transpose(self) -> Self {
-        Self {
-            r: core::array::from_fn(|i| core::array::from_fn(|j| self.r[j][i])),
-        }
-    }
-    fn mul(self, o: Self) -> Self {
-        Self {
-            r: core::array::from_fn(|i| {
-                core::array::from_fn(|j| (0..3).map(|k| self.r[i][k] * o.r[k][j]).sum())
-            }),
-        }
-    }
-    fn apply(self, v: DVec3) -> DVec3 {
-        let a = v.to_array();
-        let row = |i: usize| (0..3).map(|k| self.r[i][k] * a[k]).sum();
-        DVec3::new(row(0), row(1), row(2))
-    }
-    fn is_finite(self) -> bool {
-        self.r.iter().flatten().all(|v| v.is_finite())
-    }
-    fn max_abs_diff(self, o: Self) -> f64 {
-        (0..9).fold(0.0, |a, k| {
-            a.max((self.r[k / 3][k % 3] - o.r[k / 3][k % 3]).abs())
-        })
-    }
-    fn scaled(self, k: f64) -> Self {
-        Self {
-            r: self.r.map(|row| row.map(|v| v * k)),
-        }
-    }
-    fn plus(self, o: Self) -> Self {
-        Self {
-            r: core::array::from_fn(|i| core::array::from_fn(|j| self.r[i][j] + o.r[i][j])),
-        }
-    }
-    /// The inverse by cofactors (non-finite for a singular matrix).
-    fn inverse(self) -> Self {
-        let m = &self.r;
-        let cof = |i: usize, j: usize| {
-            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
-            m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1]
-        };
-        let det = m[0][0] * cof(0, 0) + m[0][1] * cof(0, 1) + m[0][2] * cof(0, 2);
-        Self {
-            r: core::array::from_fn(|i| core::array::from_fn(|j| cof(j, i) / det)),
-        }
-    }
+    let det = m[0][0] * cof(0, 0) + m[0][1] * cof(0, 1) + m[0][2] * cof(0, 2);
+    // Column j of the inverse: row j's cofactors.
+    DMat3::from_cols_array_2d(&core::array::from_fn(|j| {
+        core::array::from_fn(|i| cof(j, i) / det)
+    }))
 }
 
 #[cfg(test)]
@@ -1772,7 +1670,7 @@ mod tests {
         let m = img.mapping();
         let (cw, ch) = img.cell_size();
         let w = TexelWeights::new(m, cw, ch);
-        let f = DMat3::from_mat3(img.representation().frame.matrix());
+        let f = img.representation().frame.matrix().as_dmat3();
         let mut raw = [[0.0f64; 3]; 9];
         for chart in 0..m.chart_count() {
             for j in 0..ch {
@@ -1788,7 +1686,7 @@ mod tests {
                     if wt == 0.0 || !l.iter().all(|v| v.is_finite()) {
                         continue;
                     }
-                    let b = basis(f.apply(DVec3::from_vec3(d)).to_array());
+                    let b = basis((f * d.as_dvec3()).to_array());
                     for k in 0..9 {
                         for c in 0..3 {
                             raw[k][c] += f64::from(l[c]) * wt * b[k];
@@ -1861,7 +1759,7 @@ mod tests {
         let mut worst_off = 0.0f64;
         for i in 0..9 {
             let img = fill(r, 4 * 96, 3 * 96, |d| {
-                let b = basis(DVec3::from_vec3(d).to_array())[i] as f32;
+                let b = basis(d.as_dvec3().to_array())[i] as f32;
                 [b, 0.0, 0.0]
             })
             .unwrap();
@@ -2139,24 +2037,18 @@ mod tests {
     #[test]
     fn rotations_and_reflections_are_exact() {
         let q = Quat::from_axis_angle(Vec3::new(0.3, -0.7, 0.2).normalize(), 2.1);
-        let rot = DMat3::from_mat3(envmap_core::glam::Mat3::from_quat(q));
+        let rot = envmap_core::glam::Mat3::from_quat(q).as_dmat3();
         let rot = orthonormalize(rot).unwrap();
-        let mirror = DMat3 {
-            r: [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-        };
+        let mirror = DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0));
         let mut worst_err = 0.0f64;
-        for (k, m) in [
-            rot,
-            mirror.mul(rot),
-            DMat3::from_mat3(Frame::Y_UP_LH.matrix()),
-        ]
-        .into_iter()
-        .enumerate()
+        for (k, m) in [rot, mirror * rot, Frame::Y_UP_LH.matrix().as_dmat3()]
+            .into_iter()
+            .enumerate()
         {
             let sh = random_sh(k as u64 + 1);
-            let g = sh.transformed(m.r).unwrap();
+            let g = sh.transformed(m.transpose().to_cols_array_2d()).unwrap();
             for d in dirs(500) {
-                let md = m.apply(DVec3::from_array(d)).to_array();
+                let md = (m * DVec3::from_array(d)).to_array();
                 let (a, b) = (g.eval_f64(d), sh.eval_f64(md));
                 for c in 0..3 {
                     worst_err = worst_err.max((a[c] - b[c]).abs());
@@ -2217,7 +2109,7 @@ mod tests {
             ];
             let n = Vec3::new(x as f32, y as f32, z as f32);
             let canon = Frame::Y_UP_RH.to_canonical(n);
-            let want = sh.irradiance().eval_f64(DVec3::from_vec3(canon).to_array());
+            let want = sh.irradiance().eval_f64(canon.as_dvec3().to_array());
             for c in 0..3 {
                 let got: f64 = (0..9).map(|i| f[i][c] * terms[i]).sum();
                 worst_err = worst_err.max((got - want[c] / PI).abs());

@@ -5,10 +5,8 @@ use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
-use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
-
 use crate::error::{Error, Result};
-use envmap_core::glam::Vec3;
+use envmap_core::glam::{DVec3, Vec3};
 
 /// The Utah teapot's patches in the `bpt` text format (public domain).
 const TEAPOT_BPT: &str = include_str!("../../data/teapot.bpt");
@@ -366,7 +364,8 @@ fn patch_normal(patch: &BezierPatch, u: f64, v: f64) -> DVec3 {
     for step in [0.0, 1e-4, 1e-3, 1e-2, 1e-1] {
         let n = raw_normal(patch, u + (0.5 - u) * step, v + (0.5 - v) * step);
         if n.length_squared() > tiny * tiny && n.is_finite() {
-            return n.normalize();
+            // Divided by the length, as in `try_normalize`.
+            return n / n.length();
         }
     }
     DVec3::Z
@@ -419,12 +418,13 @@ fn outward_flips(patches: &[BezierPatch]) -> Vec<bool> {
             for (i, j) in [(2, 3), (4, 4), (5, 2), (3, 6), (6, 5)] {
                 let tri = [at(i, j), at(i + 1, j), at(i + 1, j + 1)];
                 let face = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
-                let Some(normal) = face.try_normalize() else {
+                let Some(normal) = try_normalize(face) else {
                     continue;
                 };
                 let origin = (tri[0] + tri[1] + tri[2]) / 3.0;
                 for tilt in tilts {
-                    let dir = (normal + tilt).normalize();
+                    let dir = normal + tilt;
+                    let dir = dir / dir.length();
                     let hits = soup
                         .iter()
                         .filter(|t| **t != tri && ray_hits(origin, dir, t))
@@ -461,105 +461,13 @@ fn ray_hits(origin: DVec3, dir: DVec3, tri: &[DVec3; 3]) -> bool {
     e2.dot(q) * inv > 1e-9
 }
 
-/// A vector in f64, for evaluating patches precisely enough to weld.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct DVec3([f64; 3]);
-
-impl DVec3 {
-    const ZERO: DVec3 = DVec3([0.0; 3]);
-    const Z: DVec3 = DVec3([0.0, 0.0, 1.0]);
-
-    fn new(x: f64, y: f64, z: f64) -> DVec3 {
-        DVec3([x, y, z])
-    }
-
-    fn dot(self, o: DVec3) -> f64 {
-        self.0[0] * o.0[0] + self.0[1] * o.0[1] + self.0[2] * o.0[2]
-    }
-
-    fn cross(self, o: DVec3) -> DVec3 {
-        let ([ax, ay, az], [bx, by, bz]) = (self.0, o.0);
-        DVec3([ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx])
-    }
-
-    fn length_squared(self) -> f64 {
-        self.dot(self)
-    }
-
-    fn length(self) -> f64 {
-        self.length_squared().sqrt()
-    }
-
-    fn is_finite(self) -> bool {
-        self.0.iter().all(|c| c.is_finite())
-    }
-
-    fn normalize(self) -> DVec3 {
-        self / self.length()
-    }
-
-    fn try_normalize(self) -> Option<DVec3> {
-        let n = self.normalize();
-        (self.length_squared() > 0.0 && n.is_finite()).then_some(n)
-    }
-
-    fn as_vec3(self) -> Vec3 {
-        Vec3::new(self.0[0] as f32, self.0[1] as f32, self.0[2] as f32)
-    }
-}
-
-impl From<Vec3> for DVec3 {
-    fn from(v: Vec3) -> DVec3 {
-        DVec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
-    }
-}
-
-impl Add for DVec3 {
-    type Output = DVec3;
-    fn add(self, o: DVec3) -> DVec3 {
-        DVec3([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2]])
-    }
-}
-
-impl AddAssign for DVec3 {
-    fn add_assign(&mut self, o: DVec3) {
-        *self = *self + o;
-    }
-}
-
-impl Sub for DVec3 {
-    type Output = DVec3;
-    fn sub(self, o: DVec3) -> DVec3 {
-        self + -o
-    }
-}
-
-impl Neg for DVec3 {
-    type Output = DVec3;
-    fn neg(self) -> DVec3 {
-        DVec3(self.0.map(|c| -c))
-    }
-}
-
-impl Mul<DVec3> for f64 {
-    type Output = DVec3;
-    fn mul(self, v: DVec3) -> DVec3 {
-        DVec3(v.0.map(|c| self * c))
-    }
-}
-
-impl Mul<f64> for DVec3 {
-    type Output = DVec3;
-    fn mul(self, s: f64) -> DVec3 {
-        s * self
-    }
-}
-
-impl Div<f64> for DVec3 {
-    type Output = DVec3;
-    fn div(self, s: f64) -> DVec3 {
-        DVec3(self.0.map(|c| c / s))
-    }
+/// `v / |v|`, or `None` when `v` is zero or that is not finite. Each
+/// component is divided by the length (glam's `try_normalize` multiplies by
+/// its reciprocal, which can differ in the last bit and move the teapot's
+/// normals).
+fn try_normalize(v: DVec3) -> Option<DVec3> {
+    let n = v / v.length();
+    (v.length_squared() > 0.0 && n.is_finite()).then_some(n)
 }
 
 /// Merges points that quantise to the same [`WELD_TOLERANCE`] cell, summing
@@ -574,7 +482,7 @@ struct Welder {
 
 impl Welder {
     fn add(&mut self, p: DVec3, normal: DVec3) -> u32 {
-        let key = (p / WELD_TOLERANCE).0.map(|c| c.round() as i64);
+        let key = (p / WELD_TOLERANCE).to_array().map(|c| c.round() as i64);
         let next = self.positions.len() as u32;
         let id = *self.index.entry(key).or_insert(next);
         if id == next {
@@ -591,7 +499,7 @@ impl Welder {
             .normal_sums
             .iter()
             .zip(&self.first_normals)
-            .map(|(sum, first)| sum.try_normalize().unwrap_or(*first).as_vec3())
+            .map(|(sum, first)| try_normalize(*sum).unwrap_or(*first).as_vec3())
             .collect();
         let positions = self.positions.iter().map(|p| p.as_vec3()).collect();
         (positions, normals)
