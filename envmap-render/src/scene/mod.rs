@@ -209,14 +209,20 @@
 
 pub(crate) mod environments;
 pub(crate) mod lit;
+pub(crate) mod lookups;
 pub(crate) mod material;
 pub(crate) mod mesh;
+pub(crate) mod mip;
 pub(crate) mod procedural;
+pub(crate) mod raster;
 pub(crate) mod renderer;
 
 pub use environments::*;
 pub use lit::*;
+#[cfg(feature = "instruments")]
+pub use lookups::*;
 pub use material::*;
 pub use mesh::*;
+pub use mip::*;
 pub use procedural::*;
 pub use renderer::*;
