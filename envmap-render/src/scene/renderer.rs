@@ -184,7 +184,7 @@ pub enum Shading<'a> {
         /// as [`Shading::SplitSum`]'s `dominant`.
         dominant: bool,
     },
-    /// The rendering integral of the environment given to [`render`]
+    /// The rendering integral of the environment given to [`Renderer::render`]
     /// against the material's full BRDF, by Monte Carlo per pixel (looked
     /// up exactly for an analytic environment, bilinear in the map
     /// otherwise): cosine, GGX and light sampling (by the environment's
@@ -196,7 +196,7 @@ pub enum Shading<'a> {
         /// Samples per pixel and per strategy (cosine, GGX, light).
         samples: u32,
         /// Light sampling by the environment's luminance: the table of the
-        /// environment given to [`render`] (`light_table`, made once and
+        /// environment given to [`Renderer::render`] (`light_table`, made once and
         /// shared by every render in it); what finds a small bright sun. A
         /// smooth environment needs only the other two strategies (`None`).
         light: Option<&'a EnvSampling>,

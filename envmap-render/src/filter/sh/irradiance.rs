@@ -187,7 +187,7 @@ pub(crate) fn irradiance_cube(sh: &Sh9, scale: IrradianceScale) -> Result<EnvIma
 /// Which pyramid level `irradiance_map_exact` convolves.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ExactLevel {
-    /// The level the [module docs](self)' rule picks: finer levels until
+    /// The level the [module docs](super)' rule picks: finer levels until
     /// two successive ones differ by at most `tolerance` (relative RMS).
     Auto {
         /// The largest relative RMS difference accepted.
@@ -378,7 +378,7 @@ pub(super) fn texels(level: &EnvImage) -> u64 {
 /// E(n) = Σ_j L_j·max(n·l_j, 0)·Ω_j over the level's texels (direction
 /// l_j at the texel centre, Ω_j its exact solid angle), stored as E or E/π
 /// as `scale` says; eight output texels at a time, rows in parallel. The
-/// level is chosen as `level` says (see the [module docs](self)).
+/// level is chosen as `level` says (see the [module docs](super)).
 ///
 /// # Errors
 ///

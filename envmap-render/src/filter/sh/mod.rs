@@ -41,7 +41,7 @@
 //! centre, Ω the texel's exact solid angle (`TexelWeights`; texels of a
 //! disk whose centre is outside it weigh 0). The sum is made in the map's own
 //! axes and then taken to canonical axes through the image's frame
-//! ([`Representation::frame`], exactly: see Frames). Texels go eight at a time:
+//! ([`Representation::frame`](crate::image::Representation::frame), exactly: see Frames). Texels go eight at a time:
 //!
 //! * a latlong (one chart, not turned): every basis polynomial is a function
 //!   of θ times one of 1, cos φ, sin φ, cos 2φ, sin 2φ, so each row needs five
