@@ -8,9 +8,13 @@
 Walks the items reachable from the crate root: public functions and
 methods (inherent impls and traits; trait impls not counted), public
 modules (the root included; a private module whose items a glob
-re-exports is not one), re-exports (`pub use` items; a glob counts once,
-and the re-exports inside the module it brings in count too), public struct fields, and modules reachable by two paths. Exits 1
-when a count is above its --max, or any module has two paths.
+re-exports is not one), re-exports (`pub use` items: named ones, and
+globs of public modules, the re-exports inside the module a glob brings
+in counted too), public struct fields, and modules reachable by two
+paths. A glob of a private module (`pub use io::*;`: a module's file whose
+items have no other path) gives no item a second name: it is counted
+apart, as a file, not as a re-export. Exits 1 when a count is above its
+--max, or any module has two paths.
 """
 import json, sys
 path = sys.argv[1]
@@ -20,7 +24,14 @@ crate_id = idx[str(root)]["crate_id"] if str(root) in idx else 0
 def inner_kind(it):
     return next(iter(it["inner"])) if isinstance(it["inner"], dict) else it["inner"]
 # walk reachable public items from the root module
-fns = set(); mods = []; reexports = []; fields = set(); seen_mods = {}
+fns = set(); mods = []; reexports = []; files = []; fields = set(); seen_mods = {}
+def private_glob(c):
+    """Whether `pub use` item `c` is a glob of a private module of this crate."""
+    u = c["inner"]["use"]; t = idx.get(str(u.get("id")))
+    return bool(u.get("is_glob")) and t is not None and inner_kind(t) == "module" \
+        and t.get("crate_id", 0) == 0 and t["visibility"] != "public"
+def note_use(path, c):
+    (files if private_glob(c) else reexports).append(path + "::" + c["inner"]["use"]["name"])
 def visit_module(mid, path):
     it = idx[str(mid)]
     if mid in seen_mods:
@@ -37,7 +48,7 @@ def visit_module(mid, path):
             visit_module(child, path + "::" + c["name"])
         elif k == "use":
             if c["visibility"] != "public": continue
-            reexports.append(path + "::" + (c["inner"]["use"]["name"]))
+            note_use(path, c)
             tgt = c["inner"]["use"].get("id")
             if tgt is not None and str(tgt) in idx:
                 t = idx[str(tgt)]
@@ -63,7 +74,7 @@ def visit_glob(mid, path):
         if k == "module":
             visit_module(child, path + "::" + c["name"])
         elif k == "use":
-            reexports.append(path + "::" + c["inner"]["use"]["name"])
+            note_use(path, c)
             tgt = c["inner"]["use"].get("id")
             if tgt is not None and str(tgt) in idx:
                 t = idx[str(tgt)]
@@ -104,12 +115,14 @@ twice = {m: p for m, p in seen_mods.items() if len(p) > 1}
 print(f"public functions and methods: {len(fns)}")
 print(f"public modules: {len(mods)}")
 print(f"re-exports: {len(reexports)}")
+print(f"private files re-exported by glob: {len(files)}")
 print(f"public fields: {len(fields)}")
 print(f"modules reachable by two paths: {len(twice)}")
 for m,p in twice.items(): print("   ", " = ".join(p))
 if "-v" in sys.argv:
     for m in mods: print("mod", m)
     for r in reexports: print("use", r)
+    for r in files: print("file", r)
 if "-f" in sys.argv:
     for f in sorted(fns, key=lambda i: str(idx[str(i)].get("span",{}).get("filename",""))):
         it = idx[str(f)]

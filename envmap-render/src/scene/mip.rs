@@ -111,8 +111,9 @@ impl MipLevels {
     }
 
     /// Whether these are levels of a map of `map`'s mapping and size.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]
-    pub fn fits(&self, map: &EnvImage) -> bool {
+    pub(crate) fn fits(&self, map: &EnvImage) -> bool {
         map.mapping() == self.mapping && map.cell_size() == self.cell
     }
 }
