@@ -20,7 +20,7 @@ use envmap_render::image::{EnvImage, RgbImage};
 use envmap_render::image::{Representation, TexelFormat};
 use envmap_render::scene::fill;
 use envmap_render::scene::Mesh as EnvMesh;
-use envmap_render::scene::{Renderer, Camera, EnvSource, RenderOptions};
+use envmap_render::scene::{Camera, EnvSource, RenderOptions, Renderer};
 
 /// Bevy's world (GL: y up, right-handed) in envmap's canonical axes (z up).
 fn to_canonical(v: Vec3) -> envmap_core::glam::Vec3 {
@@ -77,7 +77,9 @@ fn envmap_background(env: &EnvImage, view: View, size: u32) -> RgbImage {
         o.height = size;
         o
     };
-    Renderer::new().render(&sphere, EnvSource::Map(env), &cam, &opts).expect("envmap render")
+    Renderer::new()
+        .render(&sphere, EnvSource::Map(env), &cam, &opts)
+        .expect("envmap render")
 }
 
 /// Bevy's skybox of `images` seen by `view`.
@@ -430,7 +432,9 @@ fn lit_spheres_agree_with_envmaps_split_sum() {
                 };
                 o
             };
-            let want = Renderer::new().render(&sphere, EnvSource::Map(&env), &cam, &opts).expect("envmap");
+            let want = Renderer::new()
+                .render(&sphere, EnvSource::Map(&env), &cam, &opts)
+                .expect("envmap");
             let images =
                 EnvironmentImages::from_bake(&baked, TexelFormat::Rgba16f).expect("images");
             let got = bevy_sphere(
@@ -653,14 +657,15 @@ impl ModelReference {
             o
         };
         let sphere = EnvMesh::sphere(1.0, 128, 64);
-        Renderer::new().render(
-            &sphere,
-            EnvSource::Map(&self.src),
-            &envmap_camera(SPHERE_VIEW),
-            &opts,
-        )
-        .expect("reference")
-        .pixels
+        Renderer::new()
+            .render(
+                &sphere,
+                EnvSource::Map(&self.src),
+                &envmap_camera(SPHERE_VIEW),
+                &opts,
+            )
+            .expect("reference")
+            .pixels
     }
 
     /// Bevy's model for a metal (`metallic` 1) or a dielectric (0) of
