@@ -7,6 +7,7 @@ use envmap_core::{reflect_view, AnyMapping, ChartUv};
 
 use crate::error::{Error, Result};
 use crate::filter::bake::render_chain;
+use crate::filter::brdf::alpha_of_lobe_width;
 use crate::filter::dfg::{DfgGrid, DfgTable};
 use crate::filter::pyramid::{Bordered, Level};
 use crate::filter::sample::{Filter, Sampler};
@@ -404,11 +405,10 @@ fn texel_angle(level: &EnvImage) -> f64 {
     }
 }
 
-/// The width of a map's texels in α units: the α whose GGX lobe
-/// ([`lobe_width`]) is as wide as a texel of `level` at its chart's centre.
+/// The width of a map's texels in α units: the α whose GGX lobe is as
+/// wide as a texel of `level` at its chart's centre.
 fn texel_alpha(level: &EnvImage) -> f32 {
-    // lobe_width(α) = 2·atan(α·√(√2 − 1)).
-    ((texel_angle(level) / 2.0).tan() / (core::f64::consts::SQRT_2 - 1.0).sqrt()) as f32
+    alpha_of_lobe_width(texel_angle(level)) as f32
 }
 
 /// N·V as the split sum reads the DFG at it: clamped to [10⁻⁴, 1].

@@ -55,7 +55,8 @@ impl NearField {
     /// The quadrature at roughness `r` below the level at `r1`, over a
     /// source whose texels span `texel` radians.
     pub(super) fn new(r: f32, r1: f32, texel: f64) -> Self {
-        use crate::filter::specular::{ggx_d, lobe_normalizer};
+        use crate::filter::brdf::ggx_d;
+        use crate::filter::specular::lobe_normalizer;
         let (a, a1) = (f64::from(r * r).max(1e-8), f64::from(r1 * r1));
         let s = (a / a1) * (a / a1);
         // w(θ) = D((1 + c)/2)·c, with (n·h)² = cos²(θ/2).

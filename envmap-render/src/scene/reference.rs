@@ -6,6 +6,7 @@
 use envmap_core::glam::Vec3;
 use envmap_core::reflect_view;
 
+use crate::filter::brdf::{ggx_d_f32, schlick_f32, smith_visibility_f32};
 use crate::filter::dfg::dfg_integral;
 use crate::filter::oracle::Oracle;
 use crate::par::*;
@@ -70,12 +71,6 @@ pub(crate) fn exact_split_sum(
         .collect()
 }
 
-/// Schlick's Fresnel with reflectance `f0` at normal incidence.
-fn schlick(f0: [f32; 3], cos: f32) -> [f32; 3] {
-    let k = (1.0 - cos.clamp(0.0, 1.0)).powi(5);
-    f0.map(|f| f + (1.0 - f) * k)
-}
-
 /// A small deterministic generator (PCG32, O'Neill 2014) for the reference's
 /// per-pixel sample sequences.
 #[cfg_attr(feature = "instruments", visibility::make(pub))]
@@ -109,19 +104,6 @@ impl Pcg32 {
     /// A uniform value in [0, 1).
     pub(crate) fn next_f32(&mut self) -> f32 {
         (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
-    }
-}
-
-/// The height-correlated Smith visibility V = G₂ / (4 N·L N·V) for GGX
-/// (Heitz 2014; glTF 2.0 Appendix B).
-fn smith_visibility(nl: f32, nv: f32, alpha2: f32) -> f32 {
-    let gv = nl * (nv * nv * (1.0 - alpha2) + alpha2).sqrt();
-    let gl = nv * (nl * nl * (1.0 - alpha2) + alpha2).sqrt();
-    let d = gv + gl;
-    if d > 0.0 {
-        0.5 / d
-    } else {
-        0.0
     }
 }
 
@@ -336,7 +318,7 @@ pub(crate) fn reference(
     let mut sum = [0f64; 3];
     if !glossy {
         let li = radiance(reflect_view(n, v));
-        let f = schlick(f0, nv);
+        let f = f0.map(|f| schlick_f32(f, nv));
         for c in 0..3 {
             sum[c] += f64::from(li[c] * f[c]);
         }
@@ -344,10 +326,6 @@ pub(crate) fn reference(
             return sum.map(|s| s as f32);
         }
     }
-    let ggx_d = |nh: f32| {
-        let k = nh * nh * (alpha2 - 1.0) + 1.0;
-        alpha2 * inv_pi / (k * k).max(1e-30)
-    };
     // The BRDF times N·L, and every strategy's density, at direction l.
     let eval = |l: Vec3| -> Option<([f32; 3], f32)> {
         let nl = n.dot(l);
@@ -366,10 +344,10 @@ pub(crate) fn reference(
             let h = (l + v).normalize_or_zero();
             let (nh, vh) = (n.dot(h), v.dot(h));
             if nh > 0.0 && vh > 0.0 {
-                let d = ggx_d(nh);
+                let d = ggx_d_f32(nh * nh, alpha);
                 pdf += d * nh / (4.0 * vh);
-                let k = d * smith_visibility(nl, nv, alpha2) * nl;
-                let fr = schlick(f0, vh);
+                let k = d * smith_visibility_f32(nl, nv, alpha2) * nl;
+                let fr = f0.map(|f| schlick_f32(f, vh));
                 for c in 0..3 {
                     f[c] += fr[c] * k;
                 }
