@@ -10,6 +10,8 @@
 //! * `pyramid`: mip pyramids weighted by solid angle, and trilinear
 //!   sampling at a fractional level (`pyramid::Pyramid`,
 //!   `pyramid::Trilinear`).
+//! * `brdf`: the microfacet BRDF's formulas (GGX D, Smith visibility,
+//!   Schlick's Fresnel, the lobe's width), each defined once.
 //! * [`dfg`]: the split-sum DFG table, single and multiscatter
 //!   ([`dfg::DfgTable`], `dfg::dfg_integral`).
 //! * `oracle`: the bake's integrals from the input itself, piecewise
@@ -47,6 +49,7 @@
 //! over the sub-samples inside it).
 
 pub mod bake;
+pub(crate) mod brdf;
 pub(crate) mod bright_tree;
 pub(crate) mod conversion;
 pub mod dfg;

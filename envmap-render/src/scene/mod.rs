@@ -5,8 +5,11 @@
 //!   into any representation; the smooth test environment; PSNR.
 //! * `mesh`: the sphere, torus and Utah teapot meshes.
 //! * `material`: the glTF metallic-roughness model and its presets.
-//! * `lit`: shading with baked maps (the split sum) and the Monte Carlo
-//!   reference it approximates.
+//! * `lit`: shading with baked maps (the split sum).
+//! * `near_field`: the split sum's lobe below the chain's first level,
+//!   from the source map itself.
+//! * `reference`: what the split sum is measured against: the exact split
+//!   sum and the Monte Carlo reference.
 //! * `render`: the rasterizer, per pixel (seed `000`) and per vertex
 //!   (seed `002`).
 //!
@@ -213,8 +216,10 @@ pub(crate) mod lookups;
 pub(crate) mod material;
 pub(crate) mod mesh;
 pub(crate) mod mip;
+pub(crate) mod near_field;
 pub(crate) mod procedural;
 pub(crate) mod raster;
+pub(crate) mod reference;
 pub(crate) mod renderer;
 
 pub use environments::*;
@@ -225,4 +230,5 @@ pub use material::*;
 pub use mesh::*;
 pub use mip::*;
 pub use procedural::*;
+pub use reference::*;
 pub use renderer::*;
