@@ -7,6 +7,7 @@
 /// GGX D (Walter et al. 2007, "Microfacet Models for Refraction through
 /// Rough Surfaces", the GTR2 of Burley 2012) as a function of (n·h)², in
 /// f64: α² / (π ((n·h)²(α² − 1) + 1)²).
+#[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[inline]
 #[must_use]
 pub(crate) fn ggx_d(noh2: f64, alpha: f64) -> f64 {
@@ -52,6 +53,14 @@ pub(crate) fn smith_visibility_f32(nl: f32, nv: f32, alpha2: f32) -> f32 {
 pub(crate) fn schlick_f32(f0: f32, cos: f32) -> f32 {
     let k = (1.0 - cos.clamp(0.0, 1.0)).powi(5);
     f0 + (1.0 - f0) * k
+}
+
+/// An angular width of the GGX lobe in l (radians): twice the half angle at
+/// which D (Walter et al. 2007) falls to half its peak,
+/// 2·atan(α·√(√2 − 1)), in f64.
+#[must_use]
+pub(crate) fn lobe_width(alpha: f64) -> f64 {
+    2.0 * (alpha * (std::f64::consts::SQRT_2 - 1.0).sqrt()).atan()
 }
 
 /// The GGX α whose lobe is `width` radians wide: the inverse of the lobe

@@ -295,7 +295,7 @@ fn centre(acc: &Acc, fallback: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::filter::specular::lobe_width;
+    use crate::filter::brdf::lobe_width;
 
     /// Points scattered over the sphere (a spiral), some negative.
     fn scattered(n: usize) -> Bright {

@@ -41,7 +41,7 @@
 //!   angle ([`Mapping::solid_angle`]) and its centre's direction, m chosen so
 //!   that each part passes the same test (at most 64).
 //!
-//! s(θ) is max(θ, W) for GGX, W = `crate::filter::specular::lobe_width`
+//! s(θ) is max(θ, W) for GGX, W = the GGX lobe's width (`crate::filter::brdf::lobe_width`)
 //! (near the peak the lobe changes over its own width, in the tail w falls
 //! as θ⁻⁴, changing by a fixed fraction over a fixed fraction of θ), and 1 rad
 //! for the cosine. Texels brighter than 64 × the map's mean (by the largest
@@ -76,9 +76,9 @@ use envmap_core::texel::texel_center;
 use envmap_core::{ChartUv, Mapping};
 use glam::{DMat3, DVec3, Vec3};
 
+use crate::filter::brdf::lobe_width;
 use crate::filter::sample::{Filter, Sampler};
 use crate::filter::sh::{basis, Sh9, ShKind};
-use crate::filter::specular::lobe_width;
 use crate::filter::weights::TexelWeights;
 use crate::image::EnvImage;
 

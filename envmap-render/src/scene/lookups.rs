@@ -9,6 +9,7 @@ use wide::f32x8;
 use super::mip::*;
 use super::raster::*;
 use super::renderer::*;
+use crate::filter::brdf::schlick_f32;
 use crate::filter::pyramid::{Trilinear, TrilinearAhead};
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::filter::weights::TexelWeights;
@@ -89,8 +90,7 @@ pub(super) fn band_lookups(
                 on_object.push(j);
                 let (n, vv) = surface(mesh, hit, view);
                 if let Some(f0) = fresnel_f0 {
-                    let c = n.dot(vv).clamp(0.0, 1.0);
-                    fresnel[j] = f0 + (1.0 - f0) * (1.0 - c).powi(5);
+                    fresnel[j] = schlick_f32(f0, n.dot(vv));
                 }
                 reflect_view(n, vv)
             }

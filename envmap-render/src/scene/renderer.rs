@@ -240,12 +240,16 @@ impl core::fmt::Debug for EnvSource<'_> {
 /// frame to frame pays it once. Dropping the renderer frees it all.
 ///
 /// ```
-/// use envmap_render::scene::{environments, Camera, EnvSource, Mesh, RenderOptions, Renderer};
-/// let sky = environments::sky(64, 32);
+/// use envmap_core::AnyMapping;
+/// use envmap_render::image::Representation;
+/// use envmap_render::scene::{Builtin, Camera, EnvSource, Mesh, RenderOptions, Renderer};
+/// let sky = Builtin::Sky.image(Representation::default_for(AnyMapping::LatLong), 64, 32)?;
+/// let sphere = Mesh::sphere(1.0, 16, 8);
 /// let mut renderer = Renderer::new();
-/// let opts = RenderOptions { width: 32, height: 24, ..RenderOptions::default() };
+/// let mut opts = RenderOptions::default();
+/// (opts.width, opts.height, opts.mip) = (32, 24, true);
 /// for _frame in 0..2 {
-///     let img = renderer.render(&Mesh::sphere(8), EnvSource::Map(&sky), &Camera::default(), &opts)?;
+///     let img = renderer.render(&sphere, EnvSource::Map(&sky), &Camera::default(), &opts)?;
 ///     assert_eq!((img.width, img.height), (32, 24));
 /// }
 /// # Ok::<(), envmap_render::Error>(())

@@ -13,12 +13,13 @@ use std::borrow::Cow;
 use super::*;
 use crate::cancel;
 use crate::error::{Error, Result};
+use crate::filter::brdf::{alpha_of_lobe_width, lobe_width};
 use crate::filter::oracle::Oracle;
 use crate::filter::pyramid::{Pyramid, Trilinear};
 use crate::filter::sample::Filter;
 use crate::filter::specular::{
-    exact_level, finest_sampled_level, lobe_width, prefilter_level, split_bright, texel_pitch,
-    Bright, BrightReport, LevelJob, Method, RoughnessRule, PART,
+    exact_level, finest_sampled_level, prefilter_level, split_bright, texel_pitch, Bright,
+    BrightReport, LevelJob, Method, RoughnessRule, PART,
 };
 use crate::filter::weights::channel_energy;
 use crate::filter::{convert, ConvertOptions};
@@ -210,7 +211,7 @@ impl ChainShape {
 
 /// A chain whose levels follow their lobes: level 0 the source at `size`,
 /// then levels from roughness `first` to 1 at equal steps of at most
-/// `step` in the logarithm of the lobe's width (`specular::lobe_width`), each at
+/// `step` in the logarithm of the lobe's width (`brdf::lobe_width`), each at
 /// the smallest face whose centre texel (2·atan(1/s) for s²) is at most
 /// 1/`texels` of its lobe's width, within [`min_size`, `max_size`]. Sizes
 /// need not be powers of two: this is not a mip chain.
@@ -225,9 +226,7 @@ pub(crate) fn lobe_chain(
     texels: f64,
     min_size: u32,
 ) -> ChainShape {
-    let c = (std::f64::consts::SQRT_2 - 1.0).sqrt();
     let width = |r: f64| lobe_width(r * r);
-    let alpha_of = |w: f64| (w / 2.0).tan() / c;
     let (w0, w1) = (
         width(f64::from(first).clamp(1e-3, 1.0)).ln(),
         width(1.0).ln(),
@@ -240,7 +239,7 @@ pub(crate) fn lobe_chain(
         let r = if k == steps {
             1.0
         } else {
-            alpha_of(w).sqrt().min(1.0)
+            alpha_of_lobe_width(w).sqrt().min(1.0)
         };
         // A face of s² has a centre texel of 2·atan(1/s).
         let texel = w / texels.max(1.0);
@@ -279,7 +278,7 @@ pub(crate) fn render_chain(size: u32) -> ChainShape {
 /// The roughness of [`render_chain`]'s first level above 0 at a level 0
 /// of 256² (scaled by √(256/size) for others: 0.065 at 1024², 0.18 at
 /// 128²). Below it the renderer reads the input itself through the near
-/// field (`scene::lit`'s `NearField`), which follows the input read
+/// field (`scene::near_field`'s `NearField`), which follows the input read
 /// bilinearly; a level lower than this, baked from the input's texels,
 /// differs from that reading near a one-texel sun.
 #[cfg_attr(not(feature = "instruments"), allow(dead_code))]

@@ -57,7 +57,13 @@ use envmap_simd::{Dir8, Fine, Mapping8, Uv8, LANES};
 use wide::{f32x4, f32x8, u32x8};
 
 use crate::cancel;
+// GGX D stays reachable here, where the instruments and tests read it.
 use crate::error::{Error, Result};
+#[cfg(feature = "instruments")]
+pub use crate::filter::brdf::ggx_d;
+#[cfg(not(feature = "instruments"))]
+pub(crate) use crate::filter::brdf::ggx_d;
+use crate::filter::brdf::lobe_width;
 use crate::filter::bright_tree::BrightTree;
 use crate::filter::pyramid::{Pyramid, Trilinear};
 use crate::filter::weights::TexelWeights;
@@ -166,16 +172,6 @@ impl std::str::FromStr for RoughnessRule {
     }
 }
 
-/// GGX D as a function of (n·h)², f64.
-#[cfg_attr(feature = "instruments", visibility::make(pub))]
-#[inline]
-#[must_use]
-pub(crate) fn ggx_d(noh2: f64, alpha: f64) -> f64 {
-    let a2 = alpha * alpha;
-    let d = noh2 * (a2 - 1.0) + 1.0;
-    a2 / (std::f64::consts::PI * d * d)
-}
-
 /// Z(α) = ∫ D(h)(n·l)⁺ dl with N = V: the integral over half vectors
 /// θh ∈ [0, π/4] (where n·l = cos 2θh > 0) of D(θh)·cos 2θh·4 cos θh ·
 /// 2π sin θh dθh (dl = 4 (v·h) dh), by 8-point Gauss–Legendre on 64 panels
@@ -223,13 +219,6 @@ pub(crate) fn lobe_normalizer(alpha: f64) -> f64 {
         }
     }
     z
-}
-
-/// An angular width of the GGX lobe in l (radians): twice the half angle at
-/// which D falls to half its peak, 2·atan(α·√(√2 − 1)).
-#[must_use]
-pub(crate) fn lobe_width(alpha: f64) -> f64 {
-    2.0 * (alpha * (std::f64::consts::SQRT_2 - 1.0).sqrt()).atan()
 }
 
 /// The GGX weight w(c) = D((1 + c)/2)·c of a source direction l for eight
