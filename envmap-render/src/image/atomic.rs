@@ -154,15 +154,15 @@ impl Drop for TempFile {
 }
 
 /// A name no other process or thread is choosing at the same moment: a
-/// hash of the process, a counter and the clock under std's randomly keyed
-/// hasher, as 12 hex digits.
+/// hash of the process, the thread and the clock under std's randomly
+/// keyed hasher (whose keys differ from call to call), as 12 hex digits.
+/// A name taken anyway is found when the file is created, and another
+/// is tried.
 fn random_tag() -> String {
-    use std::hash::{BuildHasher, Hasher};
-    use std::sync::atomic::{AtomicU64, Ordering};
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    use std::hash::{BuildHasher, Hash, Hasher};
     let mut h = std::collections::hash_map::RandomState::new().build_hasher();
     h.write_u32(std::process::id());
-    h.write_u64(COUNTER.fetch_add(1, Ordering::Relaxed));
+    std::thread::current().id().hash(&mut h);
     if let Ok(t) = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH) {
         h.write_u128(t.as_nanos());
     }
