@@ -6,7 +6,7 @@ use envmap_core::glam::{Mat3, Vec3};
 use envmap_core::{reflect_view, AnyMapping, ChartUv};
 
 use crate::error::{Error, Result};
-use crate::filter::bake::render_chain;
+use crate::filter::bake::{lobe_chain, ChainShape};
 use crate::filter::brdf::alpha_of_lobe_width;
 use crate::filter::dfg::{DfgGrid, DfgTable};
 use crate::filter::pyramid::{Bordered, Level};
@@ -728,6 +728,58 @@ pub(super) fn basis(n: Vec3) -> (Vec3, Vec3) {
         Vec3::new(b, s + n.y * n.y * a, -n.y),
     )
 }
+
+/// The chain envmap's own renderer bakes ([`crate::scene::lit::LitEnvironment::bake`]):
+/// `lobe_chain` from roughness [`RENDER_FIRST_ROUGHNESS`] in steps of
+/// [`RENDER_WIDTH_STEP`], [`RENDER_TEXELS_PER_LOBE`] texels per lobe width,
+/// level 0 at `size`², the others from [`RENDER_MIN_SIZE`]² up to 1.5 ×
+/// `size` (the first few, whose lobes are narrower than 4 of level 0's
+/// texels). Below the first level the renderer reads the input itself
+/// ([`crate::scene::lit::LitEnvironment::with_source`]). Its target against
+/// the exact split sum is 2 % RMS and 0.5 % bias at every roughness from 0
+/// to 1 (`docs/design/lighting-method.md`, "How exact the lit renders are", has the
+/// measurements).
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+#[must_use]
+pub(crate) fn render_chain(size: u32) -> ChainShape {
+    let first = RENDER_FIRST_ROUGHNESS * (256.0 / size.max(1) as f32).sqrt();
+    lobe_chain(
+        size,
+        size.saturating_add(size / 2),
+        first.min(0.5),
+        RENDER_WIDTH_STEP,
+        RENDER_TEXELS_PER_LOBE,
+        RENDER_MIN_SIZE,
+    )
+}
+
+/// The roughness of [`render_chain`]'s first level above 0 at a level 0
+/// of 256² (scaled by √(256/size) for others: 0.065 at 1024², 0.18 at
+/// 128²). Below it the renderer reads the input itself through the near
+/// field (`scene::near_field`'s `NearField`), which follows the input read
+/// bilinearly; a level lower than this, baked from the input's texels,
+/// differs from that reading near a one-texel sun.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+pub(crate) const RENDER_FIRST_ROUGHNESS: f32 = 0.13;
+
+/// [`render_chain`]'s largest step in ln(lobe width) from one level to the
+/// next (the width grows by at most e^0.25 = 1.28 per level). Blended
+/// linearly in 1/α, two lobes this far apart stand for the lobe between
+/// them within about 1 % (L² over the sphere, a point light).
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+pub(crate) const RENDER_WIDTH_STEP: f64 = 0.25;
+
+/// Texels of [`render_chain`]'s levels per lobe width (at a face's
+/// centre), up to 1.5 × level 0's size: a level read at its own roughness
+/// is then within 0.4 % of the exact split sum, and more or fewer texels
+/// per lobe hardly change the worst error between levels.
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+pub(crate) const RENDER_TEXELS_PER_LOBE: f64 = 4.0;
+
+/// [`render_chain`]'s smallest face: roughness 1's level holds its lobe
+/// (a 2² level reads it several per cent too dark or bright).
+#[cfg_attr(not(feature = "instruments"), allow(dead_code))]
+pub(crate) const RENDER_MIN_SIZE: u32 = 16;
 
 #[cfg(test)]
 mod tests {
