@@ -315,7 +315,7 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         let t2 = Instant::now();
         let written = if is_texture {
             let levels = if a.mips {
-                Pyramid::new(out, 1)?.levels().to_vec()
+                Pyramid::new(out, 1)?.into_levels()
             } else {
                 vec![out]
             };

@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::filter::bake::{lobe_chain, ChainShape};
 use crate::filter::brdf::alpha_of_lobe_width;
 use crate::filter::dfg::{DfgGrid, DfgTable};
-use crate::filter::pyramid::{Bordered, Level};
+use crate::filter::pyramid::{Level, Pyramid};
 use crate::filter::sample::{Filter, Sampler};
 use crate::filter::sh::IrradianceScale;
 use crate::filter::specular::RoughnessRule;
@@ -112,19 +112,18 @@ pub const RENDER_DFG_SIZE: u32 = 128;
 /// once more (a third of the first level's, for a chain that halves).
 #[derive(Clone, Debug)]
 pub struct LitEnvironment {
-    levels: Vec<EnvImage>,
-    /// Every level but the first, and the irradiance map, copied with a
-    /// one-texel border that holds their edge rule, so that every bilinear
+    /// The chain. Every level but the first is made ready (copied with a
+    /// one-texel border that holds its edge rule, so that every bilinear
     /// read is four loads with no edge case: a small level's edges are
-    /// read often (a 16² face's by one lookup in eight). The first, the
-    /// largest, is read in place (its edges seldom). `None` where the
+    /// read often, a 16² face's by one lookup in eight); the first, the
+    /// largest, is read in place (its edges seldom). No copies where the
     /// mapping has disk charts.
-    copies: Vec<Option<Bordered>>,
-    irradiance_copy: Option<Bordered>,
+    levels: Pyramid,
+    /// The irradiance map, as a level of its own, made ready.
+    irradiance: Pyramid,
     /// The input itself, read in place of level 0 (roughness 0) when given.
     source: Option<EnvImage>,
     roughness: Vec<f32>,
-    irradiance: EnvImage,
     scale: IrradianceScale,
     dfg: DfgTable,
     blend: LevelBlend,
@@ -175,12 +174,11 @@ impl LitEnvironment {
             floor: texel_alpha(&levels[0]),
         };
         // The first level is read in place.
-        let copies = core::iter::once(None)
-            .chain(levels.iter().skip(1).map(Bordered::for_reading))
-            .collect();
+        let mut levels = Pyramid::of_levels(levels);
+        levels.ready_from(1);
+        let mut irradiance = Pyramid::of_levels(vec![irradiance]);
+        irradiance.ready_from(0);
         Ok(Self {
-            irradiance_copy: Bordered::for_reading(&irradiance),
-            copies,
             levels,
             source: None,
             roughness,
@@ -211,7 +209,7 @@ impl LitEnvironment {
                 self.roughness[0]
             )));
         }
-        if src.representation().frame != self.levels[0].representation().frame {
+        if src.representation().frame != self.levels.levels()[0].representation().frame {
             return Err(Error::options(
                 "the source map and the chain are in different axes",
             ));
@@ -320,13 +318,13 @@ impl LitEnvironment {
     /// The levels, largest first.
     #[must_use]
     pub fn levels(&self) -> &[EnvImage] {
-        &self.levels
+        self.levels.levels()
     }
 
     /// The irradiance map.
     #[must_use]
     pub fn irradiance(&self) -> &EnvImage {
-        &self.irradiance
+        &self.irradiance.levels()[0]
     }
 
     /// Whether the irradiance map holds E or E/π.
@@ -353,15 +351,15 @@ impl LitEnvironment {
     pub(crate) fn sampler(&self) -> LitSampler<'_> {
         LitSampler {
             env: self,
-            levels: (self.levels.iter().zip(&self.copies))
-                .map(|(l, c)| Level::of(l, c.as_ref()))
+            levels: (0..self.levels.len())
+                .map(|k| self.levels.reader(k, false))
                 .collect(),
             source: self.source.as_ref().map(|s| (Sampler::new(s), s.mapping())),
             near: std::sync::Mutex::new(Vec::new()),
-            irradiance: Level::of(&self.irradiance, self.irradiance_copy.as_ref()),
-            to_map: self.levels[0].representation().frame.matrix().transpose(),
-            mapping: self.levels[0].mapping(),
-            irr_mapping: self.irradiance.mapping(),
+            irradiance: self.irradiance.reader(0, false),
+            to_map: self.levels()[0].representation().frame.matrix().transpose(),
+            mapping: self.levels()[0].mapping(),
+            irr_mapping: self.irradiance().mapping(),
         }
     }
 }
@@ -887,13 +885,16 @@ mod tests {
                 DfgTable::new(8).unwrap(),
             )
             .unwrap();
-            assert_eq!(env.copies[0], None, "{m}: level 0 is read in place");
-            let copied = !m.has_disk_charts();
-            assert_eq!(env.copies[1].is_some(), copied, "{m}");
-            assert_eq!(env.irradiance_copy.is_some(), copied, "{m}");
             let s = env.sampler();
-            let maps = env.levels.iter().zip(&s.levels);
-            let all = maps.chain([(&env.irradiance, &s.irradiance)]);
+            let copied = !m.has_disk_charts();
+            assert!(
+                matches!(s.levels[0], Level::Plain(_)),
+                "{m}: level 0 is read in place"
+            );
+            assert_eq!(matches!(s.levels[1], Level::Bordered(_)), copied, "{m}");
+            assert_eq!(matches!(s.irradiance, Level::Bordered(_)), copied, "{m}");
+            let maps = env.levels().iter().zip(&s.levels);
+            let all = maps.chain([(env.irradiance(), &s.irradiance)]);
             let ts = [0.0, 0.01, 0.2, 0.5, 0.77, 0.99, 1.0];
             for (img, level) in all {
                 let own = Sampler::new(img);

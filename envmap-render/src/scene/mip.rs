@@ -8,7 +8,7 @@ use wide::f32x8;
 
 use super::raster::*;
 use crate::error::Result;
-use crate::filter::pyramid::PreparedLevels;
+use crate::filter::pyramid::Pyramid;
 use crate::filter::weights::TexelWeights;
 use crate::image::EnvImage;
 use crate::scene::mesh::Mesh;
@@ -21,7 +21,7 @@ use crate::scene::mesh::Mesh;
 /// map many times: a render from it copies nothing.
 #[derive(Clone, Debug)]
 pub struct MipLevels {
-    pub(super) below: PreparedLevels,
+    pub(super) below: Pyramid,
     pub(super) texels: TexelWeights,
     /// The smallest texel solid angle ([`TexelWeights::smallest`]).
     pub(super) least: f64,
@@ -40,13 +40,13 @@ impl MipLevels {
     ///
     /// # Errors
     ///
-    /// Only if a level cannot be made (see `PreparedLevels::below`).
+    /// Only if a level cannot be made (see `Pyramid::below`).
     pub fn new(map: &EnvImage) -> Result<Self> {
         let (cw, ch) = map.cell_size();
         let mapping = map.mapping();
         let texels = TexelWeights::new(mapping, cw, ch).for_lookups();
         let atlas = Self::atlas_for(map);
-        let below = PreparedLevels::below(map, &texels, atlas)?;
+        let below = Pyramid::below(map, &texels, atlas)?;
         Ok(Self {
             below,
             least: texels.smallest(),

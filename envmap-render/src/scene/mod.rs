@@ -192,10 +192,10 @@
 //! ([`MipLevels`], [`RenderOptions::mip_levels`]; made again in place for a
 //! map that changes, [`MipLevels::rebuild`]); a [`Renderer`] building its
 //! own builds them into the memory of the levels it built last. The map itself is read in place
-//! as level 0 (`Trilinear::over_prepared`); the levels below it (every level down
+//! as level 0 (`Trilinear::over`); the levels below it (every level down
 //! to 1², about a third of the map's texels) are made from it, each in one
 //! parallel pass over the level above, written straight into its copy with
-//! a one-texel border (each but a disk map's; `PreparedLevels::below`: no
+//! a one-texel border (each but a disk map's; `Pyramid::below`: no
 //! level image made, none copied), which [`MipLevels`] keeps: renders from
 //! prebuilt levels copy nothing. Building them is the option's main cost, timed
 //! beside the plain render in the render bench (`envmap-bench`,

@@ -489,7 +489,7 @@ impl<'a> Frame<'a> {
             to_map,
             mapping,
             per_vertex,
-            trilinear: mip.map(|(base, l)| Trilinear::over_prepared(base, &l.below)),
+            trilinear: mip.map(|(base, l)| Trilinear::over(base, &l.below)),
             texels: mip.map(|(_, l)| &l.texels),
             background_at_base: mip.is_some_and(|(_, l)| background_stays_at_base(&view, l.least)),
             view,

@@ -126,14 +126,6 @@ impl Bordered {
         self.charts as usize * self.w as usize * self.h as usize
     }
 
-    /// `img`'s bordered copy for reading many times
-    /// ([`Level::of`](super::Level::of)), or `None` for a map with disk
-    /// charts (read in place: its plain sampler renormalises over the taps
-    /// inside the disk).
-    pub(crate) fn for_reading(img: &EnvImage) -> Option<Self> {
-        (!img.mapping().has_disk_charts()).then(|| Self::new(img))
-    }
-
     /// Black charts of `w × h`, frames and all.
     fn blank(w: u32, h: u32, charts: u32) -> Self {
         let floats = vec![0.0f32; charts as usize * (w as usize + 2) * (h as usize + 2) * 3 + 8];

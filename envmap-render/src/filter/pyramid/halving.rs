@@ -1,5 +1,5 @@
-// Pyramid: the level type, and the solid-angle-weighted halving that makes
-// each level from the one above (the even fast path and the odd fallback).
+// The solid-angle-weighted halving that makes each level from the one
+// above: the even fast path and the odd fallback.
 
 use crate::par::*;
 use envmap_core::atlas::{Atlas, Turn};
@@ -347,61 +347,5 @@ fn resample(src: &RgbImage, mapping: AnyMapping, chart: u32, w2: u32, h2: u32) -
         width: w2,
         height: h2,
         pixels,
-    }
-}
-
-/// An environment map and its mip levels; see the [module docs](super).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Pyramid {
-    pub(super) levels: Vec<EnvImage>,
-}
-
-impl Pyramid {
-    /// `base` and its levels down to charts of height 1, or down to the
-    /// last level whose charts are at least `min_height` texels high
-    /// (`min_height` 1 for the whole chain).
-    ///
-    /// # Errors
-    ///
-    /// Only if a level cannot be made (see `downsample`).
-    pub fn new(base: EnvImage, min_height: u32) -> Result<Self> {
-        let mut levels = vec![base];
-        loop {
-            let last = &levels[levels.len() - 1];
-            let (cw, ch) = last.cell_size();
-            let a = last.atlas();
-            let (_, h2) = next_chart_size(cw, ch, a.cell_aspect_w, a.cell_aspect_h);
-            if ch <= 1 || h2 < min_height.max(1) {
-                break;
-            }
-            let weights = TexelWeights::new(last.mapping(), cw, ch);
-            let next = downsample(last, &weights)?;
-            levels.push(next);
-        }
-        Ok(Self { levels })
-    }
-
-    /// The levels, largest first.
-    #[must_use]
-    pub fn levels(&self) -> &[EnvImage] {
-        &self.levels
-    }
-
-    /// Level `k` (clamped to the last).
-    #[must_use]
-    pub fn level(&self, k: usize) -> &EnvImage {
-        &self.levels[k.min(self.levels.len() - 1)]
-    }
-
-    /// The number of levels.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.levels.len()
-    }
-
-    /// Always false: a pyramid has its base at least.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.levels.is_empty()
     }
 }

@@ -31,12 +31,14 @@
 
 mod bordered;
 mod halving;
-mod prepared;
+mod levels;
 mod trilinear;
 
-pub(crate) use bordered::*;
-pub use halving::*;
-pub use prepared::*;
+#[cfg(test)]
+use bordered::*;
+#[cfg(test)]
+use halving::*;
+pub use levels::*;
 pub use trilinear::*;
 
 #[cfg(test)]
@@ -267,12 +269,17 @@ mod tests {
             .unwrap();
             let (cw, ch) = map.cell_size();
             let weights = TexelWeights::new(m, cw, ch);
-            let made = PreparedLevels::below(&map, &weights, atlas).unwrap();
-            let want = PreparedLevels::new(
-                Pyramid::new(downsample_to(&map, &weights, atlas).unwrap(), 1).unwrap(),
-            );
+            let made = Pyramid::below(&map, &weights, atlas).unwrap();
+            let mut want = Pyramid::new(downsample_to(&map, &weights, atlas).unwrap(), 1).unwrap();
+            want.ready_from(0);
             assert_eq!(made.len(), want.len(), "{m} {cell}");
-            assert!(made == want, "{m} {cell}");
+            assert!(made.ready == want.ready, "{m} {cell}");
+            // A disk map's levels are read in place: kept as images, and
+            // only those.
+            match m.has_disk_charts() {
+                true => assert!(made == want, "{m} {cell}"),
+                false => assert!(made.levels.is_empty(), "{m} {cell}: an image kept"),
+            }
         }
     }
 
@@ -291,7 +298,7 @@ mod tests {
             let second = fill(repr, w, h, |d| [d.y * d.y, 2.0 - d.x, d.z.min(0.0)]).unwrap();
             let (cw, ch) = first.cell_size();
             let weights = TexelWeights::new(m, cw, ch);
-            let mut levels = PreparedLevels::below(&first, &weights, atlas).unwrap();
+            let mut levels = Pyramid::below(&first, &weights, atlas).unwrap();
             let sizes = levels.chart_sizes();
             let above: Vec<TexelWeights> = sizes[..sizes.len() - 1]
                 .iter()
@@ -301,7 +308,7 @@ mod tests {
             assert_eq!(made, even, "{m} {cell}");
             let want = if even { &second } else { &first };
             assert!(
-                levels == PreparedLevels::below(want, &weights, atlas).unwrap(),
+                levels == Pyramid::below(want, &weights, atlas).unwrap(),
                 "{m} {cell}"
             );
             // Weights of another size: nothing made.
@@ -325,15 +332,20 @@ mod tests {
     }
 
     #[test]
-    fn prepared_levels_read_as_the_sampler_that_makes_its_own() {
+    fn ready_levels_read_as_the_sampler_that_makes_its_own_copies() {
         for m in [AnyMapping::Cube, AnyMapping::LatLong, AnyMapping::SphereMap] {
             let (base, below) = smooth_and_below(m);
-            let prepared = PreparedLevels::new(below.clone());
+            let mut ready = below.clone();
+            ready.ready_from(0);
+            assert_eq!(
+                ready.ready.iter().all(Option::is_some),
+                !m.has_disk_charts()
+            );
             let (own, borrowed) = (
                 Trilinear::over(&base, &below),
-                Trilinear::over_prepared(&base, &prepared),
+                Trilinear::over(&base, &ready),
             );
-            assert_eq!(prepared.len() + 1, own.levels(), "{m}");
+            assert_eq!(ready.len() + 1, own.levels(), "{m}");
             for chart in 0..m.chart_count() {
                 for k in 0..9 {
                     let c = ChartUv::new(chart, (k as f32 + 0.3) / 9.0, (k as f32 * 0.61) % 1.0);
@@ -351,9 +363,9 @@ mod tests {
     /// batches, lanes at different levels, a drain with a part-full queue.
     #[test]
     fn queued_batches_read_as_batches_read_at_once() {
-        let (base, below) = smooth_and_below(AnyMapping::Cube);
-        let prepared = PreparedLevels::new(below);
-        let tri = Trilinear::over_prepared(&base, &prepared);
+        let (base, mut below) = smooth_and_below(AnyMapping::Cube);
+        below.ready_from(0);
+        let tri = Trilinear::over(&base, &below);
         let batches = 2 * TRILINEAR_AHEAD + 5;
         let mut want = vec![[0.0f32; 3]; 8 * batches];
         let mut got = vec![[f32::NAN; 3]; 8 * batches];

@@ -8,8 +8,7 @@ use envmap_simd::Uv8;
 use wide::{f32x4, f32x8};
 
 use super::bordered::Bordered;
-use super::halving::Pyramid;
-use super::prepared::{Prepared, PreparedLevels};
+use super::levels::Pyramid;
 use crate::filter::sample::{Filter, Sampler};
 use crate::image::EnvImage;
 
@@ -17,23 +16,14 @@ use crate::image::EnvImage;
 /// `LitSampler`): bilinear with its representation's edge rule.
 #[derive(Debug)]
 pub(crate) enum Level<'a> {
-    /// Made for the sampler, or borrowed from [`PreparedLevels`].
+    /// A level's ready copy ([`Pyramid`]), or one made for the sampler.
     Bordered(Cow<'a, Bordered>),
     Plain(Sampler<'a>),
     /// Not prepared ([`Trilinear::starting_at`]): never read.
     Absent,
 }
 
-impl<'a> Level<'a> {
-    /// `img` read through `copy`, its bordered copy
-    /// ([`Bordered::for_reading`]), where there is one, else in place.
-    pub(crate) fn of(img: &'a EnvImage, copy: Option<&'a Bordered>) -> Self {
-        match copy {
-            Some(b) => Level::Bordered(Cow::Borrowed(b)),
-            None => Level::Plain(Sampler::new(img)),
-        }
-    }
-
+impl Level<'_> {
     /// Bilinear at a chart point (red, green, blue and a zero); black for
     /// a chart out of range or NaN.
     #[inline]
@@ -94,26 +84,20 @@ impl<'a> Trilinear<'a> {
     }
 
     /// A sampler over the levels of `p` from `first` down (clamped to the
-    /// last): the finer ones are not prepared, and a `lod` below `first`
+    /// last): the finer ones are not read, and a `lod` below `first`
     /// reads as `first`. At every `lod ≥ first` the result is
     /// [`Trilinear::new`]'s, bit for bit; for importance sampling whose
     /// samples never ask for the finest levels, it saves their copies.
+    /// Each level is read through its ready copy, made here where `p`
+    /// holds none (a disk map's levels are read in place).
     #[must_use]
     pub(crate) fn starting_at(p: &'a Pyramid, first: usize) -> Self {
-        let first = first.min(p.levels.len() - 1);
+        let first = first.min(p.len() - 1);
         Self {
-            levels: p
-                .levels
-                .iter()
-                .enumerate()
-                .map(|(k, l)| {
-                    if k < first {
-                        return Level::Absent;
-                    }
-                    match Bordered::for_reading(l) {
-                        Some(b) => Level::Bordered(Cow::Owned(b)),
-                        None => Level::Plain(Sampler::new(l)),
-                    }
+            levels: (0..p.len())
+                .map(|k| match k < first {
+                    true => Level::Absent,
+                    false => p.reader(k, true),
                 })
                 .collect(),
             first,
@@ -123,37 +107,18 @@ impl<'a> Trilinear<'a> {
     /// A sampler whose level 0 is `base`, read in place through its plain
     /// bilinear `Sampler` (no copy), and whose levels 1, 2, … are `below`'s
     /// levels, `below` being the pyramid of `base` one level down
-    /// (`Pyramid::new(downsample(base, …)?, …)`). It saves the renderer a
-    /// copy of the full-size map per render: the base, three quarters of a
-    /// pyramid's texels, is neither cloned into a [`Pyramid`] nor copied with
-    /// a border. The plain sampler keeps the same edge rule, so it reads
-    /// what [`Trilinear::new`] reads there to f32 rounding (not bit for
-    /// bit: the blends are not grouped alike).
+    /// (`Pyramid::new(downsample(base, …)?, …)`, or the renderer's
+    /// `Pyramid::below`, whose levels are ready: none is copied then). It
+    /// saves the renderer a copy of the full-size map per render: the base,
+    /// three quarters of a pyramid's texels, is neither cloned into a
+    /// [`Pyramid`] nor copied with a border. The plain sampler keeps the
+    /// same edge rule, so it reads what [`Trilinear::new`] reads there to
+    /// f32 rounding (not bit for bit: the blends are not grouped alike).
     #[must_use]
     pub fn over(base: &'a EnvImage, below: &'a Pyramid) -> Self {
-        let full = Self::new(below);
-        let mut levels = Vec::with_capacity(full.levels.len() + 1);
-        levels.push(Level::Plain(Sampler::new(base)));
-        levels.extend(full.levels);
-        Self { levels, first: 0 }
-    }
-
-    /// [`Trilinear::over`] with the levels below `base` made ready
-    /// beforehand ([`PreparedLevels::new`] of `below`): reads what `over`
-    /// reads, bit for bit, without copying a level. For many samplers of
-    /// one map (a renderer drawing several images of it).
-    #[must_use]
-    pub(crate) fn over_prepared(base: &'a EnvImage, below: &'a PreparedLevels) -> Self {
         let mut levels = Vec::with_capacity(below.len() + 1);
         levels.push(Level::Plain(Sampler::new(base)));
-        match &below.kind {
-            Prepared::Bordered(b) => {
-                levels.extend(b.iter().map(|b| Level::Bordered(Cow::Borrowed(b))));
-            }
-            Prepared::Plain(p) => {
-                levels.extend(p.levels.iter().map(|l| Level::Plain(Sampler::new(l))))
-            }
-        }
+        levels.extend((0..below.len()).map(|k| below.reader(k, true)));
         Self { levels, first: 0 }
     }
 
