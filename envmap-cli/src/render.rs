@@ -15,11 +15,11 @@ use crate::args::{
 use envmap_render::bake;
 use envmap_render::bake::{Preset, Target};
 use envmap_render::filter::bake::BakeOptions;
-use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::Filter;
 use envmap_render::image::Representation;
 use envmap_render::image::{load_detailed, LoadOptions, NonFinite, SaveOptions};
 use envmap_render::image::{Convention, FileAxes, World};
+use envmap_render::instruments::Oracle;
 use envmap_render::scene::Builtin;
 use envmap_render::scene::Material;
 use envmap_render::scene::Mesh;

@@ -1,6 +1,6 @@
 //! A bake measured against the input itself: every level of the specular
 //! chain, the irradiance map and the SH9 against the oracle
-//! ([`envmap_render::filter::oracle`]: the input as loaded, piecewise
+//! ([`envmap_render::instruments`]: the input as loaded, piecewise
 //! constant over its own texels, never the bake's base cube or pyramid):
 //! relative RMS error and bias per level, on a subset of each level's texels.
 //!
@@ -28,10 +28,10 @@ use std::time::Instant;
 
 use envmap_core::{AnyMapping, Atlas, Mapping};
 use envmap_render::filter::bake::{bake, measure_irradiance, measure_level, BakeOptions};
-use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
+use envmap_render::instruments::Oracle;
 use envmap_render::scene::Builtin;
 use envmap_render::scene::{fill, small_sun, smooth, sunny};
 

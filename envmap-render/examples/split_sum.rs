@@ -28,12 +28,12 @@ use std::time::Instant;
 
 use envmap_render::filter::bake::{bake, lobe_chain, BakeOptions};
 use envmap_render::filter::dfg::{DfgGrid, DfgTable};
-use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::filter::specular::RoughnessRule;
 use envmap_render::image::RgbImage;
 use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes};
+use envmap_render::instruments::Oracle;
 use envmap_render::scene::Builtin;
 use envmap_render::scene::{LevelBlend, LitEnvironment};
 

@@ -33,8 +33,8 @@
 //! writes: the in-memory core is always there (`docs/embedding.md`). A file
 //! of a format left out gives [`Error::FormatDisabled`].
 //! Off by default, `instruments` makes the measuring instruments public
-//! (`filter::oracle`, `filter::weights`, `filter::sample`,
-//! `filter::pyramid`, and the bake's and the renderer's inner steps) for the
+//! (`instruments`: the oracle, the exact split sum and the Monte Carlo
+//! reference; `filter::weights`, `filter::sample`, `filter::pyramid`; and the bake's and the renderer's inner steps) for the
 //! command's `--check` and `--reference`, the benchmarks and the tests; they
 //! may change in any release.
 //!
@@ -52,6 +52,7 @@ pub mod cancel;
 mod error;
 pub mod filter;
 pub mod image;
+pub mod instruments;
 mod par;
 pub mod scene;
 

@@ -9,13 +9,13 @@ use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, Atlas, ChartUv, Mapping};
 use envmap_render::filter::bake::{measure_level, specular_chain, BakeOptions};
-use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::pyramid::{Pyramid, Trilinear};
 use envmap_render::filter::specular::{
     exact_level, ggx_d, prefilter_level, split_bright, Bright, LevelJob, Method,
 };
 use envmap_render::filter::weights::TexelWeights;
 use envmap_render::image::{EnvImage, FileAxes, Representation};
+use envmap_render::instruments::Oracle;
 use envmap_render::scene::Builtin;
 use envmap_render::scene::{fill, smooth};
 use envmap_simd::Uv8;

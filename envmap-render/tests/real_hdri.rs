@@ -24,11 +24,11 @@ use envmap_core::AnyMapping;
 use envmap_render::filter::bake::{
     bake, measure_irradiance, measure_level, specular_chain, BakeOptions, SpecularChain,
 };
-use envmap_render::filter::oracle::Oracle;
 use envmap_render::filter::sh::IrradianceScale;
 use envmap_render::filter::weights::TexelWeights;
 use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, Representation};
+use envmap_render::instruments::Oracle;
 use envmap_render::scene::fill;
 
 /// The project's target for every level above 0: relative RMS error

@@ -98,7 +98,7 @@ struct Scene<'a> {
     name: &'static str,
     analytic: &'a (dyn Fn(Vec3) -> [f32; 3] + Sync),
     lit: LitEnvironment,
-    light: envmap_render::scene::EnvSampling,
+    light: envmap_render::instruments::EnvSampling,
 }
 
 /// A split-sum render, its reference (two halves) and the row comparing them.

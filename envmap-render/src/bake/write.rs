@@ -800,7 +800,7 @@ fn level_json(dir: &Path, preset: &Preset, k: usize, r: &LevelReport) -> serde_j
             "relative_rms_error": m.relative_rms,
             "bias": m.bias,
             "seconds": m.seconds,
-            "against": "the oracle: the input as given, piecewise constant over its own texels, by adaptive quadrature (envmap_render::filter::oracle)",
+            "against": "the oracle: the input as given, piecewise constant over its own texels, by adaptive quadrature (envmap_render::instruments::Oracle)",
         })),
         "texels_clamped_at_zero": r.clamped,
         "seconds": r.seconds,

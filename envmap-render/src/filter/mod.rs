@@ -53,14 +53,6 @@ pub(crate) mod brdf;
 pub(crate) mod bright_tree;
 pub(crate) mod conversion;
 pub mod dfg;
-// Its channel loops index several per-channel arrays in step.
-#[allow(clippy::needless_range_loop)]
-#[cfg(feature = "instruments")]
-pub mod oracle;
-#[allow(clippy::needless_range_loop)]
-#[cfg(not(feature = "instruments"))]
-#[allow(unreachable_pub, dead_code)]
-pub(crate) mod oracle;
 #[cfg(feature = "instruments")]
 pub mod pyramid;
 #[cfg(not(feature = "instruments"))]

@@ -382,7 +382,7 @@ pub(crate) struct LitSampler<'a> {
 /// Where the chain is read for unit normal `n` seen along unit `v` at
 /// perceptual roughness `r`: R = 2(N·V)N − V, or with `dominant` the lobe's
 /// dominant direction mix(R, N, r²) (Lagarde & de Rousiers 2014, §4.9.3).
-pub(super) fn specular_direction(n: Vec3, v: Vec3, r: f32, dominant: bool) -> Vec3 {
+pub(crate) fn specular_direction(n: Vec3, v: Vec3, r: f32, dominant: bool) -> Vec3 {
     let refl = reflect_view(n, v);
     if dominant {
         refl.lerp(n, r * r).normalize_or(refl)
@@ -411,7 +411,7 @@ fn texel_alpha(level: &EnvImage) -> f32 {
 
 /// N·V as the split sum reads the DFG at it: clamped to [10⁻⁴, 1].
 #[inline]
-pub(super) fn clamp_nv(nv: f32) -> f32 {
+pub(crate) fn clamp_nv(nv: f32) -> f32 {
     nv.clamp(1e-4, 1.0)
 }
 
@@ -422,7 +422,7 @@ pub(super) fn clamp_nv(nv: f32) -> f32 {
 /// from the DFG's `[A, B]`, the prefiltered
 /// radiance `ld` and E/π `e`.
 #[inline]
-pub(super) fn split_sum(
+pub(crate) fn split_sum(
     m: &Material,
     [a, b]: [f32; 2],
     ld: [f32; 3],
@@ -717,7 +717,7 @@ impl LitSampler<'_> {
 }
 
 /// An orthonormal basis around unit `n` (Duff et al. 2017).
-pub(super) fn basis(n: Vec3) -> (Vec3, Vec3) {
+pub(crate) fn basis(n: Vec3) -> (Vec3, Vec3) {
     let s = 1f32.copysign(n.z);
     let a = -1.0 / (s + n.z);
     let b = n.x * n.y * a;
@@ -782,7 +782,7 @@ pub(crate) const RENDER_MIN_SIZE: u32 = 16;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::filter::oracle::Oracle;
+    use crate::instruments::Oracle;
 
     /// Below the first level the render reads the source through the near
     /// field: a constant map gives its constant, roughness 0 the source's

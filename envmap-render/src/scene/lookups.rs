@@ -13,8 +13,8 @@ use crate::filter::brdf::schlick_f32;
 use crate::filter::pyramid::{Trilinear, TrilinearAhead};
 use crate::filter::sample::{Ahead, Filter, Sampler};
 use crate::filter::weights::TexelWeights;
+use crate::instruments::EnvSampling;
 use crate::scene::mesh::Mesh;
-use crate::scene::reference::EnvSampling;
 
 /// The width of [`light_table`]'s grid.
 #[cfg_attr(not(feature = "instruments"), allow(dead_code))]

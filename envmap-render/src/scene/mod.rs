@@ -118,7 +118,7 @@
 //! height-correlated Smith visibility and Schlick's Fresnel (glTF 2.0
 //! Appendix B), estimated by importance sampling: cosine-weighted
 //! directions, GGX half vectors (pdf D·(N·H)) and directions drawn by the
-//! environment's luminance ([`EnvSampling`], which finds a small bright
+//! environment's luminance ([`EnvSampling`](crate::instruments::EnvSampling), which finds a small bright
 //! sun the other two almost never hit), combined by the balance
 //! heuristic, from a deterministic per-pixel sequence.
 //!
@@ -219,7 +219,6 @@ pub(crate) mod mip;
 pub(crate) mod near_field;
 pub(crate) mod procedural;
 pub(crate) mod raster;
-pub(crate) mod reference;
 pub(crate) mod renderer;
 
 pub use environments::*;
@@ -230,5 +229,4 @@ pub use material::*;
 pub use mesh::*;
 pub use mip::*;
 pub use procedural::*;
-pub use reference::*;
 pub use renderer::*;

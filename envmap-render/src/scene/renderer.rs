@@ -16,15 +16,15 @@ use crate::cancel;
 #[cfg(doc)]
 use crate::error::Error;
 use crate::error::Result;
-use crate::filter::oracle::Oracle;
 use crate::filter::pyramid::Trilinear;
 use crate::filter::sample::{Filter, Sampler};
 use crate::filter::weights::TexelWeights;
 use crate::image::{EnvImage, RgbImage};
+use crate::instruments::Oracle;
+use crate::instruments::{exact_split_sum, reference, EnvSampling, Pcg32};
 use crate::scene::lit::{LitEnvironment, LitSampler};
 use crate::scene::material::Material;
 use crate::scene::mesh::Mesh;
-use crate::scene::reference::{exact_split_sum, reference, EnvSampling, Pcg32};
 
 /// A pinhole camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -168,7 +168,7 @@ pub enum Shading<'a> {
     /// material's own roughness around the same lookup direction, the DFG
     /// integral at the pixel's own N·V and roughness, and the exact
     /// irradiance, combined as the split sum combines them
-    /// (`crate::scene::reference::exact_split_sum`); no chain, table or
+    /// (`crate::instruments::exact_split_sum`); no chain, table or
     /// irradiance map. Slow (an oracle integral per pixel); per-vertex mode
     /// shades per pixel.
     ExactSplitSum {
@@ -188,7 +188,7 @@ pub enum Shading<'a> {
     /// up exactly for an analytic environment, bilinear in the map
     /// otherwise): cosine, GGX and light sampling (by the environment's
     /// luminance) combined by the balance heuristic
-    /// (`crate::scene::reference::reference`); deterministic, seeded by the pixel.
+    /// (`crate::instruments::reference`); deterministic, seeded by the pixel.
     Reference {
         /// The material.
         material: Material,

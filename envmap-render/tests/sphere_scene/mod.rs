@@ -12,10 +12,10 @@ use std::path::Path;
 
 use envmap_core::glam::Vec3;
 use envmap_core::AnyMapping;
-use envmap_render::filter::oracle::Oracle;
 use envmap_render::image::RgbImage;
 use envmap_render::image::{load, LoadOptions, NonFinite};
 use envmap_render::image::{EnvImage, FileAxes, Representation};
+use envmap_render::instruments::Oracle;
 use envmap_render::scene::Builtin;
 use envmap_render::scene::LitEnvironment;
 use envmap_render::scene::Material;

@@ -603,7 +603,7 @@ fn sphere_nv(s: u32) -> Vec<Option<f32>> {
 /// each term evaluated exactly from the input map.
 struct ModelReference {
     src: EnvImage,
-    light: envmap_render::scene::EnvSampling,
+    light: envmap_render::instruments::EnvSampling,
     /// E(n)/π per pixel, two independent estimates: the reference's
     /// integral for a white Lambertian with no specular lobe.
     irradiance: [Vec<[f32; 3]>; 2],

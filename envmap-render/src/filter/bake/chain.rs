@@ -14,7 +14,6 @@ use super::*;
 use crate::cancel;
 use crate::error::{Error, Result};
 use crate::filter::brdf::{alpha_of_lobe_width, lobe_width};
-use crate::filter::oracle::Oracle;
 use crate::filter::pyramid::{Pyramid, Trilinear};
 use crate::filter::sample::Filter;
 use crate::filter::specular::{
@@ -24,6 +23,7 @@ use crate::filter::specular::{
 use crate::filter::weights::channel_energy;
 use crate::filter::{convert, ConvertOptions};
 use crate::image::{luminance, EnvImage, Representation};
+use crate::instruments::Oracle;
 
 /// What `clamp_luminance` changed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -8,9 +8,9 @@ use envmap_core::texel::texel_center;
 use envmap_core::{AnyMapping, ChartUv, Mapping};
 
 use crate::error::{Error, Result};
-use crate::filter::oracle::Oracle;
 use crate::filter::sh::IrradianceScale;
 use crate::image::EnvImage;
+use crate::instruments::Oracle;
 
 /// A level's error against the exact integral on a subset of its texels
 /// (`measure_level`).

@@ -27,7 +27,6 @@ use std::borrow::Cow;
 use crate::cancel;
 use crate::error::{Error, Result};
 use crate::filter::dfg::{self, DfgGrid, DfgTable};
-use crate::filter::oracle::Oracle;
 use crate::filter::pyramid::Pyramid;
 use crate::filter::sh::{
     irradiance_map, irradiance_map_exact, ExactLevel, IrradianceScale, Sh9, ShWindow,
@@ -35,6 +34,7 @@ use crate::filter::sh::{
 };
 use crate::filter::specular::RoughnessRule;
 use crate::image::{EnvImage, FileAxes, Representation};
+use crate::instruments::Oracle;
 
 mod chain;
 mod check;

@@ -6,15 +6,15 @@
 use envmap_core::glam::Vec3;
 use envmap_core::reflect_view;
 
+use super::oracle::Oracle;
 use crate::filter::brdf::{ggx_d_f32, schlick_f32, smith_visibility_f32};
 use crate::filter::dfg::dfg_integral;
-use crate::filter::oracle::Oracle;
 use crate::par::*;
 use crate::scene::lit::{basis, clamp_nv, specular_direction, split_sum};
 use crate::scene::material::Material;
 
 /// The **exact split sum**: what
-/// [`LitSampler::shade`](super::LitSampler::shade) approximates with its
+/// [`LitSampler::shade`](crate::scene::LitSampler::shade) approximates with its
 /// chain, its irradiance map and its DFG table, computed from the input
 /// itself, for the surface points at unit normals `n` seen along
 /// unit `v` (world axes; as many of each). Per point, with r the material's
@@ -32,7 +32,7 @@ use crate::scene::material::Material;
 /// * E/π: the exact cosine integral of the input (`Oracle::irradiance`),
 ///   only when the material has a diffuse part.
 ///
-/// Combined as the split sum combines them (the [module docs](super)). The
+/// Combined as the split sum combines them (the [`scene` module docs](crate::scene)). The
 /// difference between a split-sum render and this one is what the chain
 /// (its levels, their sizes, the blend between them) and the DFG table
 /// cost, apart from the split sum's own approximation, which both share.
@@ -290,7 +290,7 @@ impl EnvSampling {
 /// al. 2007) and, given `light`, the environment's luminance
 /// ([`EnvSampling`]) — combined by the balance heuristic (Veach 1997,
 /// multi-sample form: each sample weighted by f·L·cos / Σ p_j), from
-/// `rng` (see the [module docs](super)). A roughness below 10⁻³ is a
+/// `rng` (see the [`scene` module docs](crate::scene)). A roughness below 10⁻³ is a
 /// mirror: the specular term is then F(N·V)·L(R) exactly, and the other
 /// strategies estimate the diffuse term alone.
 #[cfg_attr(feature = "instruments", visibility::make(pub))]
