@@ -58,6 +58,7 @@ pub mod pyramid;
 #[cfg(not(feature = "instruments"))]
 #[allow(unreachable_pub, dead_code)]
 pub(crate) mod pyramid;
+pub(crate) mod quadrature;
 #[cfg(feature = "instruments")]
 pub mod sample;
 #[cfg(not(feature = "instruments"))]
