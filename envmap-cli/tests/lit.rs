@@ -501,11 +501,8 @@ fn render_reads_the_maps_bake_wrote() {
 fn shade8_is_shade_lane_by_lane() {
     let (_, lit) = baked(smooth, 32, 32);
     let ls = lit.sampler();
-    let mut seed = 1u32;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-        (seed >> 8) as f32 / 16_777_216.0 * 2.0 - 1.0
-    };
+    let mut rng = envmap_render::instruments::Pcg32::new(1);
+    let mut rnd = || rng.next_f32() * 2.0 - 1.0;
     let mut worst = 0.0f32;
     for r in [0.0f32, 0.3, 0.55, 1.0] {
         for (metallic, multiscatter, dominant) in [(0.0, false, true), (1.0, true, false)] {

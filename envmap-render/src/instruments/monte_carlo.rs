@@ -71,8 +71,8 @@ pub(crate) fn exact_split_sum(
         .collect()
 }
 
-/// A small deterministic generator (PCG32, O'Neill 2014) for the reference's
-/// per-pixel sample sequences.
+/// A small deterministic generator (PCG32, O'Neill 2014): the reference's
+/// per-pixel sample sequences, and the tests' random inputs.
 #[cfg_attr(feature = "instruments", visibility::make(pub))]
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Pcg32 {
@@ -92,7 +92,7 @@ impl Pcg32 {
     }
 
     /// The next 32 random bits.
-    pub(crate) fn next_u32(&mut self) -> u32 {
+    pub fn next_u32(&mut self) -> u32 {
         let old = self.state;
         self.state = old
             .wrapping_mul(6_364_136_223_846_793_005)
@@ -102,7 +102,7 @@ impl Pcg32 {
     }
 
     /// A uniform value in [0, 1).
-    pub(crate) fn next_f32(&mut self) -> f32 {
+    pub fn next_f32(&mut self) -> f32 {
         (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
     }
 }

@@ -1169,13 +1169,8 @@ mod tests {
     }
 
     fn random_sh(seed: u64) -> Sh9 {
-        let mut s = seed;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        };
+        let mut rng = crate::instruments::Pcg32::new(seed);
+        let mut next = || f64::from(rng.next_f32()) * 2.0 - 1.0;
         Sh9 {
             coeffs: core::array::from_fn(|_| [next(), next(), next()]),
             kind: ShKind::Radiance,
