@@ -4,14 +4,15 @@
 //!
 //! * `Oracle`: the prefiltered integral LD, the irradiance E and the SH9
 //!   coefficients of a map, by adaptive quadrature over its own texels (the
-//!   bake's `--check`, the tests, `envmap render --check`).
+//!   bake's `--check`, the exact split sum, the tests).
 //! * The exact split sum (`exact_split_sum`): what the split-sum render
-//!   approximates, from the input and the exact DFG integral
-//!   (`envmap render --reference`'s split-sum measure).
+//!   approximates, from the input through the oracle and the exact DFG
+//!   integral (`envmap render --exact-split-sum`).
 //! * The Monte Carlo reference of the full rendering integral
 //!   (`reference`, `envmap render --reference`), with its random
-//!   sequence (`Pcg32`, the one generator the library uses) and light
-//!   sampling by the environment's luminance ([`EnvSampling`]).
+//!   sequence (`Pcg32`, the generator the library's sequences and its
+//!   tests draw from) and light sampling by the environment's luminance
+//!   ([`EnvSampling`]).
 //!
 //! Everything here but [`EnvSampling`] (which a reference render is given)
 //! is public with the `instruments` feature only.
