@@ -1,7 +1,8 @@
 //! The lighting bake of a 4096×2048 latlong (the smooth test environment,
 //! already in memory): the default 512² GGX specular chain (linear rule,
 //! nine levels down to 2², default quality), the SH9, the 32² irradiance
-//! cube and the 128² DFG table, on two threads; and the chain alone; the
+//! cube and the 128² DFG table, on two threads; and the chain alone; that
+//! chain encoded in BC6H at each quality (beside the bake that made it); the
 //! same bake of that map with a 0.5° sun of 100 000 ([`small_sun`]); and
 //! the exact mode of a 64² chain from a 256² cube; and what `envmap render
 //! --material` bakes from the smooth map on the fly, beside a plain mip
@@ -18,7 +19,8 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use envmap_core::AnyMapping;
 use envmap_render::filter::bake::{bake, specular_chain, BakeOptions};
-use envmap_render::image::{FileAxes, Representation};
+use envmap_render::image::texture::Texture;
+use envmap_render::image::{Bc6hQuality, FileAxes, Representation, TexelFormat};
 use envmap_render::scene::LitEnvironment;
 use envmap_render::scene::{fill, small_sun, smooth};
 
@@ -42,6 +44,15 @@ fn bench(c: &mut Criterion) {
             pool.install(|| specular_chain(black_box(&src), &opts, &|_, _| {}).expect("chain"))
         })
     });
+    // The chain above, encoded in BC6H (every level, every face) at each
+    // quality: against the bake in the same run.
+    let chain = pool.install(|| specular_chain(&src, &opts, &|_, _| {}).expect("chain"));
+    let tex = Texture::from_env(&chain.levels).expect("texture");
+    for q in Bc6hQuality::ALL {
+        g.bench_function(format!("bc6h-{}-chain512/2-threads", q.name()), |b| {
+            b.iter(|| pool.install(|| black_box(&tex).upload_at(TexelFormat::Bc6h, q)))
+        });
+    }
     g.finish();
 
     // What `envmap render --material` bakes on the fly at its default

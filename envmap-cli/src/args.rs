@@ -140,7 +140,7 @@ pub(crate) fn output_size(repr: &Representation, size: u32) -> Result<(u32, u32)
 /// `convert` and `bake`.
 #[derive(clap::Args, Clone, Copy, Debug)]
 pub(crate) struct TextureFlags {
-    /// Texel format of .ktx2, .dds and .ktx outputs: rgba16f (the default), rgba32f, rg11b10f (B10G11R11), rgb9e5 (E5B9G9R9).
+    /// Texel format of .ktx2, .dds and .ktx outputs: rgba16f (the default), rgba32f, rg11b10f (B10G11R11), rgb9e5 (E5B9G9R9), bc6h (BC6H_UFLOAT_BLOCK: one byte per texel, lossy; .ktx2 and .dds only, each level's error measured and written in the manifest and the .ktx2's key/value data).
     #[arg(long, value_parser = parse_texel_format)]
     pub(crate) format: Option<envmap_render::image::TexelFormat>,
     /// Zstandard supercompression of .ktx2 outputs, each level its own frame; an optional level 1 (fastest) to 22 (smallest), default 3 (higher levels make smaller files far more slowly: docs/performance.md).
@@ -149,6 +149,9 @@ pub(crate) struct TextureFlags {
     /// No Zstandard supercompression, even where a --target would use it.
     #[arg(long, conflicts_with = "zstd")]
     pub(crate) no_zstd: bool,
+    /// How hard the BC6H encoder searches (--format bc6h): very-fast (the default), fast, basic, slow, very-slow: Intel's ISPC presets, each searching more of every block; all but very-slow encode again at very-slow the blocks that decode more than about 3 % off (docs/engines.md has the errors and times).
+    #[arg(long, value_parser = parse_bc6h_quality)]
+    pub(crate) bc6h_quality: Option<envmap_render::image::Bc6hQuality>,
 }
 
 impl TextureFlags {
@@ -160,6 +163,7 @@ impl TextureFlags {
     ) -> envmap_render::image::texture::TextureOptions {
         let mut o = base;
         o.format = self.format.unwrap_or(base.format);
+        o.bc6h = self.bc6h_quality.unwrap_or(base.bc6h);
         o.zstd = if self.no_zstd {
             None
         } else {
@@ -208,6 +212,11 @@ pub(crate) fn parse_sync(s: &str) -> Result<envmap_render::image::SyncPolicy, St
 /// `--format`: a texel format's name.
 pub(crate) fn parse_texel_format(s: &str) -> Result<envmap_render::image::TexelFormat, String> {
     envmap_render::image::TexelFormat::parse(s).map_err(|e| e.to_string())
+}
+
+/// `--bc6h-quality`: a BC6H encoder setting by its name.
+pub(crate) fn parse_bc6h_quality(s: &str) -> Result<envmap_render::image::Bc6hQuality, String> {
+    envmap_render::image::Bc6hQuality::parse(s).map_err(|e| e.to_string())
 }
 
 /// One line saying what packing clamped, or nothing when nothing was.

@@ -268,9 +268,23 @@ fn texture_lines(out: &mut dyn Write, t: &TextureFile) -> std::io::Result<()> {
         i.writer.clone().unwrap_or_else(|| "not stated".to_owned()),
     )?;
     for (k, v) in &i.key_values {
-        if k != "KTXorientation" && k != "KTXwriter" {
+        if k == "envmap.bc6h-error" {
+            // One line per level: what BC6H lost when envmap wrote it.
+            for line in v.lines() {
+                p(out, "BC6H error", line.to_owned())?;
+            }
+        } else if k != "KTXorientation" && k != "KTXwriter" {
             p(out, "key/value", format!("{k} = {v:?}"))?;
         }
+    }
+    if i.format == envmap_render::image::TexelFormat::Bc6h
+        && !i.key_values.iter().any(|(k, _)| k == "envmap.bc6h-error")
+    {
+        p(
+            out,
+            "BC6H error",
+            "not recorded in this file (envmap records it in KTX2 files it writes, and a bake's manifest.json for DDS too)".to_owned(),
+        )?;
     }
     let (w, h) = i.size;
     let faces = if i.kind == TextureKind::Cube {

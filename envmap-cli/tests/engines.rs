@@ -363,7 +363,11 @@ fn a_baked_chain_survives_export_and_import_within_the_format_precision() {
     let chain = specular_chain(&src, &opts, &|_, _| {}).unwrap();
     let tex = Texture::from_env(&chain.levels).unwrap();
     assert_eq!((tex.kind(), tex.level_count()), (TextureKind::Cube, 4));
-    for format in TexelFormat::WRITABLE {
+    // BC6H is lossy, its error measured apart (envmap-render's `bc6h` tests).
+    for format in TexelFormat::WRITABLE
+        .into_iter()
+        .filter(|&f| f != TexelFormat::Bc6h)
+    {
         for zstd in [None, Some(3)] {
             let (bytes, clamped) = texture::encode(&tex, Path::new("c.ktx2"), {
                 let mut o = TextureOptions::default();
@@ -412,4 +416,95 @@ fn a_baked_chain_survives_export_and_import_within_the_format_precision() {
             }
         }
     }
+}
+
+/// `envmap bake --target bevy --format bc6h`: a BC6H KTX2 chain whose
+/// manifest gives each level's error; `envmap info` prints the error the
+/// file records, level by level; a DDS bake records it in the manifest;
+/// `--target filament --format bc6h` is refused with the reason.
+#[test]
+fn bake_writes_bc6h_and_reports_each_levels_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = envmap(
+        &[
+            "bake",
+            "sky",
+            "--out",
+            "b",
+            "--target",
+            "bevy",
+            "--size",
+            "32",
+            "--format",
+            "bc6h",
+            "--bc6h-quality",
+            "fast",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("b/manifest.json")).unwrap()).unwrap();
+    assert_eq!(m["texel_format"], "BC6H_UFLOAT_BLOCK");
+    assert_eq!(m["compression"]["quality"], "fast");
+    let files = m["compression"]["files"].as_array().unwrap();
+    let spec = files.iter().find(|f| f["file"] == "specular.ktx2").unwrap();
+    assert_eq!(spec["levels"].as_array().unwrap().len(), 5, "{spec}");
+    let info = envmap(&["info", "b/specular.ktx2"], d);
+    let out = text(&info.stdout);
+    assert!(info.status.success(), "{}", text(&info.stderr));
+    assert!(
+        out.contains("bc6h (BC6H_UFLOAT_BLOCK; vkFormat 143, DXGI 95)"),
+        "{out}"
+    );
+    for p in 0..5 {
+        assert!(
+            out.contains(&format!("BC6H error       level {p}: rel. RMS ")),
+            "{out}"
+        );
+    }
+    let o = envmap(
+        &[
+            "bake",
+            "sky",
+            "--out",
+            "c",
+            "--container",
+            "dds",
+            "--size",
+            "16",
+            "--format",
+            "bc6h",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("c/manifest.json")).unwrap()).unwrap();
+    assert!(
+        m["compression"]["files"][0]["levels"][0]["relative_rms"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    let info = envmap(&["info", "c/specular.dds"], d);
+    assert!(
+        text(&info.stdout).contains("not recorded in this file"),
+        "{}",
+        text(&info.stdout)
+    );
+    let o = envmap(
+        &[
+            "bake", "sky", "--out", "f", "--target", "filament", "--format", "bc6h",
+        ],
+        d,
+    );
+    assert!(!o.status.success());
+    assert!(
+        text(&o.stderr).contains("BC6H goes in KTX2 or DDS"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!d.join("f").exists(), "nothing written");
 }

@@ -186,6 +186,7 @@ impl Preset {
                 texture: TextureOptions {
                     format: TexelFormat::E5b9g9r9,
                     zstd: Some(DEFAULT_ZSTD),
+                    ..TextureOptions::default()
                 },
                 irradiance: "diffuse",
                 ..base
@@ -213,6 +214,7 @@ impl Preset {
                 texture: TextureOptions {
                     format: TexelFormat::B10g11r11,
                     zstd: None,
+                    ..TextureOptions::default()
                 },
                 axes: mirrored_gl(),
                 mirrored: true,

@@ -362,11 +362,12 @@ impl<'p> Files<'p> {
         levels_staged: bool,
     ) -> Result<Vec<(PathBuf, Clamped)>> {
         let (dir, opts, preset) = (self.dir, self.opts, self.preset);
+        let mut lossy = Vec::new();
         let clamped_total = if preset.container == FileFormat::Exr {
             self.stage_exr_maps(run, bake, levels_staged)?;
             Vec::new()
         } else {
-            self.stage_textures(run, bake)?
+            self.stage_textures(run, bake, &mut lossy)?
         };
         if let Some(t) = &bake.dfg {
             self.stage_dfg(run, t)?;
@@ -377,7 +378,7 @@ impl<'p> Files<'p> {
         )?;
         run.stage_bytes(
             dir.join("manifest.json"),
-            manifest(dir, preset, provenance, bake, opts).as_bytes(),
+            manifest(dir, preset, provenance, bake, opts, &lossy).as_bytes(),
         )?;
         Ok(clamped_total)
     }
@@ -416,6 +417,7 @@ impl<'p> Files<'p> {
         &self,
         run: &mut Outputs<'_>,
         bake: &Bake,
+        lossy: &mut Vec<Lossy>,
     ) -> Result<Vec<(PathBuf, Clamped)>> {
         let (dir, preset) = (self.dir, self.preset);
         let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
@@ -428,16 +430,17 @@ impl<'p> Files<'p> {
                 Vec::new()
             };
             let name = texture_name(dir, preset, preset.specular);
-            clamped_total.push(self.stage_texture_file(run, &chain.levels, &name, &kv)?);
+            clamped_total.push(self.stage_texture_file(run, &chain.levels, &name, &kv, lossy)?);
             if preset.container == FileFormat::Ktx {
                 let name = texture_name(dir, preset, "skybox");
-                clamped_total.push(self.stage_texture_file(run, &chain.levels[..1], &name, &[])?);
+                let c = self.stage_texture_file(run, &chain.levels[..1], &name, &[], lossy)?;
+                clamped_total.push(c);
             }
         }
         if let Some(irr) = &bake.irradiance {
             let name = texture_name(dir, preset, preset.irradiance);
             let levels = std::slice::from_ref(&irr.image);
-            clamped_total.push(self.stage_texture_file(run, levels, &name, &[])?);
+            clamped_total.push(self.stage_texture_file(run, levels, &name, &[], lossy)?);
         }
         if preset.container == FileFormat::Ktx {
             run.stage_bytes(dir.join("sh.txt"), filament_sh_txt(bake, preset).as_bytes())?;
@@ -445,13 +448,19 @@ impl<'p> Files<'p> {
         if let (Some(t), Some(Target::Gltf)) = (&bake.dfg, preset.target) {
             // glTF-IBL-Sampler's LUT: R = scale, G = bias, N·V across,
             // roughness down (row 0 = roughness 0.5/size, or 0 on the edges
-            // grid: the manifest's `dfg.grid`).
+            // grid: the manifest's `dfg.grid`). A table is not compressed:
+            // with BC6H maps it is RGBA16F.
             let lut = Texture::new(TextureKind::Flat, vec![vec![t.single_scatter_image()]])?;
             let path = dir.join(format!("lut_ggx.{ext}"));
+            let format = match preset.texture.format {
+                crate::image::TexelFormat::Bc6h => crate::image::TexelFormat::Rgba16f,
+                f => f,
+            };
             let c = run.stage_texture(
                 &lut,
                 &path,
                 TextureOptions {
+                    format,
                     zstd: None,
                     ..preset.texture
                 },
@@ -470,6 +479,7 @@ impl<'p> Files<'p> {
         levels: &[EnvImage],
         name: &str,
         kv: &[(&str, &[u8])],
+        lossy: &mut Vec<Lossy>,
     ) -> Result<(PathBuf, Clamped)> {
         let preset = self.preset;
         let tex = Texture::from_env(levels)?;
@@ -477,6 +487,22 @@ impl<'p> Files<'p> {
         let clamped = if preset.container == FileFormat::Ktx {
             let (bytes, c) = ktx1_with_keys(&tex, preset, kv, &path)?;
             run.stage_bytes(&path, &bytes)?;
+            c
+        } else if preset.texture.format == crate::image::TexelFormat::Bc6h {
+            // Lossy: the bytes written are read back (the texels decoded by
+            // bcdec_rs) and measured against the levels.
+            let (bytes, c) = crate::image::texture::encode(&tex, &path, preset.texture)?;
+            run.stage_bytes(&path, &bytes)?;
+            #[cfg(feature = "bc6h")]
+            {
+                let back = crate::image::texture::decode(&path, &bytes, u64::MAX)?;
+                lossy.push(Lossy {
+                    file: name.to_owned(),
+                    levels: crate::image::bc6h::measure(&back.texture, &tex),
+                });
+            }
+            #[cfg(not(feature = "bc6h"))]
+            let _ = &lossy;
             c
         } else {
             run.stage_texture(&tex, &path, preset.texture)?
@@ -701,6 +727,7 @@ pub(crate) fn manifest(
     provenance: &Provenance,
     b: &Bake,
     opts: &BakeOptions,
+    lossy: &[Lossy],
 ) -> String {
     let specular = b
         .chain
@@ -717,6 +744,7 @@ pub(crate) fn manifest(
         "target": preset.target.map(Target::name),
         "texel_format": (preset.container != FileFormat::Exr).then(|| preset.texture.format.vk_name()),
         "zstd_level": preset.texture.zstd,
+        "compression": lossy_json(preset, lossy),
         "mirrored": preset.mirrored.then_some("x negated, as cmgen's default (Filament's shaders expect it)"),
         "seconds": { "load": provenance.load_seconds, "bake": provenance.bake_seconds },
         "specular": specular,
@@ -730,6 +758,58 @@ pub(crate) fn manifest(
         "stages_seconds": b.stages.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
     });
     serde_json::to_string_pretty(&m).unwrap_or_default()
+}
+
+/// What a lossy texel format lost in one file: each level's error.
+pub(crate) struct Lossy {
+    /// The file's name in the bake's directory.
+    file: String,
+    /// Each level's error, the file's texels decoded against the levels.
+    #[cfg(feature = "bc6h")]
+    levels: Vec<crate::image::bc6h::Bc6hError>,
+}
+
+/// The manifest's `compression` entry: for BC6H, each file's error per
+/// level (`null` for the uncompressed formats).
+fn lossy_json(preset: &Preset, lossy: &[Lossy]) -> Option<serde_json::Value> {
+    if preset.texture.format != crate::image::TexelFormat::Bc6h || lossy.is_empty() {
+        return None;
+    }
+    let files: Vec<serde_json::Value> = lossy
+        .iter()
+        .map(|l| {
+            #[cfg(feature = "bc6h")]
+            let levels: Vec<serde_json::Value> = l
+                .levels
+                .iter()
+                .enumerate()
+                .map(|(p, e)| {
+                    serde_json::json!({
+                        "level": p,
+                        "relative_rms": e.rel_rms,
+                        "log_rmse": e.log_rmse,
+                        "worst_relative": e.worst,
+                        "worst_texel": { "face": e.worst_at.0, "x": e.worst_at.1, "y": e.worst_at.2 },
+                        "worst_texel_value": e.worst_value,
+                    })
+                })
+                .collect();
+            #[cfg(not(feature = "bc6h"))]
+            let levels: Vec<serde_json::Value> = Vec::new();
+            serde_json::json!({ "file": l.file, "levels": levels })
+        })
+        .collect();
+    Some(serde_json::json!({
+        "format": "BC6H_UFLOAT_BLOCK",
+        "quality": preset.texture.bc6h.name(),
+        "encoder": "block_compression (a Rust port of Intel's ISPC BC6H kernel)",
+        "decoder": "bcdec_rs (a Rust port of bcdec), reading the bytes written",
+        "error_against": "each level's texels before compression, clamped to [0, 65504] as the encoder clamps them",
+        "relative_rms": "sqrt(sum (d - r)^2) / sqrt(sum r^2) over every component of the level",
+        "log_rmse": "sqrt(mean (ln(1 + d) - ln(1 + r))^2) over every component",
+        "worst_relative": "the texel whose largest channel difference |d - r| is largest relative to its largest channel (at least 2^-14)",
+        "files": files,
+    }))
 }
 
 /// The manifest's `specular` entry: what the chain's levels hold, how

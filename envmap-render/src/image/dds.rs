@@ -41,7 +41,7 @@ impl Codec for Dds {
 
     fn write_chain(&self, tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
         no_zstd(opts, "DDS")?;
-        encode(tex, opts.format)
+        encode(tex, opts)
     }
 }
 
@@ -53,17 +53,22 @@ fn dxgi(format: TexelFormat) -> Option<DxgiFormat> {
         TexelFormat::B10g11r11 => DxgiFormat::R11G11B10_Float,
         TexelFormat::E5b9g9r9 => DxgiFormat::R9G9B9E5_SharedExp,
         TexelFormat::Rgb32f => DxgiFormat::R32G32B32_Float,
+        TexelFormat::Bc6h => DxgiFormat::BC6H_UF16,
         TexelFormat::Rgb16f => return None,
     })
 }
 
-/// The DDS file of `tex` in `format`; returns the bytes and what packing
-/// clamped.
+/// The DDS file of `tex` in `opts.format` (BC6H at `opts.bc6h`); returns
+/// the bytes and what packing clamped.
 ///
 /// # Errors
 ///
 /// A format DDS has no DXGI number for (RGB16F) or envmap does not write.
-pub(crate) fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Clamped)> {
+pub(crate) fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
+    let format = opts.format;
+    if format == TexelFormat::Bc6h && !format.is_writable() {
+        return Err(Error::unsupported(crate::image::texel::NO_BC6H));
+    }
     let dxgi_format = dxgi(format)
         .filter(|_| format.is_writable())
         .ok_or_else(|| {
@@ -96,7 +101,15 @@ pub(crate) fn encode(tex: &Texture, format: TexelFormat) -> Result<(Vec<u8>, Cla
     let mut clamped = Clamped::default();
     for face in 0..tex.kind().faces() {
         for level in tex.levels() {
-            clamped.add(format.pack(&level[face].pixels, &mut data));
+            let img = &level[face];
+            let at = data.len();
+            data.resize(at + format.image_bytes(img.width, img.height), 0);
+            clamped.add(format.pack_image_into(
+                &img.pixels,
+                (img.width, img.height),
+                opts.bc6h,
+                &mut data[at..],
+            ));
         }
     }
     if data.len() != dds.data.len() {
@@ -211,7 +224,8 @@ fn dx10_format(h10: &ddsfile::Header10) -> std::result::Result<(TexelFormat, boo
     let format = TexelFormat::from_dxgi_format(number).ok_or_else(|| {
         format!(
             "DXGI format {number} ({:?}) is not supported; envmap reads R16G16B16A16_FLOAT (10), \
-             R32G32B32A32_FLOAT (2), R11G11B10_FLOAT (26), R9G9B9E5_SHAREDEXP (67) and R32G32B32_FLOAT (6)",
+             R32G32B32A32_FLOAT (2), R11G11B10_FLOAT (26), R9G9B9E5_SHAREDEXP (67), R32G32B32_FLOAT (6) \
+             and, with the `bc6h` feature, BC6H_UF16 (95)",
             h10.dxgi_format
         )
     })?;
@@ -275,7 +289,7 @@ fn face_major_levels(
             levels[p].push(RgbImage {
                 width: lw,
                 height: lh,
-                pixels: format.unpack(bytes),
+                pixels: format.unpack_image(bytes, (lw, lh)),
             });
         }
     }

@@ -75,6 +75,9 @@ pub(crate) const fn gl_format(format: TexelFormat) -> [u32; 5] {
         TexelFormat::Rgb16f => [0x140B, 2, GL_RGB, 0x881B, GL_RGB],
         // GL_FLOAT, GL_RGB32F
         TexelFormat::Rgb32f => [0x1406, 4, GL_RGB, 0x8815, GL_RGB],
+        // Compressed: glType and glFormat 0, glTypeSize 1,
+        // GL_COMPRESSED_RGB_BPTC_UNSIGNED_FLOAT (not written: see `encode`).
+        TexelFormat::Bc6h => [0, 1, 0, 0x8E8F, GL_RGB],
     }
 }
 
@@ -91,6 +94,12 @@ pub(crate) fn encode(
     format: TexelFormat,
     key_values: &[(&str, &[u8])],
 ) -> Result<(Vec<u8>, Clamped)> {
+    if format == TexelFormat::Bc6h {
+        return Err(Error::unsupported(
+            "KTX 1 files are written uncompressed (rgba16f, rgba32f, rg11b10f, rgb9e5); \
+             BC6H goes in KTX2 or DDS",
+        ));
+    }
     if !format.is_writable() {
         return Err(Error::unsupported(format!(
             "{} is read only; write one of {}",

@@ -96,7 +96,8 @@ fn sample(offset: u32, bits: u32, channel: u32, lower: u32, upper: u32) -> [u32;
 /// The Data Format Descriptor of `format`, as bytes (dfdTotalSize
 /// included): one Khronos basic block (KDFS 1.4 §5), colour model RGBSDA,
 /// primaries BT.709, transfer linear, straight alpha, texel block 1×1,
-/// bytesPlane0 the texel size, and the samples of `ktxspec` §"Data Format
+/// bytesPlane0 the texel size (BC6H: colour model BC6H, texel block 4×4,
+/// bytesPlane0 16, one 128-bit unsigned-float sample), and the samples of `ktxspec` §"Data Format
 /// Descriptor" (signed floats bounded by −1.0 and 1.0, unsigned by 0 and
 /// 1.0; RGB9E5's mantissas 0 and 8448 = 256·2^(16−15)·… — 1.0 as mantissa
 /// 256 at exponent 16 — and its exponents 15 and 31, the KDFS example
@@ -129,6 +130,15 @@ pub(crate) fn dfd(format: TexelFormat) -> Vec<u8> {
                 ]
             })
             .collect(),
+        // The whole 128-bit block as one unsigned-float colour sample
+        // (KDFS 1.4 §5.6 and its BC6H example).
+        TexelFormat::Bc6h => vec![sample(0, 128, Q_FLOAT, 0, ONE)],
+    };
+    // Colour model RGBSDA (1), or BC6H (133) with its 4×4×1 texel block
+    // (stored as dimensions − 1); primaries BT.709 and transfer linear.
+    let (model, dims) = match format {
+        TexelFormat::Bc6h => (133, 0x0303),
+        _ => (1, 0),
     };
     let n = samples.len() as u32;
     let block = 24 + 16 * n;
@@ -136,8 +146,8 @@ pub(crate) fn dfd(format: TexelFormat) -> Vec<u8> {
         4 + block,
         0,
         2 | (block << 16),
-        0x0001_0101,
-        0,
+        model | 0x0001_0100,
+        dims,
         format.bytes() as u32,
         0,
     ];
@@ -163,7 +173,7 @@ fn key_values(entries: &[(&str, &str)]) -> Vec<u8> {
     out
 }
 
-/// lcm(texel size, 4): the alignment of every level without
+/// lcm(texel or block size, 4): the alignment of every level without
 /// supercompression (§"mipPadding").
 #[must_use]
 pub(crate) fn level_alignment(format: TexelFormat) -> usize {
@@ -197,19 +207,54 @@ pub(crate) fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Cl
     // Under zstd each level is packed, then compressed as one frame (by
     // several workers for the large levels); without, the levels are
     // packed straight into their place in the file.
-    let (compressed, mut clamped) = match opts.zstd {
+    let (compressed, clamped) = match opts.zstd {
         None => (None, Clamped::default()),
         Some(level) => {
-            let (frames, clamped) = compress_levels(tex, format, &raw_lens, level)?;
+            let (frames, clamped) = compress_levels(tex, opts, &raw_lens, level)?;
             (Some(frames), clamped)
         }
     };
+    // BC6H is lossy: its levels are packed first (unless zstd did), read
+    // back by the independent decoder and measured, and the error goes in
+    // the key/value data.
+    #[cfg(feature = "bc6h")]
+    let (compressed, mut clamped, errors) = match (format, compressed) {
+        (TexelFormat::Bc6h, c) => {
+            let (raw, c2): (Vec<Vec<u8>>, Clamped) = match &c {
+                Some(frames) => (
+                    frames
+                        .iter()
+                        .zip(&raw_lens)
+                        .map(|(z, &n)| decompress(z, n).unwrap_or_default())
+                        .collect(),
+                    clamped,
+                ),
+                None => {
+                    let mut all = Clamped::default();
+                    let raw = (0..n)
+                        .map(|p| {
+                            let mut out = vec![0u8; raw_lens[p]];
+                            all.add(tex.pack_level_into(p, format, opts.bc6h, &mut out));
+                            out
+                        })
+                        .collect();
+                    (raw, all)
+                }
+            };
+            let errors = bc6h_errors(tex, &raw);
+            let stored = c.unwrap_or_else(|| raw.clone());
+            (Some(stored), c2, Some(errors))
+        }
+        (_, c) => (c, clamped, None),
+    };
+    #[cfg(not(feature = "bc6h"))]
+    let (errors, mut clamped): (Option<String>, _) = (None, clamped);
     let stored_lens: Vec<usize> = match &compressed {
         Some(c) => c.iter().map(Vec::len).collect(),
         None => raw_lens.clone(),
     };
     let dfd = dfd(format);
-    let kvd = file_key_values(tex);
+    let kvd = file_key_values(tex, errors.as_deref());
     let align = if opts.zstd.is_some() {
         1
     } else {
@@ -234,7 +279,7 @@ pub(crate) fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Cl
         let dst = &mut out[at..at + stored_lens[p]];
         match &compressed {
             Some(c) => dst.copy_from_slice(&c[p]),
-            None => clamped.add(tex.pack_level_into(p, format, dst)),
+            None => clamped.add(tex.pack_level_into(p, format, opts.bc6h, dst)),
         }
     }
     Ok((out, clamped))
@@ -244,6 +289,9 @@ pub(crate) fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Cl
 /// read-only format, zstd in a build without it, a zstd level zstd lacks.
 fn check_write_options(opts: TextureOptions) -> Result<()> {
     let format = opts.format;
+    if format == TexelFormat::Bc6h && !format.is_writable() {
+        return Err(Error::unsupported(crate::image::texel::NO_BC6H));
+    }
     if !format.is_writable() {
         return Err(Error::unsupported(format!(
             "{} is read only; write one of {}",
@@ -265,20 +313,20 @@ fn check_write_options(opts: TextureOptions) -> Result<()> {
     Ok(())
 }
 
-/// Each level of `tex` packed in `format` and compressed as one zstd
+/// Each level of `tex` packed in `opts.format` and compressed as one zstd
 /// frame at `level`, largest level first, with what packing clamped.
 /// Level 0 (three quarters of the bytes) is compressed by zstd's own
 /// workers, the others on the pool meanwhile.
 fn compress_levels(
     tex: &Texture,
-    format: TexelFormat,
+    opts: TextureOptions,
     raw_lens: &[usize],
     level: i32,
 ) -> Result<(Vec<Vec<u8>>, Clamped)> {
     let n = raw_lens.len();
     let one = |p: usize| {
         let mut raw = vec![0u8; raw_lens[p]];
-        let c = tex.pack_level_into(p, format, &mut raw);
+        let c = tex.pack_level_into(p, opts.format, opts.bc6h, &mut raw);
         compress(&raw, level).map(|z| (z, c))
     };
     let (first, rest) = crate::par::join(
@@ -307,11 +355,57 @@ fn compress_levels(
 
 /// The key/value data a written file carries: its orientation, its
 /// writer, and the texture's own tags.
-fn file_key_values(tex: &Texture) -> Vec<u8> {
+fn file_key_values(tex: &Texture, bc6h_error: Option<&str>) -> Vec<u8> {
     let writer = writer_name();
     let mut entries = vec![("KTXorientation", "rd"), ("KTXwriter", writer.as_str())];
     entries.extend(tex.tags().iter().map(|(k, v)| (k.as_str(), v.as_str())));
+    if let Some(e) = bc6h_error {
+        entries.push((BC6H_ERROR, e));
+    }
     key_values(&entries)
+}
+
+/// The key/value entry that holds a BC6H file's error per level, as
+/// written: the decoded texels against the texels they were encoded from.
+pub(crate) const BC6H_ERROR: &str = "envmap.bc6h-error";
+
+/// Each level's BC6H error, one `level p: ...` line each, from the packed
+/// levels `raw` decoded by `bcdec_rs`, against `tex`.
+#[cfg(feature = "bc6h")]
+fn bc6h_errors(tex: &Texture, raw: &[Vec<u8>]) -> String {
+    let decoded: Vec<Vec<RgbImage>> = tex
+        .levels()
+        .iter()
+        .zip(raw)
+        .map(|(faces, bytes)| {
+            let mut at = 0;
+            faces
+                .iter()
+                .map(|f| {
+                    let n = TexelFormat::Bc6h.image_bytes(f.width, f.height);
+                    let b = bytes.get(at..at + n).unwrap_or_default();
+                    at += n;
+                    RgbImage {
+                        width: f.width,
+                        height: f.height,
+                        pixels: TexelFormat::Bc6h.unpack_image(b, (f.width, f.height)),
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    tex.levels()
+        .iter()
+        .zip(&decoded)
+        .enumerate()
+        .map(|(p, (r, d))| {
+            format!(
+                "level {p}: {}",
+                crate::image::bc6h::measure_level(d, r).describe()
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// Where each section of a written file starts, and the file's length.
@@ -466,6 +560,7 @@ fn unsupported_format(vk: u32) -> String {
     let what = match vk {
         0 => "VK_FORMAT_UNDEFINED (Basis Universal or another universal format)".to_owned(),
         124..=130 => format!("a depth/stencil format (vkFormat {vk})"),
+        143 => "BC6H_UFLOAT_BLOCK (143), which needs envmap-render's `bc6h` feature (on by default; this build has it off),".to_owned(),
         131..=146 => format!("a BCn block-compressed format (vkFormat {vk})"),
         147..=156 => format!("an ETC2/EAC block-compressed format (vkFormat {vk})"),
         157..=184 | 1_000_066_000..=1_000_066_013 => {
@@ -475,7 +570,8 @@ fn unsupported_format(vk: u32) -> String {
     };
     format!(
         "{what} is not supported; envmap reads R16G16B16A16_SFLOAT (97), R32G32B32A32_SFLOAT (109), \
-         B10G11R11_UFLOAT_PACK32 (122), E5B9G9R9_UFLOAT_PACK32 (123), R16G16B16_SFLOAT (90) and R32G32B32_SFLOAT (106)"
+         B10G11R11_UFLOAT_PACK32 (122), E5B9G9R9_UFLOAT_PACK32 (123), R16G16B16_SFLOAT (90), R32G32B32_SFLOAT (106) \
+         and, with the `bc6h` feature, BC6H_UFLOAT_BLOCK (143)"
     )
 }
 
@@ -512,7 +608,7 @@ fn check_dfd(
             (fw(3) >> 16) & 0xff
         ));
     }
-    if fw(4) != 0 || (fw(5) != ww(5) && !(supercompressed && fw(5) == 0)) || fw(6) != 0 {
+    if fw(4) != ww(4) || (fw(5) != ww(5) && !(supercompressed && fw(5) == 0)) || fw(6) != 0 {
         return Err(mismatch());
     }
     for i in 7..ww(0) as usize / 4 {
@@ -815,14 +911,14 @@ fn decode_level(
         data
     };
     let (lw, lh) = level_size(hd.size.0, hd.size.1, p);
-    let face_bytes = lw as usize * lh as usize * hd.format.bytes();
+    let face_bytes = hd.format.image_bytes(lw, lh);
     Ok(data
         .chunks_exact(face_bytes)
         .map(|f| {
             let mut img = RgbImage {
                 width: lw,
                 height: lh,
-                pixels: hd.format.unpack(f),
+                pixels: hd.format.unpack_image(f, (lw, lh)),
             };
             flip(&mut img, flip_x, flip_y);
             img
@@ -851,6 +947,29 @@ fn flip(img: &mut RgbImage, x: bool, y: bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Without the `bc6h` feature BC6H is refused before any work, with
+    /// the reason, and a BC6H file is not read.
+    #[cfg(not(feature = "bc6h"))]
+    #[test]
+    fn bc6h_without_its_feature_is_refused_with_the_reason() {
+        let tex = Texture::new(
+            crate::image::texture::TextureKind::Flat,
+            vec![vec![RgbImage {
+                width: 4,
+                height: 4,
+                pixels: vec![[1.0; 3]; 16],
+            }]],
+        )
+        .unwrap();
+        let mut o = TextureOptions::default();
+        o.format = TexelFormat::Bc6h;
+        let e = encode(&tex, o).unwrap_err().to_string();
+        assert!(e.contains("`bc6h` feature"), "{e}");
+        assert!(!TexelFormat::Bc6h.is_writable());
+        assert_eq!(TexelFormat::from_vk_format(143), None);
+        assert!(unsupported_format(143).contains("`bc6h` feature"));
+    }
 
     #[test]
     fn dfd_words_match_the_spec_table() {

@@ -210,6 +210,13 @@
 //! | [`TexelFormat::E5b9g9r9`] | 123 | 67 | `GL_RGB9_E5` | 4 | 0 … 65408 | `EXT_texture_shared_exponent`, §"Appendix: RGB9E5 shared exponent" |
 //! | [`TexelFormat::Rgb16f`] | 90 | – | `GL_RGB16F` | 6 | ±65504 | read only (no DXGI or Metal equivalent) |
 //! | [`TexelFormat::Rgb32f`] | 106 | 6 | `GL_RGB32F` | 12 | f32 | read only |
+//! | [`TexelFormat::Bc6h`] | 143 | 95 | `GL_COMPRESSED_RGB_BPTC_UNSIGNED_FLOAT` | 16 per 4×4 block | 0 … 65504 | BC6H (Direct3D 11 block compression), lossy: encoded by `block_compression` (a port of Intel's ISPC kernel) at a [`Bc6hQuality`], decoded by `bcdec_rs`; KTX2 and DDS only, with the `bc6h` feature |
+//!
+//! BC6H's loss is measured when a file is written: each level's texels
+//! decoded from the bytes written, against the texels encoded. A KTX2 file
+//! records it in its key/value data (`envmap.bc6h-error`, one line per
+//! level: relative RMS, log-space RMSE, the worst texel), which `envmap
+//! info` prints; a bake's manifest records it for every file.
 //!
 //! RGBA formats get alpha 1. Values a format cannot hold are clamped to the
 //! nearest value it can, and counted ([`Clamped`]): above the largest
@@ -218,6 +225,8 @@
 //! (written as 0). RGBA32F stores every f32 as is.
 
 mod atomic;
+#[cfg(feature = "bc6h")]
+pub(crate) mod bc6h;
 pub(crate) mod convention;
 #[cfg(feature = "dds")]
 mod dds;

@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::image::envimage::{EnvImage, RgbImage};
 use crate::image::format::{self, Contents, FileFormat};
 use crate::image::layout::{resolve, Representation};
-use crate::image::texel::{Clamped, TexelFormat};
+use crate::image::texel::{Bc6hQuality, Clamped, TexelFormat};
 
 /// Whether a texture is a plain 2D image or a cube.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -320,7 +320,8 @@ impl Texture {
         let levels = (0..self.levels.len())
             .map(|p| {
                 let mut out = vec![0u8; self.level_len(p, format)];
-                clamped.add(self.pack_level_into(p, format, &mut out));
+                let quality = Bc6hQuality::default();
+                clamped.add(self.pack_level_into(p, format, quality, &mut out));
                 out
             })
             .collect();
@@ -332,9 +333,17 @@ impl Texture {
     /// a Vulkan, wgpu, D3D or GL cube), rows top-down, tightly packed, as
     /// KTX2 and DDS files hold them; no file is made. The format's names
     /// for each API are [`TexelFormat::vk_name`], [`TexelFormat::wgpu_name`]
-    /// and [`TexelFormat::dxgi_name`].
+    /// and [`TexelFormat::dxgi_name`]. BC6H is encoded at the default
+    /// [`Bc6hQuality`].
     #[must_use]
     pub fn upload(&self, format: TexelFormat) -> Upload {
+        self.upload_at(format, Bc6hQuality::default())
+    }
+
+    /// [`Texture::upload`], BC6H encoded at `quality`.
+    #[cfg_attr(feature = "instruments", visibility::make(pub))]
+    #[must_use]
+    pub(crate) fn upload_at(&self, format: TexelFormat, quality: Bc6hQuality) -> Upload {
         let mut clamped = Clamped::default();
         let levels = self
             .levels
@@ -344,8 +353,9 @@ impl Texture {
                 let faces = faces
                     .iter()
                     .map(|img| {
-                        let mut out = vec![0u8; img.pixels.len() * format.bytes()];
-                        clamped.add(format.pack_into(&img.pixels, &mut out));
+                        let (w, h) = (img.width, img.height);
+                        let mut out = vec![0u8; format.image_bytes(w, h)];
+                        clamped.add(format.pack_image_into(&img.pixels, (w, h), quality, &mut out));
                         out
                     })
                     .collect();
@@ -368,23 +378,33 @@ impl Texture {
     #[must_use]
     pub(crate) fn level_len(&self, p: usize, format: TexelFormat) -> usize {
         self.levels.get(p).map_or(0, |l| {
-            l.iter().map(|i| i.pixels.len()).sum::<usize>() * format.bytes()
+            l.iter()
+                .map(|i| format.image_bytes(i.width, i.height))
+                .sum::<usize>()
         })
     }
 
     /// Packs level `p` (its faces one after the other) into `out`, which
-    /// holds exactly [`Texture::level_len`] bytes; returns what was clamped.
+    /// holds exactly [`Texture::level_len`] bytes, BC6H at `quality`;
+    /// returns what was clamped.
     ///
     /// # Panics
     ///
     /// If `out` has another length.
-    pub(crate) fn pack_level_into(&self, p: usize, format: TexelFormat, out: &mut [u8]) -> Clamped {
+    pub(crate) fn pack_level_into(
+        &self,
+        p: usize,
+        format: TexelFormat,
+        quality: Bc6hQuality,
+        out: &mut [u8],
+    ) -> Clamped {
         assert_eq!(out.len(), self.level_len(p, format), "level length");
         let mut clamped = Clamped::default();
         let mut at = 0;
         for img in &self.levels[p] {
-            let n = img.pixels.len() * format.bytes();
-            clamped.add(format.pack_into(&img.pixels, &mut out[at..at + n]));
+            let (w, h) = (img.width, img.height);
+            let n = format.image_bytes(w, h);
+            clamped.add(format.pack_image_into(&img.pixels, (w, h), quality, &mut out[at..at + n]));
             at += n;
         }
         clamped
@@ -441,8 +461,9 @@ pub(crate) fn level_bytes(
     format: TexelFormat,
 ) -> Option<u64> {
     let (lw, lh) = level_size(w, h, p);
-    u64::from(lw)
-        .checked_mul(u64::from(lh))?
+    let b = format.block();
+    u64::from(lw.div_ceil(b))
+        .checked_mul(u64::from(lh.div_ceil(b)))?
         .checked_mul(kind.faces() as u64)?
         .checked_mul(format.bytes() as u64)
 }
@@ -554,6 +575,9 @@ pub struct TextureOptions {
     /// KTX2 only: Zstandard supercompression at this level (1–22), each
     /// level its own frame; `None` (the default) for none.
     pub zstd: Option<i32>,
+    /// BC6H only: how hard the encoder searches (default
+    /// [`Bc6hQuality::VeryFast`]).
+    pub bc6h: Bc6hQuality,
 }
 
 impl Default for TextureOptions {
@@ -561,6 +585,7 @@ impl Default for TextureOptions {
         Self {
             format: TexelFormat::Rgba16f,
             zstd: None,
+            bc6h: Bc6hQuality::VeryFast,
         }
     }
 }

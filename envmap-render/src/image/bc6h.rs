@@ -1,0 +1,270 @@
+// BC6H (unsigned): HDR texels in 4×4 blocks of 16 bytes, one byte per
+// texel. Encoded with the `block_compression` crate's CPU encoder (a Rust
+// port of Intel's ISPC BC6H kernel), decoded with `bcdec_rs` (a Rust port
+// of bcdec), an implementation independent of the encoder, so that the
+// error a file reports is what a GPU's decoder gives back.
+
+use half::f16;
+
+use crate::image::envimage::RgbImage;
+use crate::image::texel::{Bc6hQuality, Clamped, TexelFormat, F16_MAX};
+use crate::image::texture::Texture;
+use crate::par::*;
+
+/// Bytes per 4×4 block.
+const BLOCK_BYTES: usize = 16;
+
+/// The `block_compression` settings of `quality`.
+fn settings(quality: Bc6hQuality) -> block_compression::BC6HSettings {
+    use block_compression::BC6HSettings as S;
+    match quality {
+        Bc6hQuality::VeryFast => S::very_fast(),
+        Bc6hQuality::Fast => S::fast(),
+        Bc6hQuality::Basic => S::basic(),
+        Bc6hQuality::Slow => S::slow(),
+        Bc6hQuality::VerySlow => S::very_slow(),
+    }
+}
+
+/// Encodes the `w`×`h` texels `pixels` (rows top-down) as BC6H blocks
+/// into `out` (exactly `TexelFormat::Bc6h.image_bytes(w, h)` long), rows of blocks in parallel.
+/// Each component is first clamped to [0, 65504] (binary16's range; BC6H
+/// UF16 holds no more), NaN written as 0, and counted. A partial block at
+/// the right or bottom edge repeats the last column or row, which a reader
+/// never samples.
+///
+/// # Panics
+///
+/// If `pixels` is not `w × h` long or `out` has another length.
+pub(crate) fn encode(
+    pixels: &[[f32; 3]],
+    (w, h): (u32, u32),
+    quality: Bc6hQuality,
+    out: &mut [u8],
+) -> Clamped {
+    assert_eq!(pixels.len(), w as usize * h as usize, "texel count");
+    assert_eq!(
+        out.len(),
+        TexelFormat::Bc6h.image_bytes(w, h),
+        "BC6H length"
+    );
+    let (w, h) = (w as usize, h as usize);
+    let row_bytes = w.div_ceil(4) * BLOCK_BYTES;
+    if row_bytes == 0 {
+        return Clamped::default();
+    }
+    let settings = block_compression::CompressionVariant::BC6H(settings(quality));
+    out.par_chunks_mut(row_bytes)
+        .enumerate()
+        .map(|(by, dst)| {
+            // One row of blocks: four texel rows, each padded to a whole
+            // number of blocks, as binary16 RGBA.
+            let w4 = w.div_ceil(4) * 4;
+            let mut c = Clamped::default();
+            let mut strip = vec![f16::ZERO; w4 * 4 * 4];
+            for y in 0..4 {
+                let sy = (by * 4 + y).min(h - 1);
+                let row = &pixels[sy * w..(sy + 1) * w];
+                for x in 0..w4 {
+                    let t = row[x.min(w - 1)];
+                    let at = (y * w4 + x) * 4;
+                    for k in 0..3 {
+                        let v = clamp_counted(t[k], &mut c, x < w && by * 4 + y < h);
+                        strip[at + k] = f16::from_f32(v);
+                    }
+                    strip[at + 3] = f16::ONE;
+                }
+            }
+            block_compression::encode::compress_rgba16(
+                settings,
+                &strip,
+                dst,
+                w4 as u32,
+                4,
+                (w4 * 4) as u32,
+            );
+            if quality != Bc6hQuality::VerySlow {
+                refine(&strip, w4, dst);
+            }
+            c
+        })
+        .sum()
+}
+
+/// A block whose relative squared error Σ(d − r)² / Σr² is above this
+/// (about 3 % relative RMS) is encoded again at [`Bc6hQuality::VerySlow`].
+const REFINE_ABOVE: f64 = 1e-3;
+
+/// Encodes again, at [`Bc6hQuality::VerySlow`], each block of the row
+/// `dst` (from `strip`, four rows of `w4` binary16 RGBA texels) that
+/// decodes with an error above [`REFINE_ABOVE`], keeping whichever of the
+/// two decodes closer. The blocks that need it are few (a sun's, an
+/// edge's), so every setting gets the slowest search where it matters at
+/// little cost.
+fn refine(strip: &[f16], w4: usize, dst: &mut [u8]) {
+    let very_slow = block_compression::CompressionVariant::BC6H(settings(Bc6hQuality::VerySlow));
+    for (bx, block) in dst.chunks_exact_mut(BLOCK_BYTES).enumerate() {
+        let mut texels = [f16::ZERO; 64];
+        for y in 0..4 {
+            let at = (y * w4 + bx * 4) * 4;
+            texels[16 * y..16 * y + 16].copy_from_slice(&strip[at..at + 16]);
+        }
+        let error = |b: &[u8]| {
+            let mut px = [0.0f32; 48];
+            bcdec_rs::bc6h_float(b, &mut px, 12, false);
+            let (mut num, mut den) = (0.0f64, 0.0f64);
+            for (i, d) in px.iter().enumerate() {
+                let r = f64::from(texels[(i / 3) * 4 + i % 3].to_f32());
+                num += (f64::from(*d) - r).powi(2);
+                den += r * r;
+            }
+            num / den.max(f64::MIN_POSITIVE)
+        };
+        let before = error(block);
+        if before <= REFINE_ABOVE {
+            continue;
+        }
+        let mut again = [0u8; BLOCK_BYTES];
+        block_compression::encode::compress_rgba16(very_slow, &texels, &mut again, 4, 4, 16);
+        if error(&again) < before {
+            block.copy_from_slice(&again);
+        }
+    }
+}
+
+/// `v` clamped to [0, 65504], NaN to 0; counted in `c` when `count` (the
+/// padding of a partial block repeats texels already counted).
+fn clamp_counted(v: f32, c: &mut Clamped, count: bool) -> f32 {
+    if v.is_nan() {
+        c.nan += u64::from(count);
+        0.0
+    } else if v < 0.0 {
+        c.below += u64::from(count);
+        0.0
+    } else if v > F16_MAX {
+        c.above += u64::from(count);
+        F16_MAX
+    } else {
+        v
+    }
+}
+
+/// Decodes the BC6H blocks `bytes` of a `w`×`h` image into its texels
+/// (rows top-down; the padding of partial blocks dropped), with `bcdec_rs`.
+/// Missing blocks decode as black.
+#[must_use]
+pub(crate) fn decode(bytes: &[u8], (w, h): (u32, u32)) -> Vec<[f32; 3]> {
+    let (w, h) = (w as usize, h as usize);
+    let mut out = vec![[0.0f32; 3]; w * h];
+    let bw = w.div_ceil(4);
+    if bw == 0 {
+        return out;
+    }
+    out.par_chunks_mut(4 * w)
+        .enumerate()
+        .for_each(|(by, rows)| {
+            let mut px = [0.0f32; 48];
+            for bx in 0..bw {
+                let at = (by * bw + bx) * BLOCK_BYTES;
+                let Some(block) = bytes.get(at..at + BLOCK_BYTES) else {
+                    continue;
+                };
+                bcdec_rs::bc6h_float(block, &mut px, 12, false);
+                for (y, row) in rows.chunks_mut(w).enumerate() {
+                    for x in 0..4 {
+                        if let Some(t) = row.get_mut(bx * 4 + x) {
+                            let k = y * 12 + x * 3;
+                            *t = [px[k], px[k + 1], px[k + 2]];
+                        }
+                    }
+                }
+            }
+        });
+    out
+}
+
+/// How far one level's decoded texels are from the texels they were
+/// encoded from ([`measure_level`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Bc6hError {
+    /// Relative RMS: √(Σ (d − r)²) / √(Σ r²) over every component.
+    pub(crate) rel_rms: f64,
+    /// Log-space RMSE: √(mean of (ln(1 + d) − ln(1 + r))²) over every
+    /// component (the measure of GPURealTimeBC6H's tables).
+    pub(crate) log_rmse: f64,
+    /// The worst texel's relative error: its largest channel difference
+    /// |d − r| over its largest reference channel (at least 2⁻¹⁴, the
+    /// smallest normal binary16).
+    pub(crate) worst: f64,
+    /// Where the worst texel is: face (0 for a 2D texture), column, row.
+    pub(crate) worst_at: (usize, u32, u32),
+    /// The worst texel's reference value.
+    pub(crate) worst_value: [f32; 3],
+}
+
+impl Bc6hError {
+    /// One line: `rel. RMS 1.23 %, log RMSE 0.0042, worst 8.1 % at face 2
+    /// (31, 7) of (0.52, 0.61, 0.70)`.
+    #[cfg_attr(not(feature = "ktx2"), allow(dead_code))]
+    pub(crate) fn describe(&self) -> String {
+        let [r, g, b] = self.worst_value;
+        let (f, x, y) = self.worst_at;
+        format!(
+            "rel. RMS {:.3} %, log RMSE {:.5}, worst {:.2} % at face {f} ({x}, {y}) of ({r}, {g}, {b})",
+            100.0 * self.rel_rms,
+            self.log_rmse,
+            100.0 * self.worst
+        )
+    }
+}
+
+/// The error of one level's `decoded` faces against its `reference` faces
+/// (the reference clamped to BC6H's range first, as the encoder clamps),
+/// texel by texel.
+#[must_use]
+pub(crate) fn measure_level(decoded: &[RgbImage], reference: &[RgbImage]) -> Bc6hError {
+    let (mut num, mut den, mut log, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
+    let mut e = Bc6hError::default();
+    let floor = f64::from(2f32.powi(-14));
+    for (face, (dimg, rimg)) in decoded.iter().zip(reference).enumerate() {
+        let w = rimg.width.max(1) as usize;
+        for (at, (d, r)) in dimg.pixels.iter().zip(&rimg.pixels).enumerate() {
+            let (mut diff, mut top) = (0.0f64, 0.0f64);
+            let rc = r.map(|v| clamp_counted(v, &mut Clamped::default(), false));
+            for k in 0..3 {
+                let (d, r) = (f64::from(d[k]), f64::from(rc[k]));
+                num += (d - r) * (d - r);
+                den += r * r;
+                log += ((1.0 + d).ln() - (1.0 + r).ln()).powi(2);
+                n += 1;
+                diff = diff.max((d - r).abs());
+                top = top.max(r);
+            }
+            let rel = diff / top.max(floor);
+            if rel > e.worst {
+                e.worst = rel;
+                e.worst_at = (face, (at % w) as u32, (at / w) as u32);
+                e.worst_value = rc;
+            }
+        }
+    }
+    e.rel_rms = if den > 0.0 {
+        (num / den).sqrt()
+    } else {
+        num.sqrt()
+    };
+    e.log_rmse = if n > 0 { (log / n as f64).sqrt() } else { 0.0 };
+    e
+}
+
+/// Every level's error: `decoded` (a texture read back from the bytes
+/// written) against `reference` (the texture they were written from).
+#[must_use]
+pub(crate) fn measure(decoded: &Texture, reference: &Texture) -> Vec<Bc6hError> {
+    decoded
+        .levels()
+        .iter()
+        .zip(reference.levels())
+        .map(|(d, r)| measure_level(d, r))
+        .collect()
+}
