@@ -17,12 +17,13 @@ use libfuzzer_sys::fuzz_target;
 /// may inflate to 16 bytes a texel).
 const MAX_TEXELS: u64 = 1 << 18;
 
-/// The writable format holding a format's texels exactly: itself, or its
-/// RGBA counterpart for the read-only RGB ones.
+/// The writable format holding a format's texels exactly: itself, its
+/// RGBA counterpart for the read-only RGB ones, RGBA32F for BC6H (lossy:
+/// its decoded texels are not what encoding them again gives).
 fn writable(format: TexelFormat) -> TexelFormat {
     match format {
         TexelFormat::Rgb16f => TexelFormat::Rgba16f,
-        TexelFormat::Rgb32f => TexelFormat::Rgba32f,
+        TexelFormat::Rgb32f | TexelFormat::Bc6h => TexelFormat::Rgba32f,
         f => f,
     }
 }

@@ -439,7 +439,8 @@ pub struct UploadLevel {
 impl UploadLevel {
     /// Every face's bytes one after the other (what a KTX2 or DDS level
     /// holds, and what `wgpu::Queue::write_texture` takes for a whole cube
-    /// level at `bytes_per_row` = width × the format's bytes).
+    /// level at `bytes_per_row` = width × the format's bytes; for BC6H,
+    /// ⌈width / 4⌉ × 16, a row of blocks).
     #[cfg_attr(not(feature = "instruments"), allow(dead_code))]
     #[cfg_attr(feature = "instruments", visibility::make(pub))]
     #[must_use]

@@ -105,7 +105,8 @@ pub fn bake_image(src: &EnvImage, size: u32) -> envmap_render::Result<Bake> {
     Ok(Baker::with_preset(bevy_preset(size)).bake(src)?.into_bake())
 }
 
-/// The wgpu format of a texel format envmap writes.
+/// The wgpu format of a texel format envmap writes (BC6H needs a device
+/// with `TEXTURE_COMPRESSION_BC`).
 #[must_use]
 pub fn texture_format(format: TexelFormat) -> Option<TextureFormat> {
     Some(match format {
@@ -113,6 +114,7 @@ pub fn texture_format(format: TexelFormat) -> Option<TextureFormat> {
         TexelFormat::Rgba32f => TextureFormat::Rgba32Float,
         TexelFormat::B10g11r11 => TextureFormat::Rg11b10Ufloat,
         TexelFormat::E5b9g9r9 => TextureFormat::Rgb9e5Ufloat,
+        TexelFormat::Bc6h => TextureFormat::Bc6hRgbUfloat,
         TexelFormat::Rgb16f | TexelFormat::Rgb32f => return None,
     })
 }
