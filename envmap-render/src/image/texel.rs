@@ -481,7 +481,7 @@ impl TexelFormat {
     }
 
     /// The texels of the `w`×`h` image `bytes` holds in this format (the
-    /// inverse of [`TexelFormat::pack_image_into`], its BC6H decoded by
+    /// inverse of `TexelFormat::pack_image_into`, its BC6H decoded by
     /// `bcdec_rs`; black without the `bc6h` feature).
     #[cfg_attr(not(any(feature = "ktx2", feature = "dds")), allow(dead_code))]
     #[cfg_attr(feature = "instruments", visibility::make(pub))]
