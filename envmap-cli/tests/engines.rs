@@ -331,7 +331,7 @@ fn texture_flags_are_refused_where_they_mean_nothing() {
     let o = envmap(&["bake", "sky", "--out", "x", "--format", "rgb9e5"], d);
     assert!(text(&o.stderr).contains("--format and --zstd are for --container"));
     let o = envmap(&["bake", "sky", "--out", "x", "--target", "unreal"], d);
-    assert!(text(&o.stderr).contains("expected bevy, gltf or filament"));
+    assert!(text(&o.stderr).contains("expected bevy, gltf, filament or babylon"));
     assert!(!d.join("x").exists(), "nothing written");
     std::fs::write(d.join("a.ktx"), b"not read").unwrap();
     let o = envmap(&["info", "a.ktx"], d);
@@ -507,4 +507,64 @@ fn bake_writes_bc6h_and_reports_each_levels_error() {
         text(&o.stderr)
     );
     assert!(!d.join("f").exists(), "nothing written");
+}
+
+/// `--target babylon` writes one `.env` (every level down to 1×1, at
+/// Babylon.js's rule), the manifest reports what RGBD lost per level (the
+/// sky's sun is clipped at 255 in the sharp levels, not in the rough
+/// ones), and `envmap info` reads the file back.
+#[test]
+fn bake_for_babylon_writes_an_env_file_and_reports_what_rgbd_clips() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = envmap(
+        &[
+            "bake", "sky", "--out", "b", "--target", "babylon", "--size", "32",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let names: Vec<String> = std::fs::read_dir(d.join("b"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.contains(&"environment.env".to_owned()), "{names:?}");
+    assert_eq!(
+        names.len(),
+        3,
+        "environment.env, manifest.json, sh.json: {names:?}"
+    );
+    let env = std::fs::read(d.join("b/environment.env")).unwrap();
+    assert_eq!(&env[..8], &[0x86, 0x16, 0x87, 0x96, 0xF6, 0xD6, 0x96, 0x36]);
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("b/manifest.json")).unwrap()).unwrap();
+    assert_eq!(m["target"], "babylon");
+    assert_eq!(m["container"], "env");
+    let levels = m["specular"]["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 6, "32² down to 1×1");
+    // Level k ≥ 1 at α = 2^(k/0.8)/32, at most 1; level 0 unfiltered.
+    for (k, l) in levels.iter().enumerate() {
+        let r = l["perceptual_roughness"].as_f64().unwrap();
+        let want = if k == 0 {
+            0.0
+        } else {
+            (2f64.powf(k as f64 / 0.8) / 32.0).min(1.0).sqrt()
+        };
+        assert!((r - want).abs() < 1e-6, "level {k}: {r} against {want}");
+    }
+    let c = &m["compression"]["files"][0]["levels"];
+    let clipped0 = c[0]["clipped_energy"].as_f64().unwrap();
+    let clipped_last = c[5]["clipped_energy"].as_f64().unwrap();
+    assert!(clipped0 > 0.01, "the sun is clipped at level 0: {clipped0}");
+    assert_eq!(clipped_last, 0.0);
+    assert!(c[3]["relative_rms"].as_f64().unwrap() < 0.01, "{c}");
+    let info = envmap(&["info", "b/environment.env"], d);
+    let out = text(&info.stdout);
+    assert!(info.status.success(), "{}", text(&info.stderr));
+    assert!(
+        out.contains("Babylon.js .env cube 32×32, 6 levels (full chain), rgbd"),
+        "{out}"
+    );
+    assert!(out.contains("babylon.irradiance"), "{out}");
+    assert!(out.contains("y up, left-handed"), "{out}");
 }

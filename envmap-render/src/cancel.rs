@@ -69,7 +69,7 @@ impl<'a, T> Cancellable<'a, T> {
     }
 
     /// The reader or writer inside.
-    #[cfg(any(feature = "ktx2", feature = "dds"))]
+    #[cfg(any(feature = "ktx2", feature = "dds", feature = "babylon"))]
     pub(crate) fn into_inner(self) -> T {
         self.inner
     }

@@ -27,11 +27,20 @@ pub enum Target {
     /// Filament's `cmgen --deploy`: KTX 1, R11F_G11F_B10F, the `sh` key,
     /// mirrored unless asked otherwise.
     Filament,
+    /// Babylon.js's `.env`: one file holding an RGBD cube chain (PNG) down
+    /// to 1×1 at Babylon.js's roughness rule, and the irradiance
+    /// polynomial; 256², in Babylon.js's left-handed y-up world.
+    Babylon,
 }
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 3] = [Target::Bevy, Target::Gltf, Target::Filament];
+    pub const ALL: [Target; 4] = [
+        Target::Bevy,
+        Target::Gltf,
+        Target::Filament,
+        Target::Babylon,
+    ];
 
     /// The name `--target` takes and the manifest records.
     #[must_use]
@@ -40,6 +49,7 @@ impl Target {
             Target::Bevy => "bevy",
             Target::Gltf => "gltf",
             Target::Filament => "filament",
+            Target::Babylon => "babylon",
         }
     }
 }
@@ -52,7 +62,8 @@ impl std::str::FromStr for Target {
             "bevy" => Ok(Target::Bevy),
             "gltf" | "gltf-ibl-sampler" | "khronos" => Ok(Target::Gltf),
             "filament" | "cmgen" => Ok(Target::Filament),
-            _ => Err(format!("{s}: expected bevy, gltf or filament")),
+            "babylon" | "babylonjs" | "babylon.js" => Ok(Target::Babylon),
+            _ => Err(format!("{s}: expected bevy, gltf, filament or babylon")),
         }
     }
 }
@@ -221,6 +232,29 @@ impl Preset {
                 specular: "ibl",
                 ..base
             },
+            // Babylon.js (Misc/environmentTextureTools.ts, HDRFiltering):
+            // a .env of RGBD PNGs, every level down to 1×1 at α =
+            // 2^(lod/0.8)/size (level 0 unfiltered), the irradiance as its
+            // SphericalPolynomial; no irradiance map or DFG table (Babylon.js
+            // ships its own BRDF table). Its world is left-handed y-up and it
+            // reads a cube at its world direction, so the cube is written in
+            // the world with z negated, as for Bevy.
+            Target::Babylon => Self {
+                size: 256,
+                rule: RoughnessRule::Babylon,
+                min_size: Some(1),
+                irradiance_size: 0,
+                dfg_size: 0,
+                container: FileFormat::Env,
+                texture: TextureOptions {
+                    format: TexelFormat::Rgbd8,
+                    zstd: None,
+                    ..TextureOptions::default()
+                },
+                axes: z_negated(axes),
+                specular: "environment",
+                ..base
+            },
         }
     }
 
@@ -265,7 +299,7 @@ impl Preset {
     pub(crate) fn check(&self) -> Result<()> {
         if !(self.container == FileFormat::Exr || self.container.is_texture()) {
             return Err(Error::options(format!(
-                "{}: a bake is written as exr, ktx2, dds or ktx",
+                "{}: a bake is written as exr, ktx2, dds, ktx or env",
                 self.container.name()
             )));
         }
@@ -274,6 +308,11 @@ impl Preset {
                 "zstd: only KTX2 has supercompression (the container is {})",
                 self.container.extension()
             )));
+        }
+        if self.container == FileFormat::Env && self.irradiance_size > 0 {
+            return Err(Error::options(
+                "a Babylon.js .env holds the specular chain and the irradiance polynomial; it has no irradiance map (irradiance size 0)",
+            ));
         }
         if !Layout::for_mapping(envmap_core::AnyMapping::Cube).contains(&self.layout) {
             return Err(Error::options(format!(

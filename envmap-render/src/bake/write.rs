@@ -423,6 +423,14 @@ impl<'p> Files<'p> {
         let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
         let ext = preset.container.extension();
         let sh_key = filament_sh_key(bake, preset);
+        if preset.container == FileFormat::Env {
+            // One file: the chain, with the irradiance polynomial inside.
+            if let Some(chain) = &bake.chain {
+                let name = texture_name(dir, preset, preset.specular);
+                clamped_total.push(self.stage_env(run, bake, &chain.levels, &name, lossy)?);
+            }
+            return Ok(clamped_total);
+        }
         if let Some(chain) = &bake.chain {
             let kv: Vec<(&str, &[u8])> = if preset.container == FileFormat::Ktx {
                 vec![("sh", sh_key.as_bytes())]
@@ -498,7 +506,12 @@ impl<'p> Files<'p> {
                 let back = crate::image::texture::decode(&path, &bytes, u64::MAX)?;
                 lossy.push(Lossy {
                     file: name.to_owned(),
-                    levels: crate::image::bc6h::measure(&back.texture, &tex),
+                    levels: crate::image::lossy::measure(
+                        &back.texture,
+                        &tex,
+                        crate::image::TexelFormat::Bc6h,
+                    ),
+                    clipped: Vec::new(),
                 });
             }
             #[cfg(not(feature = "bc6h"))]
@@ -508,6 +521,52 @@ impl<'p> Files<'p> {
             run.stage_texture(&tex, &path, preset.texture)?
         };
         Ok((path, clamped))
+    }
+
+    /// Stages the chain `levels` as the Babylon.js `.env` file `name`, with
+    /// the irradiance polynomial of the bake's SH (in the cube's axes), and
+    /// measures what RGBD lost: the file is read back and each level
+    /// compared with the levels, and the energy above RGBD's 255 counted.
+    fn stage_env(
+        &self,
+        run: &mut Outputs<'_>,
+        bake: &Bake,
+        levels: &[EnvImage],
+        name: &str,
+        lossy: &mut Vec<Lossy>,
+    ) -> Result<(PathBuf, Clamped)> {
+        let path = self.dir.join(name);
+        #[cfg(feature = "babylon")]
+        {
+            use crate::image::babylon;
+            let tex = Texture::from_env(levels)?;
+            let sh = match self.preset.sh_window {
+                Some(w) => bake.sh.windowed(w),
+                None => bake.sh,
+            }
+            .in_frame(self.opts.axes.frame(AnyMapping::Cube));
+            let e = babylon::encode(&tex, &sh, babylon::DEFAULT_LOD_SCALE)
+                .map_err(|e| e.in_file(&path))?;
+            run.stage_bytes(&path, &e.bytes)?;
+            let back = crate::image::texture::decode(&path, &e.bytes, u64::MAX)?;
+            lossy.push(Lossy {
+                file: name.to_owned(),
+                levels: crate::image::lossy::measure(
+                    &back.texture,
+                    &tex,
+                    crate::image::TexelFormat::Rgbd8,
+                ),
+                clipped: e.clipped,
+            });
+            Ok((path, e.clamped))
+        }
+        #[cfg(not(feature = "babylon"))]
+        {
+            let _ = (run, bake, levels, lossy);
+            FileFormat::Env
+                .codec(&path)
+                .map(|_| (path.clone(), Clamped::default()))
+        }
     }
 
     /// Stages the DFG table's two OpenEXR files (single scatter and
@@ -765,51 +824,76 @@ pub(crate) struct Lossy {
     /// The file's name in the bake's directory.
     file: String,
     /// Each level's error, the file's texels decoded against the levels.
-    #[cfg(feature = "bc6h")]
-    levels: Vec<crate::image::bc6h::Bc6hError>,
+    #[cfg(any(feature = "bc6h", feature = "babylon"))]
+    levels: Vec<crate::image::lossy::LevelError>,
+    /// RGBD: each level's fraction of its energy above 255 (empty for
+    /// BC6H).
+    #[cfg_attr(not(any(feature = "bc6h", feature = "babylon")), allow(dead_code))]
+    clipped: Vec<f64>,
 }
 
-/// The manifest's `compression` entry: for BC6H, each file's error per
-/// level (`null` for the uncompressed formats).
+/// The manifest's `compression` entry: for BC6H and RGBD, each file's
+/// error per level (`null` for the formats that only round).
 fn lossy_json(preset: &Preset, lossy: &[Lossy]) -> Option<serde_json::Value> {
-    if preset.texture.format != crate::image::TexelFormat::Bc6h || lossy.is_empty() {
+    use crate::image::TexelFormat;
+    let format = preset.texture.format;
+    if !matches!(format, TexelFormat::Bc6h | TexelFormat::Rgbd8) || lossy.is_empty() {
         return None;
     }
     let files: Vec<serde_json::Value> = lossy
         .iter()
         .map(|l| {
-            #[cfg(feature = "bc6h")]
+            #[cfg(any(feature = "bc6h", feature = "babylon"))]
             let levels: Vec<serde_json::Value> = l
                 .levels
                 .iter()
                 .enumerate()
                 .map(|(p, e)| {
-                    serde_json::json!({
+                    let mut v = serde_json::json!({
                         "level": p,
                         "relative_rms": e.rel_rms,
                         "log_rmse": e.log_rmse,
                         "worst_relative": e.worst,
                         "worst_texel": { "face": e.worst_at.0, "x": e.worst_at.1, "y": e.worst_at.2 },
                         "worst_texel_value": e.worst_value,
-                    })
+                    });
+                    if let Some(c) = l.clipped.get(p) {
+                        v["clipped_energy"] = serde_json::json!(c);
+                    }
+                    v
                 })
                 .collect();
-            #[cfg(not(feature = "bc6h"))]
+            #[cfg(not(any(feature = "bc6h", feature = "babylon")))]
             let levels: Vec<serde_json::Value> = Vec::new();
             serde_json::json!({ "file": l.file, "levels": levels })
         })
         .collect();
-    Some(serde_json::json!({
-        "format": "BC6H_UFLOAT_BLOCK",
-        "quality": preset.texture.bc6h.name(),
-        "encoder": "block_compression (a Rust port of Intel's ISPC BC6H kernel)",
-        "decoder": "bcdec_rs (a Rust port of bcdec), reading the bytes written",
-        "error_against": "each level's texels before compression, clamped to [0, 65504] as the encoder clamps them",
+    let measures = serde_json::json!({
         "relative_rms": "sqrt(sum (d - r)^2) / sqrt(sum r^2) over every component of the level",
         "log_rmse": "sqrt(mean (ln(1 + d) - ln(1 + r))^2) over every component",
         "worst_relative": "the texel whose largest channel difference |d - r| is largest relative to its largest channel (at least 2^-14)",
-        "files": files,
-    }))
+    });
+    let mut v = if format == TexelFormat::Bc6h {
+        serde_json::json!({
+            "format": "BC6H_UFLOAT_BLOCK",
+            "quality": preset.texture.bc6h.name(),
+            "encoder": "block_compression (a Rust port of Intel's ISPC BC6H kernel)",
+            "decoder": "bcdec_rs (a Rust port of bcdec), reading the bytes written",
+            "error_against": "each level's texels before compression, clamped to [0, 65504] as the encoder clamps them",
+        })
+    } else {
+        serde_json::json!({
+            "format": "RGBD in 8-bit RGBA PNG (Babylon.js toRGBD: D = floor(max(255/max(r,g,b), 1))/255, rgb = (c D)^(1/2.2), a = D)",
+            "decoder": "envmap's .env reader (Babylon.js fromRGBD: rgb^2.2 / a), reading the bytes written",
+            "error_against": "each level's texels, clamped to [0, 255] as RGBD clamps them",
+            "clipped_energy": "per level, the fraction of its radiant energy (value x solid angle, summed over channels and texels) above 255, which RGBD cannot hold and which is lost (a sun); the irradiance polynomial is made from the unclipped source",
+        })
+    };
+    if let (Some(o), Some(m)) = (v.as_object_mut(), measures.as_object()) {
+        o.extend(m.clone());
+        o.insert("files".into(), serde_json::json!(files));
+    }
+    Some(v)
 }
 
 /// The manifest's `specular` entry: what the chain's levels hold, how

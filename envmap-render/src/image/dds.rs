@@ -54,7 +54,7 @@ fn dxgi(format: TexelFormat) -> Option<DxgiFormat> {
         TexelFormat::E5b9g9r9 => DxgiFormat::R9G9B9E5_SharedExp,
         TexelFormat::Rgb32f => DxgiFormat::R32G32B32_Float,
         TexelFormat::Bc6h => DxgiFormat::BC6H_UF16,
-        TexelFormat::Rgb16f => return None,
+        TexelFormat::Rgb16f | TexelFormat::Rgbd8 => return None,
     })
 }
 
@@ -68,6 +68,9 @@ pub(crate) fn encode(tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Cl
     let format = opts.format;
     if format == TexelFormat::Bc6h && !format.is_writable() {
         return Err(Error::unsupported(crate::image::texel::NO_BC6H));
+    }
+    if format == TexelFormat::Rgbd8 {
+        return Err(Error::unsupported(crate::image::texel::RGBD_IN_ENV));
     }
     let dxgi_format = dxgi(format)
         .filter(|_| format.is_writable())

@@ -21,10 +21,10 @@
 //! [`FileFormat`], its names and extensions, the choice by name or bytes,
 //! the feature check and every read and write then follow from the table.
 
-#[cfg(any(feature = "ktx2", feature = "dds"))]
+#[cfg(any(feature = "ktx2", feature = "dds", feature = "babylon"))]
 use std::borrow::Cow;
 use std::fs::File;
-#[cfg(any(feature = "ktx2", feature = "dds"))]
+#[cfg(any(feature = "ktx2", feature = "dds", feature = "babylon"))]
 use std::io::Read as _;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
@@ -51,7 +51,13 @@ pub(crate) enum Holds {
 
 /// What a file held, read whole.
 #[cfg_attr(
-    not(any(feature = "image", feature = "exr", feature = "ktx2", feature = "dds")),
+    not(any(
+        feature = "image",
+        feature = "exr",
+        feature = "ktx2",
+        feature = "dds",
+        feature = "babylon"
+    )),
     allow(dead_code)
 )]
 pub(crate) enum Contents {
@@ -59,7 +65,10 @@ pub(crate) enum Contents {
     #[cfg_attr(not(any(feature = "image", feature = "exr")), allow(dead_code))]
     Image(RgbImage, SourceFormat),
     /// A texture with its levels (KTX2, DDS).
-    #[cfg_attr(not(any(feature = "ktx2", feature = "dds")), allow(dead_code))]
+    #[cfg_attr(
+        not(any(feature = "ktx2", feature = "dds", feature = "babylon")),
+        allow(dead_code)
+    )]
     Chain(TextureFile),
 }
 
@@ -329,7 +338,7 @@ pub(crate) fn memory<'a>(bytes: &'a [u8], cancel: Option<&'a AtomicBool>) -> Sou
 /// The largest file a texture within `max_texels` can be: every texel at
 /// 16 bytes, plus 1 MiB for headers and metadata. Larger files are refused
 /// before they are read.
-#[cfg(any(feature = "ktx2", feature = "dds"))]
+#[cfg(any(feature = "ktx2", feature = "dds", feature = "babylon"))]
 pub(crate) fn max_file_bytes(max_texels: u64) -> u64 {
     max_texels.saturating_mul(16).saturating_add(1 << 20)
 }
@@ -337,7 +346,7 @@ pub(crate) fn max_file_bytes(max_texels: u64) -> u64 {
 /// The whole of a texture file's bytes (borrowed when they are in memory),
 /// refusing a file larger than any texture within `max_texels` can be
 /// before reading it.
-#[cfg(any(feature = "ktx2", feature = "dds"))]
+#[cfg(any(feature = "ktx2", feature = "dds", feature = "babylon"))]
 pub(crate) fn whole<'a>(
     path: &Path,
     format: FileFormat,
@@ -416,6 +425,9 @@ registry! {
     /// KTX 1 (`.ktx`): GPU texture with mip levels, as Filament reads it
     /// (written only).
     Ktx: "KTX 1", ["ktx"], b"\xABKTX 11\xBB\r\n\x1A\n", "ktx1", Chain, crate::image::ktx1::Ktx1;
+    /// Babylon.js environment (`.env`): an RGBD cube chain as PNG, with
+    /// its irradiance polynomial.
+    Env: "Babylon.js .env", ["env"], b"\x86\x16\x87\x96\xF6\xD6\x96\x36", "babylon", Chain, crate::image::babylon::Env;
 }
 
 #[cfg(test)]
@@ -426,7 +438,7 @@ mod tests {
     fn every_format_is_found_by_each_extension_and_by_its_first_bytes() {
         assert_eq!(
             FileFormat::EXTENSIONS,
-            "png, jpg, jpeg, hdr, exr, ktx2, dds, ktx"
+            "png, jpg, jpeg, hdr, exr, ktx2, dds, ktx, env"
         );
         for &f in FileFormat::ALL {
             for ext in f.extensions() {

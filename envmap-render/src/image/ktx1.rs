@@ -78,6 +78,8 @@ pub(crate) const fn gl_format(format: TexelFormat) -> [u32; 5] {
         // Compressed: glType and glFormat 0, glTypeSize 1,
         // GL_COMPRESSED_RGB_BPTC_UNSIGNED_FLOAT (not written: see `encode`).
         TexelFormat::Bc6h => [0, 1, 0, 0x8E8F, GL_RGB],
+        // GL_UNSIGNED_BYTE, GL_RGBA8 (not written: see `encode`).
+        TexelFormat::Rgbd8 => [0x1401, 1, GL_RGBA, 0x8058, GL_RGBA],
     }
 }
 
@@ -99,6 +101,9 @@ pub(crate) fn encode(
             "KTX 1 files are written uncompressed (rgba16f, rgba32f, rg11b10f, rgb9e5); \
              BC6H goes in KTX2 or DDS",
         ));
+    }
+    if format == TexelFormat::Rgbd8 {
+        return Err(Error::unsupported(crate::image::texel::RGBD_IN_ENV));
     }
     if !format.is_writable() {
         return Err(Error::unsupported(format!(

@@ -133,6 +133,11 @@ pub(crate) fn dfd(format: TexelFormat) -> Vec<u8> {
         // The whole 128-bit block as one unsigned-float colour sample
         // (KDFS 1.4 §5.6 and its BC6H example).
         TexelFormat::Bc6h => vec![sample(0, 128, Q_FLOAT, 0, ONE)],
+        // Four 8-bit unorm channels (never written: see
+        // `check_write_options`).
+        TexelFormat::Rgbd8 => (0..4)
+            .map(|i| sample(8 * i, 8, if i == 3 { 15 } else { i }, 0, 255))
+            .collect(),
     };
     // Colour model RGBSDA (1), or BC6H (133) with its 4×4×1 texel block
     // (stored as dimensions − 1); primaries BT.709 and transfer linear.
@@ -292,6 +297,9 @@ fn check_write_options(opts: TextureOptions) -> Result<()> {
     if format == TexelFormat::Bc6h && !format.is_writable() {
         return Err(Error::unsupported(crate::image::texel::NO_BC6H));
     }
+    if format == TexelFormat::Rgbd8 {
+        return Err(Error::unsupported(crate::image::texel::RGBD_IN_ENV));
+    }
     if !format.is_writable() {
         return Err(Error::unsupported(format!(
             "{} is read only; write one of {}",
@@ -401,7 +409,7 @@ fn bc6h_errors(tex: &Texture, raw: &[Vec<u8>]) -> String {
         .map(|(p, (r, d))| {
             format!(
                 "level {p}: {}",
-                crate::image::bc6h::measure_level(d, r).describe()
+                crate::image::lossy::measure_level(d, r, TexelFormat::Bc6h).describe()
             )
         })
         .collect::<Vec<_>>()

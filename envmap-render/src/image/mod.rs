@@ -225,6 +225,8 @@
 //! (written as 0). RGBA32F stores every f32 as is.
 
 mod atomic;
+#[cfg(feature = "babylon")]
+pub(crate) mod babylon;
 #[cfg(feature = "bc6h")]
 pub(crate) mod bc6h;
 pub(crate) mod convention;
@@ -244,6 +246,8 @@ pub(crate) mod ktx1;
 #[cfg(feature = "ktx2")]
 mod ktx2;
 pub(crate) mod layout;
+#[cfg(any(feature = "bc6h", feature = "babylon"))]
+pub(crate) mod lossy;
 pub(crate) mod metadata;
 #[cfg(feature = "image")]
 mod png_jpeg;

@@ -24,6 +24,14 @@ pub enum TexelFormat {
     /// texel; what a file loses is measured on writing (see
     /// [Texel formats](crate::image#texel-formats)).
     Bc6h,
+    /// RGBD in 8-bit RGBA, Babylon.js's encoding of HDR in 8 bits (its
+    /// `toRGBD`/`fromRGBD`): with m the largest channel,
+    /// D = ⌊max(255/m, 1)⌋/255, rgb = (c·D)^(1/2.2) and a = D, each
+    /// rounded to 8 bits; decoded as rgb^2.2 / a. Holds 0 … 255, with
+    /// about 0.6 % relative precision above 1 and 8-bit gamma-2.2 steps
+    /// below. Lossy; written into Babylon.js `.env` files only, as PNG
+    /// (see [`crate::image::babylon`]).
+    Rgbd8,
 }
 
 /// What packing changed: components clamped, by cause.
@@ -176,6 +184,14 @@ impl Bc6hQuality {
 pub(crate) const NO_BC6H: &str =
     "BC6H needs envmap-render's `bc6h` feature (on by default; this build has it off)";
 
+/// Why a KTX2, DDS or KTX 1 writer refuses RGBD.
+#[cfg_attr(
+    not(any(feature = "ktx2", feature = "dds", feature = "ktx1")),
+    allow(dead_code)
+)]
+pub(crate) const RGBD_IN_ENV: &str =
+    "RGBD is written into Babylon.js .env files only (envmap bake --target babylon); KTX2, DDS and KTX 1 hold rgba16f, rgba32f, rg11b10f, rgb9e5 or bc6h";
+
 /// The largest finite binary16 value.
 pub const F16_MAX: f32 = 65504.0;
 /// The largest RGB9E5 value: (2⁹ − 1)/2⁹ · 2^(31 − 15) (`EXT_texture_shared_exponent`).
@@ -184,9 +200,12 @@ pub const RGB9E5_MAX: f32 = 65408.0;
 pub const UF11_MAX: f32 = 65024.0;
 /// The largest unsigned 10-bit float: (2 − 2⁻⁵) · 2¹⁵.
 pub const UF10_MAX: f32 = 64512.0;
+/// The largest value RGBD holds: 255 (D = 1/255, rgb = 1).
+pub const RGBD_MAX: f32 = 255.0;
 
 impl TexelFormat {
-    /// The formats envmap writes.
+    /// The formats envmap writes into KTX2 and DDS files (RGBD,
+    /// [`TexelFormat::Rgbd8`], goes into Babylon.js `.env` files only).
     pub const WRITABLE: [TexelFormat; 5] = [
         TexelFormat::Rgba16f,
         TexelFormat::Rgba32f,
@@ -196,11 +215,11 @@ impl TexelFormat {
     ];
 
     /// The names accepted by [`TexelFormat::parse`], for messages.
-    pub const NAMES: &'static str = "rgba16f, rgba32f, rg11b10f, rgb9e5, bc6h";
+    pub const NAMES: &'static str = "rgba16f, rgba32f, rg11b10f, rgb9e5, bc6h, rgbd";
 
     /// The format by its name: `rgba16f`, `rgba32f`, `rg11b10f` (also
     /// `r11g11b10f`, `b10g11r11`), `rgb9e5` (also `e5b9g9r9`), `bc6h`
-    /// (also `bc6h-ufloat`).
+    /// (also `bc6h-ufloat`), `rgbd` (also `rgbd8`).
     ///
     /// # Errors
     ///
@@ -212,6 +231,7 @@ impl TexelFormat {
             "rg11b10f" | "r11g11b10f" | "b10g11r11" | "rg11b10" => TexelFormat::B10g11r11,
             "rgb9e5" | "e5b9g9r9" => TexelFormat::E5b9g9r9,
             "bc6h" | "bc6h-ufloat" | "bc6h_ufloat" | "bc6hu" => TexelFormat::Bc6h,
+            "rgbd" | "rgbd8" => TexelFormat::Rgbd8,
             _ => {
                 return Err(crate::Error::UnknownName {
                     what: "texel format",
@@ -233,6 +253,7 @@ impl TexelFormat {
             TexelFormat::Rgb16f => "rgb16f",
             TexelFormat::Rgb32f => "rgb32f",
             TexelFormat::Bc6h => "bc6h",
+            TexelFormat::Rgbd8 => "rgbd",
         }
     }
 
@@ -247,6 +268,7 @@ impl TexelFormat {
             TexelFormat::Rgb16f => "R16G16B16_SFLOAT",
             TexelFormat::Rgb32f => "R32G32B32_SFLOAT",
             TexelFormat::Bc6h => "BC6H_UFLOAT_BLOCK",
+            TexelFormat::Rgbd8 => "R8G8B8A8_UNORM",
         }
     }
 
@@ -263,6 +285,7 @@ impl TexelFormat {
             TexelFormat::B10g11r11 => Some("Rg11b10Ufloat"),
             TexelFormat::E5b9g9r9 => Some("Rgb9e5Ufloat"),
             TexelFormat::Bc6h => Some("Bc6hRgbUfloat"),
+            TexelFormat::Rgbd8 => Some("Rgba8Unorm"),
             TexelFormat::Rgb16f | TexelFormat::Rgb32f => None,
         }
     }
@@ -278,11 +301,13 @@ impl TexelFormat {
             TexelFormat::E5b9g9r9 => Some("DXGI_FORMAT_R9G9B9E5_SHAREDEXP"),
             TexelFormat::Rgb32f => Some("DXGI_FORMAT_R32G32B32_FLOAT"),
             TexelFormat::Bc6h => Some("DXGI_FORMAT_BC6H_UF16"),
-            TexelFormat::Rgb16f => None,
+            TexelFormat::Rgb16f | TexelFormat::Rgbd8 => None,
         }
     }
 
-    /// The `VkFormat` number (KTX2's `vkFormat`).
+    /// The `VkFormat` number (KTX2's `vkFormat`): for RGBD, the format its
+    /// bytes are uploaded as (`R8G8B8A8_UNORM`, 37), which no KTX2 file of
+    /// envmap's holds.
     #[must_use]
     pub const fn vk_format(self) -> u32 {
         match self {
@@ -293,6 +318,7 @@ impl TexelFormat {
             TexelFormat::Rgb16f => 90,
             TexelFormat::Rgb32f => 106,
             TexelFormat::Bc6h => 143,
+            TexelFormat::Rgbd8 => 37,
         }
     }
 
@@ -323,7 +349,7 @@ impl TexelFormat {
             TexelFormat::E5b9g9r9 => Some(67),
             TexelFormat::Rgb32f => Some(6),
             TexelFormat::Bc6h => Some(95),
-            TexelFormat::Rgb16f => None,
+            TexelFormat::Rgb16f | TexelFormat::Rgbd8 => None,
         }
     }
 
@@ -351,7 +377,7 @@ impl TexelFormat {
             TexelFormat::Bc6h => 16,
             TexelFormat::Rgba16f => 8,
             TexelFormat::Rgba32f => 16,
-            TexelFormat::B10g11r11 | TexelFormat::E5b9g9r9 => 4,
+            TexelFormat::B10g11r11 | TexelFormat::E5b9g9r9 | TexelFormat::Rgbd8 => 4,
             TexelFormat::Rgb16f => 6,
             TexelFormat::Rgb32f => 12,
         }
@@ -393,7 +419,7 @@ impl TexelFormat {
     pub(crate) const fn is_unsigned(self) -> bool {
         matches!(
             self,
-            TexelFormat::B10g11r11 | TexelFormat::E5b9g9r9 | TexelFormat::Bc6h
+            TexelFormat::B10g11r11 | TexelFormat::E5b9g9r9 | TexelFormat::Bc6h | TexelFormat::Rgbd8
         )
     }
 
@@ -414,6 +440,7 @@ impl TexelFormat {
             TexelFormat::Rgba32f | TexelFormat::Rgb32f => f32::MAX,
             TexelFormat::B10g11r11 => UF10_MAX,
             TexelFormat::E5b9g9r9 => RGB9E5_MAX,
+            TexelFormat::Rgbd8 => RGBD_MAX,
         }
     }
 
@@ -432,6 +459,8 @@ impl TexelFormat {
             TexelFormat::Rgba32f | TexelFormat::Rgb32f => 2f32.powi(-24),
             TexelFormat::B10g11r11 => 2f32.powi(-7),
             TexelFormat::E5b9g9r9 => 2f32.powi(-9),
+            // Above 1, m·D ≥ 1/2: half an 8-bit step at 0.5^(1/2.2), times 2.2.
+            TexelFormat::Rgbd8 => 0.0059,
         }
     }
 
@@ -569,6 +598,11 @@ impl TexelFormat {
                     o.copy_from_slice(&pack_rgb9e5(*t, &mut c).to_le_bytes());
                 }
             }
+            TexelFormat::Rgbd8 => {
+                for (t, o) in texels.iter().zip(out.chunks_exact_mut(4)) {
+                    o.copy_from_slice(&pack_rgbd(*t, &mut c));
+                }
+            }
         }
         c
     }
@@ -635,11 +669,45 @@ impl TexelFormat {
                     *o = unpack_rgb9e5(word(b, 0));
                 }
             }
+            TexelFormat::Rgbd8 => {
+                for (b, o) in bytes.chunks_exact(4).zip(out) {
+                    *o = unpack_rgbd([b[0], b[1], b[2], b[3]]);
+                }
+            }
         }
     }
 }
 
 /// `v` clamped to `[lo, hi]`, NaN to 0, counting each.
+/// RGBD, as Babylon.js's `toRGBD` (`helperFunctions.fx`) computes it in
+/// f32 and the GPU rounds it to 8-bit unorm: with m the largest channel
+/// (clamped to [0, 255] and counted first), D = ⌊max(255/m, 1)⌋/255
+/// (1 for black), rgb = (c·D)^(1/2.2), a = D, each round(255·v).
+#[must_use]
+pub(crate) fn pack_rgbd(rgb: [f32; 3], c: &mut Clamped) -> [u8; 4] {
+    let rgb = rgb.map(|v| clamp_counted(v, 0.0, RGBD_MAX, c));
+    let m = rgb[0].max(rgb[1]).max(rgb[2]);
+    let d = if m > 0.0 {
+        ((255.0 / m).max(1.0).floor() / 255.0).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    let unorm = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    let [r, g, b] = rgb.map(|v| unorm((v * d).powf(1.0 / 2.2)));
+    [r, g, b, unorm(d)]
+}
+
+/// RGBD decoded as Babylon.js's `fromRGBD`: rgb^2.2 / a (0 where a is 0,
+/// which no writer makes).
+#[must_use]
+pub(crate) fn unpack_rgbd(b: [u8; 4]) -> [f32; 3] {
+    let a = f32::from(b[3]) / 255.0;
+    if a == 0.0 {
+        return [0.0; 3];
+    }
+    [b[0], b[1], b[2]].map(|v| (f32::from(v) / 255.0).powf(2.2) / a)
+}
+
 fn clamp_counted(v: f32, lo: f32, hi: f32, c: &mut Clamped) -> f32 {
     if v.is_nan() {
         c.nan += 1;

@@ -84,6 +84,12 @@ pub enum RoughnessRule {
     Filament,
     /// lod = r(1.7 − 0.7r)·(n − 1): Unity (`ImageBasedLighting.hlsl`).
     Unity,
+    /// Babylon.js (`HDRFiltering`, and its PBR shader's
+    /// `getLodFromAlphaG`): lod = 0.8·log2(size·α) on a chain down to 1×1,
+    /// so level k ≥ 1 holds α = 2^(k/0.8)/size and level 0 is unfiltered
+    /// (α = 0). The levels past α = 1 (Babylon.js's filter goes on to α
+    /// of 2 and more there) are made at roughness 1.
+    Babylon,
     /// One perceptual roughness per level, level 0 first.
     Custom(Vec<f32>),
 }
@@ -96,6 +102,7 @@ impl RoughnessRule {
             RoughnessRule::Linear => "linear",
             RoughnessRule::Filament => "filament",
             RoughnessRule::Unity => "unity",
+            RoughnessRule::Babylon => "babylon",
             RoughnessRule::Custom(_) => "custom",
         }
     }
@@ -109,18 +116,23 @@ impl RoughnessRule {
                 "lod = r(2 - r)(levels - 1), r = 1 - sqrt(1 - level/(levels - 1))"
             }
             RoughnessRule::Unity => "lod = r(1.7 - 0.7r)(levels - 1)",
+            RoughnessRule::Babylon => {
+                "alpha = r^2 = 2^(level/0.8)/size (at most 1), level 0 unfiltered: lod = 0.8 log2(size alpha)"
+            }
             RoughnessRule::Custom(_) => "roughness per level as given",
         }
     }
 
     /// The smallest level's chart size the rule expects by default: 16 for
     /// Filament (cmgen's `--ibl-min-lod-size`), 8 for Unity (its 6 LOD
-    /// steps at 512), 2 otherwise (glTF-IBL-Sampler's ⌊log2 size⌋ levels).
+    /// steps at 512), 1 for Babylon.js (its `.env` files hold every level),
+    /// 2 otherwise (glTF-IBL-Sampler's ⌊log2 size⌋ levels).
     #[must_use]
     pub(crate) fn default_min_size(&self) -> u32 {
         match self {
             RoughnessRule::Filament => 16,
             RoughnessRule::Unity => 8,
+            RoughnessRule::Babylon => 1,
             _ => 2,
         }
     }
@@ -132,10 +144,19 @@ impl RoughnessRule {
             return 0.0;
         }
         let t = (level as f64 / (levels - 1) as f64).clamp(0.0, 1.0);
+        if *self == RoughnessRule::Babylon {
+            // size = 2^(levels − 1): the chain goes down to 1×1.
+            if level == 0 {
+                return 0.0;
+            }
+            let alpha = (level as f64 / 0.8 - (levels - 1) as f64).exp2();
+            return alpha.min(1.0).sqrt() as f32;
+        }
         let r = match self {
             RoughnessRule::Linear => t,
             RoughnessRule::Filament => 1.0 - (1.0 - t).sqrt(),
             RoughnessRule::Unity => (1.7 - (2.89 - 2.8 * t).max(0.0).sqrt()) / 1.4,
+            RoughnessRule::Babylon => 0.0,
             RoughnessRule::Custom(v) => {
                 return v.get(level).copied().unwrap_or(1.0).clamp(0.0, 1.0);
             }
@@ -147,13 +168,14 @@ impl RoughnessRule {
 impl std::str::FromStr for RoughnessRule {
     type Err = Error;
 
-    /// `linear`, `filament`, `unity`, or comma-separated roughness values
+    /// `linear`, `filament`, `unity`, `babylon`, or comma-separated roughness values
     /// (`0,0.2,0.5,1`).
     fn from_str(s: &str) -> Result<Self> {
         match s.to_ascii_lowercase().as_str() {
             "linear" | "gltf" | "bevy" => return Ok(RoughnessRule::Linear),
             "filament" | "cmgen" => return Ok(RoughnessRule::Filament),
             "unity" => return Ok(RoughnessRule::Unity),
+            "babylon" => return Ok(RoughnessRule::Babylon),
             _ => {}
         }
         let v: std::result::Result<Vec<f32>, _> =
@@ -166,7 +188,7 @@ impl std::str::FromStr for RoughnessRule {
                 what: "roughness rule",
                 name: s.to_owned(),
                 expected:
-                    "linear, filament, unity, or roughness values in [0, 1] such as 0,0.25,0.5,1"
+                    "linear, filament, unity, babylon, or roughness values in [0, 1] such as 0,0.25,0.5,1"
                         .to_owned(),
             }),
         }
