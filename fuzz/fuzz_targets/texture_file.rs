@@ -1,5 +1,6 @@
-//! Arbitrary bytes as a GPU texture file: the same bytes through both the
-//! KTX2 and the DDS reader (`envmap_render::image::texture::decode`). Reading may fail (with an error naming the file);
+//! Arbitrary bytes as a GPU texture file: the same bytes through the KTX2,
+//! the DDS and the Babylon.js `.env` reader
+//! (`envmap_render::image::texture::decode`). Reading may fail (with an error naming the file);
 //! nothing may panic, a texture read must agree with what its file info
 //! says and stay within the texel limit, and a texture of finite texels
 //! must read back the same after writing it again in its own container.
@@ -18,12 +19,13 @@ use libfuzzer_sys::fuzz_target;
 const MAX_TEXELS: u64 = 1 << 18;
 
 /// The writable format holding a format's texels exactly: itself, its
-/// RGBA counterpart for the read-only RGB ones, RGBA32F for BC6H (lossy:
-/// its decoded texels are not what encoding them again gives).
+/// RGBA counterpart for the read-only RGB ones, RGBA32F for BC6H and
+/// RGBD (lossy: their decoded texels are not what encoding them again
+/// gives).
 fn writable(format: TexelFormat) -> TexelFormat {
     match format {
         TexelFormat::Rgb16f => TexelFormat::Rgba16f,
-        TexelFormat::Rgb32f | TexelFormat::Bc6h => TexelFormat::Rgba32f,
+        TexelFormat::Rgb32f | TexelFormat::Bc6h | TexelFormat::Rgbd8 => TexelFormat::Rgba32f,
         f => f,
     }
 }
@@ -50,7 +52,8 @@ fn check_consistent(file: &TextureFile, container: &str) -> u64 {
             assert_eq!(img.pixels.len(), lw as usize * lh as usize);
             texels += img.pixels.len() as u64;
         }
-        if info.supercompression.is_none() {
+        // A .env level's bytes are its PNGs'.
+        if info.supercompression.is_none() && container != ENV {
             assert_eq!(
                 Some(info.level_bytes[p]),
                 level_bytes(info.kind, w, h, p, info.format),
@@ -63,8 +66,12 @@ fn check_consistent(file: &TextureFile, container: &str) -> u64 {
     texels
 }
 
+/// The container name of `.env` files.
+const ENV: &str = "Babylon.js .env";
+
 /// A texture of finite texels written again in its own container (in a
-/// format that holds its texels exactly) must read back the same.
+/// format that holds its texels exactly; a `.env`'s in KTX2) must read back
+/// the same.
 fn check_round_trip(file: &TextureFile, container: &str) {
     let tex = &file.texture;
     let finite = tex
@@ -76,10 +83,10 @@ fn check_round_trip(file: &TextureFile, container: &str) {
         return;
     }
     let format = writable(file.info.format);
-    let path = Path::new(if container == "KTX2" {
-        "again.ktx2"
-    } else {
+    let path = Path::new(if container == "DDS" {
         "again.dds"
+    } else {
+        "again.ktx2"
     });
     // DDS has no supercompression.
     let zstd = file
@@ -111,5 +118,9 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(file) = texture::decode(Path::new("input.dds"), data, MAX_TEXELS) {
         check_consistent(&file, "DDS");
         check_round_trip(&file, "DDS");
+    }
+    if let Ok(file) = texture::decode(Path::new("input.env"), data, MAX_TEXELS) {
+        check_consistent(&file, ENV);
+        check_round_trip(&file, ENV);
     }
 });

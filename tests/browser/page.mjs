@@ -131,4 +131,40 @@ window.spheres = async function (job) {
   return { images, info };
 };
 
+// A picture for people: the skybox and two rows of spheres, metal above
+// and plastic below, roughness 0 to 1 from left to right, rendered to the
+// canvas with Babylon.js's default output (gamma 2.2); a PNG.
+window.gallery = async function (job) {
+  await init();
+  const canvas = document.getElementById("c");
+  canvas.width = job.width; canvas.height = job.height;
+  engine.resize();
+  const scene = new B.Scene(engine);
+  const tex = await loadEnv(scene, job.env);
+  scene.environmentTexture = tex;
+  scene.imageProcessingConfiguration.exposure = job.exposure ?? 1;
+  scene.createDefaultSkybox(tex, true, 1000, 0, false);
+  const cam = new B.FreeCamera("cam", new B.Vector3(...job.eye), scene);
+  cam.fov = job.fov; cam.minZ = 0.1; cam.maxZ = 10000;
+  cam.setTarget(new B.Vector3(...job.target));
+  const n = job.roughness.length;
+  job.roughness.forEach((r, i) => {
+    for (const [row, metallic, base] of [[1, 1, [1, 1, 1]], [-1, 0, [0.5, 0.5, 0.5]]]) {
+      const s = B.MeshBuilder.CreateSphere(`s${i}${row}`, { diameter: 1.8, segments: 64 }, scene);
+      s.position = new B.Vector3((i - (n - 1) / 2) * 2.1, row * 1.05, 0);
+      const m = new B.PBRMaterial(`m${i}${row}`, scene);
+      m.albedoColor = new B.Color3(...base);
+      m.metallic = metallic;
+      m.roughness = r;
+      s.material = m;
+    }
+  });
+  await scene.whenReadyAsync();
+  scene.render();
+  scene.render();
+  const png = canvas.toDataURL("image/png").split(",")[1];
+  scene.dispose();
+  return { images: [], png };
+};
+
 window.pageReady = true;

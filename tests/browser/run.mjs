@@ -3,7 +3,8 @@
 // JOB.json: { "data": dir served at /data/, "out": dir the images go to,
 //             "jobs": [{ "name", "fn": "skybox" | "spheres", ...args }] }
 // Each job's images are written to OUT/NAME_K.f32 (RGBA32F, rows
-// top-down), its other results to OUT/NAME.json. Chromium is Debian's
+// top-down), a picture to OUT/NAME.png, its other results to
+// OUT/NAME.json. Chromium is Debian's
 // (/usr/bin/chromium, or $CHROMIUM), WebGL2 on SwiftShader; the exit
 // status is non-zero when anything fails.
 import http from "node:http";
@@ -59,6 +60,10 @@ try {
       const res = await page.evaluate(({ fn, arg }) => window[fn](arg), { fn: j.fn, arg: j });
       res.images.forEach((b, k) => fs.writeFileSync(path.join(job.out, `${j.name}_${k}.f32`), Buffer.from(b, "base64")));
       delete res.images;
+      if (res.png) {
+        fs.writeFileSync(path.join(job.out, `${j.name}.png`), Buffer.from(res.png, "base64"));
+        delete res.png;
+      }
       res.seconds = (Date.now() - t) / 1000;
       fs.writeFileSync(path.join(job.out, `${j.name}.json`), JSON.stringify(res));
       console.log(`${j.name}: ${res.seconds.toFixed(1)} s`);

@@ -383,6 +383,12 @@ fn babylon_shows_envmaps_env_files() {
             }));
         }
     }
+    // The picture in docs/gallery (ENVMAP_GALLERY=PATH copies it there).
+    jobs.push(serde_json::json!({
+        "name": "gallery", "fn": "gallery", "env": "/data/park.env", "width": 960, "height": 540,
+        "fov": 1.0, "eye": [0.0, 0.9, -9.0], "target": [0.0, 0.3, 0.0],
+        "roughness": [0.0, 0.25, 0.5, 0.75, 1.0],
+    }));
     let job = serde_json::json!({"data": data, "out": out, "jobs": jobs});
     let job_file = dir.path().join("job.json");
     std::fs::write(&job_file, job.to_string()).unwrap();
@@ -394,6 +400,11 @@ fn babylon_shows_envmaps_env_files() {
         .expect("node (Node.js) runs: install it, then `npm ci --prefix tests/browser`");
     assert!(status.success(), "the browser run failed: {status}");
     println!("browser run: {:.1} s", t.elapsed().as_secs_f64());
+    let picture = std::fs::read(out.join("gallery.png")).expect("the gallery picture");
+    assert_eq!(&picture[..8], b"\x89PNG\r\n\x1a\n");
+    if let Some(p) = std::env::var_os("ENVMAP_GALLERY") {
+        std::fs::write(&p, &picture).expect("ENVMAP_GALLERY");
+    }
 
     // (a) The skybox.
     let mut failures = Vec::new();

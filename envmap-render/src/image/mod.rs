@@ -211,8 +211,10 @@
 //! | [`TexelFormat::Rgb16f`] | 90 | – | `GL_RGB16F` | 6 | ±65504 | read only (no DXGI or Metal equivalent) |
 //! | [`TexelFormat::Rgb32f`] | 106 | 6 | `GL_RGB32F` | 12 | f32 | read only |
 //! | [`TexelFormat::Bc6h`] | 143 | 95 | `GL_COMPRESSED_RGB_BPTC_UNSIGNED_FLOAT` | 16 per 4×4 block | 0 … 65504 | BC6H (Direct3D 11 block compression), lossy: encoded by `block_compression` (a port of Intel's ISPC kernel) at a [`Bc6hQuality`], decoded by `bcdec_rs`; KTX2 and DDS only, with the `bc6h` feature |
+//! | [`TexelFormat::Rgbd8`] | (37) | – | `GL_RGBA8` | 4 | 0 … 255 | RGBD, Babylon.js's `toRGBD`/`fromRGBD` (`helperFunctions.fx`), lossy; Babylon.js `.env` files only, as PNG, with the `babylon` feature |
 //!
-//! BC6H's loss is measured when a file is written: each level's texels
+//! BC6H's and RGBD's loss is measured when a bake writes them (BC6H's
+//! whenever a file is written): each level's texels
 //! decoded from the bytes written, against the texels encoded. A KTX2 file
 //! records it in its key/value data (`envmap.bc6h-error`, one line per
 //! level: relative RMS, log-space RMSE, the worst texel), which `envmap

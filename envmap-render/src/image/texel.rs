@@ -30,7 +30,7 @@ pub enum TexelFormat {
     /// rounded to 8 bits; decoded as rgb^2.2 / a. Holds 0 … 255, with
     /// about 0.6 % relative precision above 1 and 8-bit gamma-2.2 steps
     /// below. Lossy; written into Babylon.js `.env` files only, as PNG
-    /// (see [`crate::image::babylon`]).
+    /// ([`FileFormat::Env`](crate::image::FileFormat::Env)).
     Rgbd8,
 }
 
