@@ -32,10 +32,10 @@ pub(crate) struct BakeArgs {
     /// Output directory (created if missing; every file of the bake is renamed into it together at the end).
     #[arg(long)]
     pub(crate) out: PathBuf,
-    /// Engine preset: bevy (E5B9G9R9 + zstd KTX2: 512² specular, 32² diffuse, the cube in Bevy's world with z negated, as Bevy samples it), gltf (glTF-IBL-Sampler's RGBA16F KTX2 outputs and BRDF LUT), filament (cmgen's KTX 1 files: <dir>_ibl.ktx, <dir>_skybox.ktx, sh.txt), babylon (Babylon.js's environment.env: RGBD PNG levels down to 1×1 at its roughness rule and the irradiance polynomial, in its left-handed world; 256²). Sets the format, sizes, levels, roughness rule and orientation; any flag given still overrides its part. See docs/engines.md.
+    /// Engine preset: bevy (E5B9G9R9 + zstd KTX2: 512² specular, 32² diffuse, the cube in Bevy's world with z negated, as Bevy samples it), gltf (glTF-IBL-Sampler's RGBA16F KTX2 outputs and BRDF LUT), filament (cmgen's KTX 1 files: <dir>_ibl.ktx, <dir>_skybox.ktx, sh.txt), babylon (Babylon.js's environment.env: RGBD PNG levels down to 1×1 at its roughness rule and the irradiance polynomial, in its left-handed world; 256²), gltf-ibl (environment.gltf: glTF's EXT_lights_image_based, as Babylon.js's glTF loader reads it). Sets the format, sizes, levels, roughness rule and orientation; any flag given still overrides its part. See docs/engines.md.
     #[arg(long, value_parser = parse_target)]
     pub(crate) target: Option<Target>,
-    /// Container of the maps: exr (the default without --target: one file per level), ktx2, dds (the whole chain in one file), ktx (KTX 1), env (Babylon.js; a full chain, no irradiance map).
+    /// Container of the maps: exr (the default without --target: one file per level), ktx2, dds (the whole chain in one file), ktx (KTX 1), env (Babylon.js; a full chain, no irradiance map), gltf (EXT_lights_image_based; the same).
     #[arg(long, value_parser = parse_container)]
     pub(crate) container: Option<FileFormat>,
     #[command(flatten)]
@@ -54,7 +54,7 @@ pub(crate) struct BakeArgs {
     /// Face size of the smallest level (default: 2 for linear, 16 for filament, 8 for unity, 1 for babylon).
     #[arg(long)]
     pub(crate) min_size: Option<u32>,
-    /// Mip↔roughness rule: linear (glTF-IBL-Sampler, Bevy; the default), filament (the default of --target filament), unity, babylon (α = 2^(level/0.8)/size, level 0 unfiltered: Babylon.js's), or roughness values per level (0,0.2,0.5,1).
+    /// Mip↔roughness rule: linear (glTF-IBL-Sampler, Bevy; the default), filament (the default of --target filament), unity, babylon (α = 2^(level/0.8)/size, level 0 unfiltered: Babylon.js's), log2 (α = 2^level/size: a glTF light's in Babylon.js), or roughness values per level (0,0.2,0.5,1).
     #[arg(long)]
     pub(crate) roughness_rule: Option<RoughnessRule>,
     /// Samples per texel of the sampled levels (overrides --quality).
@@ -137,7 +137,8 @@ fn parse_container(s: &str) -> Result<FileFormat, String> {
         "dds" => Ok(FileFormat::Dds),
         "ktx" | "ktx1" => Ok(FileFormat::Ktx),
         "env" => Ok(FileFormat::Env),
-        _ => Err(format!("{s}: expected exr, ktx2, dds, ktx or env")),
+        "gltf" => Ok(FileFormat::Gltf),
+        _ => Err(format!("{s}: expected exr, ktx2, dds, ktx, env or gltf")),
     }
 }
 

@@ -116,7 +116,7 @@ pub(crate) struct RenderArgs {
     /// Face size of the level 0 of the specular chain baked for a material (envmap's own chain: levels spaced by their lobes, each as large as its lobe needs up to 1.5 × this size, the smallest 16²; the irradiance map is 32², the DFG table 128² with N·V and roughness of 0 and 1 exact).
     #[arg(long, default_value_t = 256)]
     pub(crate) bake_size: u32,
-    /// Shade as an engine does: bake the chain its `envmap bake --target` preset makes (bevy, gltf: the linear rule down to 2²; filament: its rule down to 16²; babylon: its rule down to 1²; level 0 at --bake-size) and blend its levels as its shader does (linear in its lod); with --env DIR, read the bake's chain that way. The DFG table stays envmap's.
+    /// Shade as an engine does: bake the chain its `envmap bake --target` preset makes (bevy, gltf: the linear rule down to 2²; filament: its rule down to 16²; babylon: its rule down to 1²; gltf-ibl: α = 2^k/size down to 1²; level 0 at --bake-size) and blend its levels as its shader does (linear in its lod); with --env DIR, read the bake's chain that way. The DFG table stays envmap's.
     #[arg(long, value_parser = parse_target)]
     pub(crate) engine: Option<Target>,
     /// Exposure in stops for PNG output.

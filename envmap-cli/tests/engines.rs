@@ -331,7 +331,7 @@ fn texture_flags_are_refused_where_they_mean_nothing() {
     let o = envmap(&["bake", "sky", "--out", "x", "--format", "rgb9e5"], d);
     assert!(text(&o.stderr).contains("--format and --zstd are for --container"));
     let o = envmap(&["bake", "sky", "--out", "x", "--target", "unreal"], d);
-    assert!(text(&o.stderr).contains("expected bevy, gltf, filament or babylon"));
+    assert!(text(&o.stderr).contains("expected bevy, gltf, filament, babylon or gltf-ibl"));
     assert!(!d.join("x").exists(), "nothing written");
     std::fs::write(d.join("a.ktx"), b"not read").unwrap();
     let o = envmap(&["info", "a.ktx"], d);
@@ -567,4 +567,82 @@ fn bake_for_babylon_writes_an_env_file_and_reports_what_rgbd_clips() {
     );
     assert!(out.contains("babylon.irradiance"), "{out}");
     assert!(out.contains("y up, left-handed"), "{out}");
+    // The bake lights a render as Babylon.js reads it, its diffuse from the SH.
+    let r = envmap(
+        &[
+            "render",
+            "r.png",
+            "--env",
+            "b",
+            "--engine",
+            "babylon",
+            "--object",
+            "sphere",
+            "--material",
+            "chrome",
+            "--roughness",
+            "0.5",
+            "--width",
+            "32",
+            "--height",
+            "32",
+        ],
+        d,
+    );
+    let said = format!("{}{}", text(&r.stdout), text(&r.stderr));
+    assert!(r.status.success(), "{said}");
+    assert!(
+        said.contains("irradiance sh.json (E/pi from the SH)"),
+        "{said}"
+    );
+}
+
+/// `--target gltf-ibl` writes one self-contained glTF file holding an
+/// `EXT_lights_image_based` light: the chain at α = 2^k/size, every image
+/// inside, and `envmap info` reads it back.
+#[test]
+fn bake_for_gltf_writes_an_image_based_light_that_info_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = envmap(
+        &[
+            "bake", "sky", "--out", "g", "--target", "gltf-ibl", "--size", "32",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let gltf: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("g/environment.gltf")).unwrap())
+            .unwrap();
+    assert_eq!(gltf["extensionsUsed"][0], "EXT_lights_image_based");
+    let light = &gltf["extensions"]["EXT_lights_image_based"]["lights"][0];
+    assert_eq!(light["specularImageSize"], 32);
+    assert_eq!(light["specularImages"].as_array().unwrap().len(), 6);
+    assert_eq!(gltf["images"].as_array().unwrap().len(), 36);
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("g/manifest.json")).unwrap()).unwrap();
+    assert_eq!(m["target"], "gltf-ibl");
+    assert_eq!(m["container"], "gltf");
+    for (k, l) in m["specular"]["levels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
+        let r = l["perceptual_roughness"].as_f64().unwrap();
+        let want = if k == 0 {
+            0.0
+        } else {
+            (2f64.powi(k as i32) / 32.0).min(1.0).sqrt()
+        };
+        assert!((r - want).abs() < 1e-6, "level {k}: {r} against {want}");
+    }
+    let info = envmap(&["info", "g/environment.gltf"], d);
+    let out = text(&info.stdout);
+    assert!(info.status.success(), "{}", text(&info.stderr));
+    assert!(
+        out.contains("glTF (EXT_lights_image_based) cube 32×32, 6 levels"),
+        "{out}"
+    );
+    assert!(out.contains("gltf.irradianceCoefficients"), "{out}");
 }

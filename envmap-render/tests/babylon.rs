@@ -85,17 +85,24 @@ fn what_is_written_is_read_back_within_rgbds_precision() {
     assert_eq!(back.info.container, "Babylon.js .env");
     assert_eq!(back.info.format, TexelFormat::Rgbd8);
     assert_eq!(back.texture.level_count(), 5);
-    for (p, (a, b)) in tex.levels().iter().zip(back.texture.levels()).enumerate() {
+    assert_within_rgbd(&tex, &back.texture, 2.2);
+}
+
+/// Every texel of `back` within RGBD's precision of `tex`'s, its texels
+/// stored as RGBD with the 8-bit gamma `g`: above 1, 0.6 %·(g/2.2) of the
+/// texel's largest channel; below, half an 8-bit step of c^(1/g) back
+/// through ^g. Faces in place, levels in order.
+fn assert_within_rgbd(tex: &Texture, back: &Texture, g: f32) {
+    for (p, (a, b)) in tex.levels().iter().zip(back.levels()).enumerate() {
         for (f, (fa, fb)) in a.iter().zip(b).enumerate() {
             for (k, (x, y)) in fa.pixels.iter().zip(&fb.pixels).enumerate() {
                 let m = x[0].max(x[1]).max(x[2]);
                 for c in 0..3 {
                     let tol = if m >= 1.0 {
-                        0.006 * m
+                        0.006 * g / 2.2 * m
                     } else {
-                        // Half an 8-bit step of v^(1/2.2), back through v^2.2.
-                        let v = x[c].max(0.0).powf(1.0 / 2.2);
-                        ((v + 0.5 / 255.0).powf(2.2) - v.powf(2.2)).max(1e-6)
+                        let v = x[c].max(0.0).powf(1.0 / g);
+                        ((v + 0.5 / 255.0).powf(g) - v.powf(g)).max(1e-6)
                     };
                     assert!(
                         (x[c] - y[c]).abs() <= tol * 1.01,
@@ -237,4 +244,82 @@ fn damaged_files_are_errors_naming_the_file() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("10"), "{e}");
+}
+
+fn gltf_path() -> &'static Path {
+    Path::new("t.gltf")
+}
+
+/// The glTF light: one `EXT_lights_image_based` light selected by the
+/// scene, `6·(log2 w + 1)` PNG images inside as `data:` URIs, nine
+/// irradiance coefficients; read back, every texel is within the
+/// precision of RGBD of c^(1/2.2) raised to 2.2 again (twice RGBD's
+/// relative step, 1.32 % above 1) of what was written.
+#[test]
+fn a_gltf_light_is_laid_out_for_babylons_loader_and_read_back() {
+    let tex = chain(16);
+    let path = gltf_path();
+    let (bytes, clamped) = texture::encode(&tex, path, TextureOptions::default()).unwrap();
+    assert!(clamped.is_empty(), "{clamped:?}");
+    let doc: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
+    assert_eq!(doc["asset"]["version"], "2.0");
+    assert_eq!(doc["extensionsUsed"][0], "EXT_lights_image_based");
+    assert_eq!(
+        doc["scenes"][0]["extensions"]["EXT_lights_image_based"]["light"],
+        0
+    );
+    let light = &doc["extensions"]["EXT_lights_image_based"]["lights"][0];
+    assert_eq!(light["specularImageSize"], 16);
+    assert_eq!(light["specularImages"].as_array().unwrap().len(), 5);
+    assert_eq!(light["irradianceCoefficients"].as_array().unwrap().len(), 9);
+    let images = doc["images"].as_array().unwrap();
+    assert_eq!(images.len(), 6 * 5);
+    assert!(images.iter().all(|i| i["uri"]
+        .as_str()
+        .unwrap()
+        .starts_with("data:image/png;base64,")));
+    let back = texture::decode(path, &bytes, u64::MAX).unwrap();
+    assert_eq!(back.info.container, "glTF (EXT_lights_image_based)");
+    assert_eq!(back.texture.level_count(), 5);
+    // RGBD of c^(1/2.2): the 8-bit gamma is 2.2·2.2 = 4.84.
+    assert_within_rgbd(&tex, &back.texture, 4.84);
+}
+
+/// A glTF file envmap cannot read is an error naming it and the problem.
+#[test]
+fn damaged_gltf_files_are_errors_naming_the_file() {
+    let (good, _) = texture::encode(&chain(4), gltf_path(), TextureOptions::default()).unwrap();
+    let good = String::from_utf8(good).unwrap();
+    let first = good.find("data:image/png;base64,").unwrap();
+    let cases = [
+        ("not JSON", format!("{}x", &good[..good.len() - 1]), "JSON"),
+        (
+            "no light",
+            good.replace("\"lights\"", "\"lamps\""),
+            "no EXT_lights_image_based light",
+        ),
+        (
+            "size 8",
+            good.replace("\"specularImageSize\":4", "\"specularImageSize\":8"),
+            "3 specular levels",
+        ),
+        (
+            "outside file",
+            format!("{}face.png{}", &good[..first], &good[first + 22..]),
+            "outside files",
+        ),
+        (
+            "bad base64",
+            format!("{}!!!!{}", &good[..first + 22], &good[first + 26..]),
+            "base64",
+        ),
+    ];
+    for (name, text, want) in cases {
+        let e = texture::decode(gltf_path(), text.as_bytes(), u64::MAX)
+            .err()
+            .unwrap_or_else(|| panic!("{name}: read"))
+            .to_string();
+        assert!(e.starts_with("t.gltf: "), "{name}: {e}");
+        assert!(e.contains(want), "{name}: {e}");
+    }
 }

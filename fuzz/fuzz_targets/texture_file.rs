@@ -1,5 +1,5 @@
 //! Arbitrary bytes as a GPU texture file: the same bytes through the KTX2,
-//! the DDS and the Babylon.js `.env` reader
+//! the DDS, the Babylon.js `.env` and the glTF image-based-light reader
 //! (`envmap_render::image::texture::decode`). Reading may fail (with an error naming the file);
 //! nothing may panic, a texture read must agree with what its file info
 //! says and stay within the texel limit, and a texture of finite texels
@@ -52,8 +52,8 @@ fn check_consistent(file: &TextureFile, container: &str) -> u64 {
             assert_eq!(img.pixels.len(), lw as usize * lh as usize);
             texels += img.pixels.len() as u64;
         }
-        // A .env level's bytes are its PNGs'.
-        if info.supercompression.is_none() && container != ENV {
+        // A .env or glTF level's bytes are its PNGs'.
+        if info.supercompression.is_none() && container != ENV && container != GLTF {
             assert_eq!(
                 Some(info.level_bytes[p]),
                 level_bytes(info.kind, w, h, p, info.format),
@@ -69,8 +69,11 @@ fn check_consistent(file: &TextureFile, container: &str) -> u64 {
 /// The container name of `.env` files.
 const ENV: &str = "Babylon.js .env";
 
+/// The container name of glTF image-based lights.
+const GLTF: &str = "glTF (EXT_lights_image_based)";
+
 /// A texture of finite texels written again in its own container (in a
-/// format that holds its texels exactly; a `.env`'s in KTX2) must read back
+/// format that holds its texels exactly; a `.env`'s or glTF's in KTX2) must read back
 /// the same.
 fn check_round_trip(file: &TextureFile, container: &str) {
     let tex = &file.texture;
@@ -122,5 +125,9 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(file) = texture::decode(Path::new("input.env"), data, MAX_TEXELS) {
         check_consistent(&file, ENV);
         check_round_trip(&file, ENV);
+    }
+    if let Ok(file) = texture::decode(Path::new("input.gltf"), data, MAX_TEXELS) {
+        check_consistent(&file, GLTF);
+        check_round_trip(&file, GLTF);
     }
 });

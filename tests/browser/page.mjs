@@ -38,6 +38,27 @@ function loadHdr(scene, url, size) {
   });
 }
 
+// A glTF file's image-based light (EXT_lights_image_based), through
+// Babylon.js's glTF loader, which makes it the scene's environment.
+async function loadGltf(scene, url) {
+  await import("/node_modules/@babylonjs/loaders/glTF/index.js");
+  await B.SceneLoader.AppendAsync("", url, scene);
+  for (let i = 0; i < 1200; i++) {
+    const t = scene.environmentTexture;
+    if (t && t.isReady()) return t;
+    await new Promise((r) => setTimeout(r, 50));
+  }
+  throw new Error(`${url}: no environment after 60 s`);
+}
+
+// The environment of a job: a .env, a Radiance file (kind "hdr"), or a
+// glTF light (kind "gltf").
+function loadKind(scene, job) {
+  if (job.kind === "hdr") return loadHdr(scene, job.env, job.size);
+  if (job.kind === "gltf") return loadGltf(scene, job.env);
+  return loadEnv(scene, job.env);
+}
+
 function b64(f32) {
   const u8 = new Uint8Array(f32.buffer, f32.byteOffset, f32.byteLength);
   let s = "";
@@ -77,7 +98,7 @@ async function renderFloat(scene, camera, meshes, w, h) {
 window.skybox = async function (job) {
   await init();
   const scene = newScene();
-  const tex = job.kind === "hdr" ? await loadHdr(scene, job.env, job.size) : await loadEnv(scene, job.env);
+  const tex = await loadKind(scene, job);
   const sky = scene.createDefaultSkybox(tex, true, 1000, 0, false);
   const cam = new B.FreeCamera("cam", B.Vector3.Zero(), scene);
   cam.fov = job.fov; cam.minZ = 0.1; cam.maxZ = 10000;
@@ -102,7 +123,7 @@ window.skybox = async function (job) {
 window.spheres = async function (job) {
   await init();
   const scene = newScene();
-  const tex = job.kind === "hdr" ? await loadHdr(scene, job.env, job.size) : await loadEnv(scene, job.env);
+  const tex = await loadKind(scene, job);
   scene.environmentTexture = tex;
   // Far away: Babylon.js's shaders take the view vector from the eye's
   // position even for an orthographic camera; at 10⁴ it is +z within 10⁻⁴.
@@ -140,7 +161,7 @@ window.gallery = async function (job) {
   canvas.width = job.width; canvas.height = job.height;
   engine.resize();
   const scene = new B.Scene(engine);
-  const tex = await loadEnv(scene, job.env);
+  const tex = await loadKind(scene, job);
   scene.environmentTexture = tex;
   scene.imageProcessingConfiguration.exposure = job.exposure ?? 1;
   scene.createDefaultSkybox(tex, true, 1000, 0, false);

@@ -63,21 +63,38 @@ struct Env {
     sh: Sh9,
     /// Whether Babylon.js prefilters it too (a Radiance file beside it).
     hdr: bool,
+    /// The file Babylon.js loads, and how: "env" or "gltf".
+    file: String,
+    kind: &'static str,
+    /// Babylon.js's lodGenerationScale for it.
+    scale: f32,
+    /// The largest value the file holds: RGBD's 255 in a `.env`, 255^2.2
+    /// in a glTF light (written so for Babylon.js's loader).
+    ceiling: f32,
 }
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// Bakes `src` for Babylon.js into `data/NAME.env`.
-fn bake(name: &'static str, source: EnvImage, data: &Path, hdr: bool) -> Env {
-    let baked = Baker::for_target(Target::Babylon)
+/// Bakes `src` for Babylon.js into `data/NAME.env`, or with `gltf` into
+/// `data/NAME.gltf` (`--target gltf-ibl`).
+fn bake(name: &'static str, source: EnvImage, data: &Path, hdr: bool, gltf: bool) -> Env {
+    let target = if gltf {
+        Target::GltfIbl
+    } else {
+        Target::Babylon
+    };
+    let baked = Baker::for_target(target)
         .input_name(name)
         .bake(&source)
         .expect("bake");
     let files = baked.files("out").expect("files");
-    let env = files.get("environment.env").expect("environment.env");
-    std::fs::write(data.join(format!("{name}.env")), env).expect("write .env");
+    let (kind, scale) = if gltf { ("gltf", 1.0) } else { ("env", 0.8) };
+    let bytes = files
+        .get(&format!("environment.{kind}"))
+        .expect("the environment file");
+    std::fs::write(data.join(format!("{name}.{kind}")), bytes).expect("write");
     let bake = baked.into_bake();
     let levels = bake.chain.as_ref().expect("chain").levels.clone();
     Env {
@@ -87,6 +104,10 @@ fn bake(name: &'static str, source: EnvImage, data: &Path, hdr: bool) -> Env {
         levels,
         sh: bake.sh,
         hdr,
+        file: format!("/data/{name}.{kind}"),
+        kind,
+        scale,
+        ceiling: if gltf { 255f32.powf(2.2) } else { 255.0 },
     }
 }
 
@@ -200,7 +221,7 @@ fn skybox(env: &Env, out: &Path) -> (f64, f64, f64) {
         let dirs = view_dirs(Vec3::from(dir), Vec3::from(up), std::f32::consts::FRAC_PI_2);
         // What Babylon.js's skybox shows: the file's texels, with RGBD's
         // 255 ceiling.
-        let shown = |c: Vec3| lookup(&s, &env.level0, c).map(|v| v.clamp(0.0, 255.0));
+        let shown = |c: Vec3| lookup(&s, &env.level0, c).map(|v| v.clamp(0.0, env.ceiling));
         let canon = |d: Vec3| Frame::Y_UP_RH.to_canonical(to_gl(d));
         let want: Vec<[f32; 3]> = dirs.iter().map(|&d| shown(canon(d))).collect();
         let p = psnr(&got, &want, white);
@@ -287,22 +308,58 @@ fn prefiltered(src: &EnvImage, r: f32) -> EnvImage {
 }
 
 /// The chain `levels` read as Babylon.js reads it at roughness `r`: lod =
-/// 0.8·log2(size·α), α = r² + 0.0005, clamped to the chain, the two levels
-/// around it blended linearly, each bilinearly, texels clipped at RGBD's
-/// 255.
-fn chain_lookup(levels: &[EnvImage], samplers: &[Sampler<'_>], r: f32, c: Vec3) -> [f32; 3] {
+/// scale·log2(size·α), α = r² + 0.0005, clamped to the chain, the two
+/// levels around it blended linearly, each bilinearly, texels clipped at
+/// the file's ceiling; with `gamma`, `levels` hold texels raised to 1/2.2
+/// ([`gamma_levels`]) and the result is raised to 2.2, as Babylon.js reads
+/// a glTF light.
+fn chain_lookup(
+    (levels, samplers): (&[EnvImage], &[Sampler<'_>]),
+    (scale, ceiling, gamma): (f32, f32, bool),
+    r: f32,
+    c: Vec3,
+) -> [f32; 3] {
+    // Babylon.js filters a glTF light's texels raised to 1/2.2, then
+    // raises the result to 2.2: the levels given are those texels.
+    let ceiling = if gamma {
+        ceiling.powf(1.0 / 2.2)
+    } else {
+        ceiling
+    };
     let size = levels[0].cell_size().0 as f32;
     let alpha = r * r + 0.0005;
-    let lod = (0.8 * (size * alpha).log2()).clamp(0.0, (levels.len() - 1) as f32);
+    let lod = (scale * (size * alpha).log2()).clamp(0.0, (levels.len() - 1) as f32);
     let k = (lod.floor() as usize).min(levels.len() - 1);
     let t = lod - k as f32;
-    let at = |i: usize| lookup(&samplers[i], &levels[i], c).map(|v| v.clamp(0.0, 255.0));
+    let at = |i: usize| lookup(&samplers[i], &levels[i], c).map(|v| v.clamp(0.0, ceiling));
     let a = at(k);
-    if t == 0.0 || k + 1 >= levels.len() {
-        return a;
+    let v = if t == 0.0 || k + 1 >= levels.len() {
+        a
+    } else {
+        let b = at(k + 1);
+        core::array::from_fn(|i| a[i] + t * (b[i] - a[i]))
+    };
+    if gamma {
+        v.map(|x| x.powf(2.2))
+    } else {
+        v
     }
-    let b = at(k + 1);
-    core::array::from_fn(|i| a[i] + t * (b[i] - a[i]))
+}
+
+/// `levels` with every texel raised to 1/2.2: what Babylon.js's texture of
+/// a glTF light holds and filters (its gamma-space default; see
+/// `envmap_render::image::babylon::encode_gltf`).
+fn gamma_levels(levels: &[EnvImage]) -> Vec<EnvImage> {
+    levels
+        .iter()
+        .map(|l| {
+            let mut g = l.clone();
+            for t in g.pixels_mut() {
+                *t = t.map(|v| v.max(0.0).powf(1.0 / 2.2));
+            }
+            g
+        })
+        .collect()
 }
 
 /// Relative RMS of `got` against `want` over the pixels `want` lists, and
@@ -347,8 +404,11 @@ fn babylon_shows_envmaps_env_files() {
     save(&park_exr, data.join("park.hdr"), &SaveOptions::default()).unwrap();
     let park = load(data.join("park.hdr"), &LoadOptions::default()).unwrap();
     let envs = [
-        bake("sky", sky, &data, false),
-        bake("park", park, &data, true),
+        bake("sky", sky, &data, false, false),
+        bake("park", park.clone(), &data, true, false),
+        // The glTF light (EXT_lights_image_based) through Babylon.js's
+        // glTF loader.
+        bake("park_gltf", park, &data, false, true),
     ];
 
     // The jobs: skyboxes, spheres by envmap's file, spheres by Babylon.js's
@@ -357,7 +417,7 @@ fn babylon_shows_envmaps_env_files() {
     for e in &envs {
         let views = views_json();
         jobs.push(serde_json::json!({
-            "name": format!("{}_sky", e.name), "fn": "skybox", "env": format!("/data/{}.env", e.name),
+            "name": format!("{}_sky", e.name), "fn": "skybox", "kind": e.kind, "env": e.file,
             "fov": std::f32::consts::FRAC_PI_2, "width": VIEW, "height": VIEW, "views": views,
         }));
         for (mat, base, metallic) in [
@@ -365,8 +425,8 @@ fn babylon_shows_envmaps_env_files() {
             ("plastic", [0.5, 0.5, 0.5], 0.0),
         ] {
             jobs.push(serde_json::json!({
-                "name": format!("{}_{mat}", e.name), "fn": "spheres", "kind": "env",
-                "env": format!("/data/{}.env", e.name), "width": VIEW, "height": VIEW,
+                "name": format!("{}_{mat}", e.name), "fn": "spheres", "kind": e.kind,
+                "env": e.file, "width": VIEW, "height": VIEW,
                 "roughness": ROUGHNESS, "metallic": metallic, "base": base,
             }));
         }
@@ -431,6 +491,7 @@ fn babylon_shows_envmaps_env_files() {
     // against envmap's reading seen that way (its conversion samples the
     // nearest texel, and is not filtered):
     let own_sky = own_skybox_psnr("park", &envs[1].source, &out);
+    // The glTF light shows what the .env shows: the same faces.
     println!("park.hdr as Babylon.js's HDRCubeTexture shows it, against envmap's reading mirrored in z: {own_sky:.2} dB");
     if own_sky < 25.0 {
         failures.push(format!(
@@ -450,7 +511,13 @@ fn babylon_shows_envmaps_env_files() {
             let canon = |d: Vec3| Frame::Y_UP_RH.to_canonical(to_gl(d));
             let mut line = format!("{} r = {r:.1}:", e.name);
             let mut results = Vec::new();
-            let samplers: Vec<Sampler<'_>> = e.levels.iter().map(Sampler::new).collect();
+            let gltf = e.kind == "gltf";
+            let read_levels = if gltf {
+                gamma_levels(&e.levels)
+            } else {
+                e.levels.clone()
+            };
+            let samplers: Vec<Sampler<'_>> = read_levels.iter().map(Sampler::new).collect();
             for (mat, base, metallic) in
                 [("metal", [1.0f32; 3], 1.0f32), ("plastic", [0.5; 3], 0.0)]
             {
@@ -460,7 +527,12 @@ fn babylon_shows_envmaps_env_files() {
                 let chain: Vec<(usize, [f32; 3], bool)> = pixels
                     .iter()
                     .map(|&(p, n, nv, rdir)| {
-                        let ld = chain_lookup(&e.levels, &samplers, r, canon(rdir));
+                        let ld = chain_lookup(
+                            (&read_levels, &samplers),
+                            (e.scale, e.ceiling, gltf),
+                            r,
+                            canon(rdir),
+                        );
                         let e_pi = e.sh.irradiance_at(canon(n), IrradianceScale::EOverPi);
                         (p, shade(ld, e_pi, nv, r, base, metallic), true)
                     })

@@ -31,15 +31,20 @@ pub enum Target {
     /// to 1×1 at Babylon.js's roughness rule, and the irradiance
     /// polynomial; 256², in Babylon.js's left-handed y-up world.
     Babylon,
+    /// glTF's `EXT_lights_image_based`, as Babylon.js's glTF loader reads
+    /// it: one `.gltf` holding the light (RGBD PNG levels down to 1×1 at
+    /// lod = log2(size·α), the irradiance SH), 256², in Babylon.js's world.
+    GltfIbl,
 }
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 4] = [
+    pub const ALL: [Target; 5] = [
         Target::Bevy,
         Target::Gltf,
         Target::Filament,
         Target::Babylon,
+        Target::GltfIbl,
     ];
 
     /// The name `--target` takes and the manifest records.
@@ -50,6 +55,7 @@ impl Target {
             Target::Gltf => "gltf",
             Target::Filament => "filament",
             Target::Babylon => "babylon",
+            Target::GltfIbl => "gltf-ibl",
         }
     }
 }
@@ -63,7 +69,10 @@ impl std::str::FromStr for Target {
             "gltf" | "gltf-ibl-sampler" | "khronos" => Ok(Target::Gltf),
             "filament" | "cmgen" => Ok(Target::Filament),
             "babylon" | "babylonjs" | "babylon.js" => Ok(Target::Babylon),
-            _ => Err(format!("{s}: expected bevy, gltf, filament or babylon")),
+            "gltf-ibl" | "ext_lights_image_based" => Ok(Target::GltfIbl),
+            _ => Err(format!(
+                "{s}: expected bevy, gltf, filament, babylon or gltf-ibl"
+            )),
         }
     }
 }
@@ -255,6 +264,16 @@ impl Preset {
                 specular: "environment",
                 ..base
             },
+            // EXT_lights_image_based as Babylon.js's glTF loader reads it
+            // (loaders/glTF/2.0/Extensions/EXT_lights_image_based.ts):
+            // lodGenerationScale = (levels − 1)/log2(size), 1 for a chain
+            // down to 1×1; the same RGBD faces as a .env, in the same world.
+            Target::GltfIbl => Self {
+                target: Some(target),
+                rule: RoughnessRule::Log2,
+                container: FileFormat::Gltf,
+                ..Self::for_target(Target::Babylon, axes)
+            },
         }
     }
 
@@ -299,7 +318,7 @@ impl Preset {
     pub(crate) fn check(&self) -> Result<()> {
         if !(self.container == FileFormat::Exr || self.container.is_texture()) {
             return Err(Error::options(format!(
-                "{}: a bake is written as exr, ktx2, dds, ktx or env",
+                "{}: a bake is written as exr, ktx2, dds, ktx, env or gltf",
                 self.container.name()
             )));
         }
@@ -309,10 +328,12 @@ impl Preset {
                 self.container.extension()
             )));
         }
-        if self.container == FileFormat::Env && self.irradiance_size > 0 {
-            return Err(Error::options(
-                "a Babylon.js .env holds the specular chain and the irradiance polynomial; it has no irradiance map (irradiance size 0)",
-            ));
+        if matches!(self.container, FileFormat::Env | FileFormat::Gltf) && self.irradiance_size > 0
+        {
+            return Err(Error::options(format!(
+                "{}: holds the specular chain and the irradiance as SH, no irradiance map (irradiance size 0)",
+                self.container.name()
+            )));
         }
         if !Layout::for_mapping(envmap_core::AnyMapping::Cube).contains(&self.layout) {
             return Err(Error::options(format!(

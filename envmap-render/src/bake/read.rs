@@ -4,7 +4,8 @@
 //! * **A bake directory** (or any chain file in one): `manifest.json` says
 //!   where each level of the specular chain is (`specular_k.exr`, or level
 //!   k of `specular.ktx2` / `.dds`), each level's perceptual roughness, the
-//!   irradiance map's file and whether it holds E or E/π, and the axes the
+//!   irradiance map's file and whether it holds E or E/π (or, for the
+//!   engines lit by SH alone, `sh.json`, whose irradiance is taken), and the axes the
 //!   cube files are in (`frame_to_canonical`: the file axes' x, y, z as
 //!   columns in envmap's z-up axes; OpenEXR files also say so themselves,
 //!   and older manifests without the field are read through the files'
@@ -116,8 +117,8 @@ pub(crate) fn is_candidate(path: &Path) -> bool {
 /// # Errors
 ///
 /// A directory without `manifest.json`; a manifest that is not JSON or
-/// lacks the specular levels, their roughness or the irradiance map (a bake
-/// with `--sh-only` or `--irradiance-size 0`); a KTX 1 chain; any file
+/// lacks the specular levels, their roughness, or both the irradiance map
+/// and `sh.json` (a bake with `--sh-only`); a KTX 1 chain; any file
 /// that cannot be read; levels in different axes or of decreasing
 /// roughness; [`Error::Cancelled`].
 pub fn open(
@@ -268,23 +269,36 @@ fn from_manifest(
         roughness.push(r as f32);
     }
     let irr = &m["irradiance"];
-    let (Some(irr_file), Some(value)) = (irr["file"].as_str(), irr["value"].as_str()) else {
-        return Err(bad(
-            manifest,
-            "no irradiance map (a bake with --irradiance-size 0?)",
-        ));
-    };
-    let scale = match value {
-        "E" => IrradianceScale::E,
-        "E/pi" => IrradianceScale::EOverPi,
-        other => {
-            return Err(bad(
-                manifest,
-                format!("irradiance value '{other}': expected E or E/pi"),
-            ))
-        }
-    };
-    let irradiance = files.load(irr_file)?;
+    let (irradiance, scale, irr_file, value) =
+        match (irr["file"].as_str(), irr["value"].as_str()) {
+            (Some(irr_file), Some(value)) => {
+                let scale = match value {
+                    "E" => IrradianceScale::E,
+                    "E/pi" => IrradianceScale::EOverPi,
+                    other => {
+                        return Err(bad(
+                            manifest,
+                            format!("irradiance value '{other}': expected E or E/pi"),
+                        ))
+                    }
+                };
+                (files.load(irr_file)?, scale, irr_file, value)
+            }
+            _ => match m["sh"]["file"].as_str() {
+                // The engines that light by SH alone (Babylon.js, glTF
+                // lights): the irradiance of the SH the bake wrote.
+                Some(sh_file) => (
+                    sh_irradiance(&files.dir.join(sh_file), images[0].representation().frame)?,
+                    IrradianceScale::EOverPi,
+                    sh_file,
+                    "E/pi from the SH",
+                ),
+                None => return Err(bad(
+                    manifest,
+                    "no irradiance map and no SH (a bake with --irradiance-size 0 and no sh.json?)",
+                )),
+            },
+        };
     let dfg_size = m["dfg"]["size"]
         .as_u64()
         .and_then(|s| u32::try_from(s).ok())
@@ -308,6 +322,42 @@ fn from_manifest(
     let env = LitEnvironment::new(images, roughness, irradiance, scale, dfg)
         .map_err(|e| bad(manifest, e.to_string()))?;
     Ok(OpenedLit { env, description })
+}
+
+/// The irradiance (E/π) of the radiance SH in `sh.json` at `path`
+/// (`canonical_radiance`, envmap's axes), as a cube of
+/// [`DEFAULT_IRRADIANCE_SIZE`]² in the axes `frame`.
+fn sh_irradiance(path: &Path, frame: Frame) -> Result<EnvImage> {
+    let bad = |message: String| Error::Decode {
+        path: path.to_path_buf(),
+        format: "envmap sh.json",
+        message,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| Error::read(path, e))?;
+    let v: Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    let c = &v["canonical_radiance"]["coefficients"];
+    let mut sh = Sh9::default();
+    for (i, name) in crate::filter::sh::NAMES.iter().enumerate() {
+        for ch in 0..3 {
+            sh.coeffs[i][ch] = c[*name][ch].as_f64().ok_or_else(|| {
+                bad(format!(
+                    "canonical_radiance.coefficients.{name} lacks three numbers"
+                ))
+            })?;
+        }
+    }
+    let repr = Representation::new(
+        AnyMapping::Cube,
+        envmap_core::Atlas::CUBE_HORIZONTAL_STRIP,
+        frame,
+    )?;
+    irradiance_map(
+        &sh,
+        repr,
+        6 * DEFAULT_IRRADIANCE_SIZE,
+        DEFAULT_IRRADIANCE_SIZE,
+        IrradianceScale::EOverPi,
+    )
 }
 
 /// A chain file with no manifest naming it; see the [module docs](self).

@@ -423,7 +423,7 @@ impl<'p> Files<'p> {
         let mut clamped_total: Vec<(PathBuf, Clamped)> = Vec::new();
         let ext = preset.container.extension();
         let sh_key = filament_sh_key(bake, preset);
-        if preset.container == FileFormat::Env {
+        if matches!(preset.container, FileFormat::Env | FileFormat::Gltf) {
             // One file: the chain, with the irradiance polynomial inside.
             if let Some(chain) = &bake.chain {
                 let name = texture_name(dir, preset, preset.specular);
@@ -509,7 +509,7 @@ impl<'p> Files<'p> {
                     levels: crate::image::lossy::measure(
                         &back.texture,
                         &tex,
-                        crate::image::TexelFormat::Bc6h,
+                        crate::image::TexelFormat::Bc6h.max_value(),
                     ),
                     clipped: Vec::new(),
                 });
@@ -524,9 +524,11 @@ impl<'p> Files<'p> {
     }
 
     /// Stages the chain `levels` as the Babylon.js `.env` file `name`, with
-    /// the irradiance polynomial of the bake's SH (in the cube's axes), and
-    /// measures what RGBD lost: the file is read back and each level
-    /// compared with the levels, and the energy above RGBD's 255 counted.
+    /// the irradiance polynomial of the bake's SH (in the cube's axes), or
+    /// as a glTF image-based light with that SH; measures what RGBD lost:
+    /// the energy above RGBD's 255 counted, and (a `.env`) the file read
+    /// back and each level compared with the levels (a glTF light's faces
+    /// are the same PNGs).
     fn stage_env(
         &self,
         run: &mut Outputs<'_>,
@@ -545,17 +547,21 @@ impl<'p> Files<'p> {
                 None => bake.sh,
             }
             .in_frame(self.opts.axes.frame(AnyMapping::Cube));
-            let e = babylon::encode(&tex, &sh, babylon::DEFAULT_LOD_SCALE)
-                .map_err(|e| e.in_file(&path))?;
+            let gltf = self.preset.container == FileFormat::Gltf;
+            let e = if gltf {
+                babylon::encode_gltf(&tex, &sh)
+            } else {
+                babylon::encode(&tex, &sh, babylon::DEFAULT_LOD_SCALE)
+            }
+            .map_err(|e| e.in_file(&path))?;
             run.stage_bytes(&path, &e.bytes)?;
-            let back = crate::image::texture::decode(&path, &e.bytes, u64::MAX)?;
+            let back = match e.seen {
+                Some(seen) => seen,
+                None => crate::image::texture::decode(&path, &e.bytes, u64::MAX)?.texture,
+            };
             lossy.push(Lossy {
                 file: name.to_owned(),
-                levels: crate::image::lossy::measure(
-                    &back.texture,
-                    &tex,
-                    crate::image::TexelFormat::Rgbd8,
-                ),
+                levels: crate::image::lossy::measure(&back, &tex, babylon::ceiling(gltf)),
                 clipped: e.clipped,
             });
             Ok((path, e.clamped))
@@ -563,7 +569,8 @@ impl<'p> Files<'p> {
         #[cfg(not(feature = "babylon"))]
         {
             let _ = (run, bake, levels, lossy);
-            FileFormat::Env
+            self.preset
+                .container
                 .codec(&path)
                 .map(|_| (path.clone(), Clamped::default()))
         }

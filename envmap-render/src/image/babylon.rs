@@ -59,23 +59,39 @@ const VERSION: u64 = 2;
 /// The polynomial's terms, in the order the manifest lists them.
 pub(crate) const TERMS: [&str; 9] = ["x", "y", "z", "xx", "yy", "zz", "yz", "zx", "xy"];
 
-/// The `.env` codec.
-pub(crate) struct Env;
+/// The codec of Babylon.js's two files of RGBD faces: `.env`
+/// ([`FileFormat::Env`]) or a glTF light ([`FileFormat::Gltf`]).
+pub(crate) struct Babylon(FileFormat);
 
-impl Codec for Env {
+/// The `.env` codec.
+pub(crate) const ENV: Babylon = Babylon(FileFormat::Env);
+
+/// The glTF image-based-light codec.
+pub(crate) const GLTF: Babylon = Babylon(FileFormat::Gltf);
+
+impl Codec for Babylon {
     fn read(&self, path: &Path, src: Source<'_>, max_texels: u64) -> Result<Contents> {
-        let bytes = whole(path, FileFormat::Env, src, max_texels)?;
-        decode(path, &bytes, max_texels).map(Contents::Chain)
+        let bytes = whole(path, self.0, src, max_texels)?;
+        if self.0 == FileFormat::Gltf {
+            decode_gltf(path, &bytes, max_texels).map(Contents::Chain)
+        } else {
+            decode(path, &bytes, max_texels).map(Contents::Chain)
+        }
     }
 
     fn write_chain(&self, tex: &Texture, opts: TextureOptions) -> Result<(Vec<u8>, Clamped)> {
         if opts.zstd.is_some() {
-            return Err(Error::options(
-                "a Babylon.js .env file has no supercompression; zstd is for KTX2",
-            ));
+            return Err(Error::options(format!(
+                "{} has no supercompression; zstd is for KTX2",
+                self.0.name()
+            )));
         }
         let sh = level0_sh(tex)?;
-        let e = encode(tex, &sh, DEFAULT_LOD_SCALE)?;
+        let e = if self.0 == FileFormat::Gltf {
+            encode_gltf(tex, &sh)?
+        } else {
+            encode(tex, &sh, DEFAULT_LOD_SCALE)?
+        };
         Ok((e.bytes, e.clamped))
     }
 }
@@ -96,8 +112,12 @@ pub(crate) struct Encoded {
     /// Components outside RGBD's 0 … 255, over all levels.
     pub clamped: Clamped,
     /// Per level: the fraction of its radiant energy (Σ over channels and
-    /// texels of value × solid angle) above 255, lost to RGBD's ceiling.
+    /// texels of value × solid angle) above the largest value the file
+    /// holds, lost to RGBD's ceiling.
     pub clipped: Vec<f64>,
+    /// A glTF light: its texels as Babylon.js sees them, decoded from the
+    /// images written (a `.env` is read back by its own reader instead).
+    pub seen: Option<Texture>,
 }
 
 /// Refuses a texture that is not a square power-of-two cube with its full
@@ -208,37 +228,10 @@ pub(crate) fn babylon_irradiance(p: &[[f64; 3]; 9], n: [f64; 3]) -> [f64; 3] {
 ///
 /// Another texture; a PNG the encoder cannot write.
 pub(crate) fn encode(tex: &Texture, sh: &Sh9, lod_scale: f32) -> Result<Encoded> {
-    use crate::par::*;
-    check_chain(tex)?;
-    let images: Vec<(usize, &RgbImage)> = tex
-        .levels()
-        .iter()
-        .enumerate()
-        .flat_map(|(p, faces)| faces.iter().map(move |f| (p, f)))
-        .collect();
-    let encoded: Vec<Result<FacePng>> = images
-        .par_iter()
-        .enumerate()
-        .map(|(k, &(_, img))| face_png(img, (k % 6) as u32))
-        .collect();
-    let n_levels = tex.level_count();
-    let mut clamped = Clamped::default();
-    let mut energy = vec![[0.0f64; 2]; n_levels];
-    let mut blobs = Vec::with_capacity(images.len());
-    for ((p, _), e) in images.iter().zip(encoded) {
-        let (png, c, [all, above]) = e?;
-        clamped.add(c);
-        energy[*p][0] += all;
-        energy[*p][1] += above;
-        blobs.push(png);
-    }
-    let clipped = energy
-        .iter()
-        .map(|&[all, above]| if all > 0.0 { above / all } else { 0.0 })
-        .collect();
-    let mut mipmaps = Vec::with_capacity(blobs.len());
+    let faces = faces(tex, false)?;
+    let mut mipmaps = Vec::with_capacity(faces.pngs.len());
     let mut position = 0usize;
-    for b in &blobs {
+    for b in &faces.pngs {
         mipmaps.push(json!({"length": b.len(), "position": position}));
         position += b.len();
     }
@@ -264,14 +257,145 @@ pub(crate) fn encode(tex: &Texture, sh: &Sh9, lod_scale: f32) -> Result<Encoded>
     bytes.extend_from_slice(&MAGIC);
     bytes.extend_from_slice(text.as_bytes());
     bytes.push(0);
-    for b in blobs {
+    for b in faces.pngs {
         bytes.extend_from_slice(&b);
     }
     Ok(Encoded {
         bytes,
+        clamped: faces.clamped,
+        clipped: faces.clipped,
+        seen: None,
+    })
+}
+
+/// Every face of a chain as an RGBD PNG, level 0 first.
+struct Faces {
+    pngs: Vec<Vec<u8>>,
+    clamped: Clamped,
+    clipped: Vec<f64>,
+}
+
+/// The faces of the chain `tex` (checked first) as RGBD PNGs, with what
+/// packing clamped and each level's energy clipped; with `gamma`, each
+/// texel is raised to 1/2.2 first (see [`encode_gltf`]).
+fn faces(tex: &Texture, gamma: bool) -> Result<Faces> {
+    use crate::par::*;
+    check_chain(tex)?;
+    let images: Vec<(usize, &RgbImage)> = tex
+        .levels()
+        .iter()
+        .enumerate()
+        .flat_map(|(p, faces)| faces.iter().map(move |f| (p, f)))
+        .collect();
+    let encoded: Vec<Result<FacePng>> = images
+        .par_iter()
+        .enumerate()
+        .map(|(k, &(_, img))| face_png(img, (k % 6) as u32, gamma))
+        .collect();
+    let mut clamped = Clamped::default();
+    let mut energy = vec![[0.0f64; 2]; tex.level_count()];
+    let mut pngs = Vec::with_capacity(images.len());
+    for ((p, _), e) in images.iter().zip(encoded) {
+        let (png, c, [all, above]) = e?;
+        clamped.add(c);
+        energy[*p][0] += all;
+        energy[*p][1] += above;
+        pngs.push(png);
+    }
+    let clipped = energy
+        .iter()
+        .map(|&[all, above]| if all > 0.0 { above / all } else { 0.0 })
+        .collect();
+    Ok(Faces {
+        pngs,
         clamped,
         clipped,
     })
+}
+
+/// The glTF 2.0 file (JSON, its images inside as `data:` URIs) of one
+/// image-based light (`EXT_lights_image_based`, the vendor extension
+/// Babylon.js's glTF loader reads) made from the cube chain `tex` (square,
+/// power of two, down to 1×1) and the radiance coefficients `sh` (in the
+/// cube's axes), selected by the file's one scene, which has no nodes.
+///
+/// The light holds the chain's faces as RGBD PNGs (`specularImages`, per
+/// level +X … −Z, rows as a `.env` holds them), `specularImageSize`, and
+/// the irradiance coefficients E in Babylon.js's basis (Condon–Shortley
+/// signs), `intensity` 1 and no rotation. Babylon.js's loader reads the
+/// chain at lodGenerationScale = (levels − 1)/log2(size), 1 here: lod =
+/// log2(size·α), [`crate::filter::specular::RoughnessRule::Log2`].
+///
+/// Babylon.js's loader puts the images in a `RawCubeTexture`, which keeps
+/// its texture's gamma-space default: its PBR shader raises the RGBD-decoded
+/// texels to 2.2 once more (`GAMMAREFLECTION`). So each texel is written as
+/// RGBD of c^(1/2.2), which Babylon.js shows as c (measured in Chromium by
+/// `tests/tests/babylon_browser.rs`): the light holds up to 255^2.2 ≈
+/// 1.96·10⁵, at about twice RGBD's relative step.
+///
+/// # Errors
+///
+/// As [`encode`].
+pub(crate) fn encode_gltf(tex: &Texture, sh: &Sh9) -> Result<Encoded> {
+    use base64::Engine as _;
+    let faces = faces(tex, true)?;
+    let n = tex.level_count();
+    let images: Vec<Value> = faces
+        .pngs
+        .iter()
+        .map(|png| {
+            json!({
+                "uri": format!(
+                    "data:image/png;base64,{}",
+                    base64::engine::general_purpose::STANDARD.encode(png)
+                ),
+                "mimeType": "image/png",
+            })
+        })
+        .collect();
+    let specular: Vec<Vec<usize>> = (0..n).map(|p| (6 * p..6 * p + 6).collect()).collect();
+    let e = sh.irradiance();
+    let coefficients: Vec<[f64; 3]> = (0..9).map(|i| e.coeffs[i].map(|v| v * SIGN[i])).collect();
+    let gltf = json!({
+        "asset": {"version": "2.0", "generator": crate::image::metadata::software()},
+        "extensionsUsed": ["EXT_lights_image_based"],
+        "extensions": {
+            "EXT_lights_image_based": {
+                "lights": [{
+                    "name": "environment",
+                    "intensity": 1.0,
+                    "irradianceCoefficients": coefficients,
+                    "specularImageSize": tex.size().0,
+                    "specularImages": specular,
+                }],
+            },
+        },
+        "images": images,
+        "scene": 0,
+        "scenes": [{"nodes": [], "extensions": {"EXT_lights_image_based": {"light": 0}}}],
+    });
+    let bytes =
+        serde_json::to_vec(&gltf).map_err(|e| Error::unsupported(format!("the glTF JSON: {e}")))?;
+    // What Babylon.js sees: each image decoded, raised to 2.2.
+    let pngs: Vec<&[u8]> = faces.pngs.iter().map(Vec::as_slice).collect();
+    let levels = chain_from_pngs(Path::new(""), FileFormat::Gltf, &pngs, tex.size().0, true)?;
+    Ok(Encoded {
+        bytes,
+        clamped: faces.clamped,
+        clipped: faces.clipped,
+        seen: Some(Texture::new(TextureKind::Cube, levels)?),
+    })
+}
+
+/// The largest value a `.env` (255) or a glTF light (255^2.2, see
+/// [`encode_gltf`]) holds.
+#[must_use]
+pub(crate) fn ceiling(gltf: bool) -> f32 {
+    if gltf {
+        crate::image::texel::RGBD_MAX.powf(2.2)
+    } else {
+        crate::image::texel::RGBD_MAX
+    }
 }
 
 /// A face's PNG, what packing clamped, its energy: all, above 255.
@@ -282,10 +406,21 @@ type FacePng = (Vec<u8>, Clamped, [f64; 2]);
 /// bottom-up against the face's (its top row is the face's last, GL's
 /// t = 1): Babylon.js uploads a face's image flipped
 /// (`_UploadLevelsAsync`: `invertY`), and writes its own files so.
-fn face_png(img: &RgbImage, face: u32) -> Result<FacePng> {
+fn face_png(img: &RgbImage, face: u32, gamma: bool) -> Result<FacePng> {
     let (w, h) = (img.width, img.height);
     let mut packed = vec![0u8; img.pixels.len() * 4];
-    let clamped = TexelFormat::Rgbd8.pack_into(&img.pixels, &mut packed);
+    let (clamped, ceiling) = if gamma {
+        let raised: Vec<[f32; 3]> = img
+            .pixels
+            .iter()
+            .map(|t| t.map(|v| if v > 0.0 { v.powf(1.0 / 2.2) } else { v }))
+            .collect();
+        let c = TexelFormat::Rgbd8.pack_into(&raised, &mut packed);
+        (c, f64::from(ceiling(true)))
+    } else {
+        let c = TexelFormat::Rgbd8.pack_into(&img.pixels, &mut packed);
+        (c, f64::from(ceiling(false)))
+    };
     let row = w as usize * 4;
     let rgba: Vec<u8> = packed.chunks_exact(row).rev().flatten().copied().collect();
     let mut energy = [0.0f64; 2];
@@ -302,7 +437,7 @@ fn face_png(img: &RgbImage, face: u32) -> Result<FacePng> {
         for &v in px {
             if v.is_finite() && v > 0.0 {
                 energy[0] += f64::from(v) * dw;
-                energy[1] += f64::from(v - crate::image::texel::RGBD_MAX).max(0.0) * dw;
+                energy[1] += (f64::from(v) - ceiling).max(0.0) * dw;
             }
         }
     }
@@ -450,34 +585,17 @@ fn manifest<'a>(path: &Path, bytes: &'a [u8]) -> Result<(Manifest, &'a [u8])> {
 /// faces, RGBD decoded, with what the manifest says as the texture's
 /// description.
 pub(crate) fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile> {
-    use crate::par::*;
     let (m, data) = manifest(path, bytes)?;
     let w = m.width;
     let full = m.images.len() / 6;
     crate::image::texture::check_texels(TextureKind::Cube, w, w, full, max_texels)
         .map_err(|e| e.in_file(path))?;
-    let faces: Vec<Result<RgbImage>> = m
+    let pngs: Vec<&[u8]> = m
         .images
-        .par_iter()
-        .enumerate()
-        .map(|(k, &(pos, len))| {
-            let size = (w >> (k / 6)).max(1);
-            face_from_png(&data[pos..pos + len], size).map_err(|e| {
-                decode_error(
-                    path,
-                    FileFormat::Env,
-                    format!("level {} face {}: {e}", k / 6, k % 6),
-                )
-            })
-        })
+        .iter()
+        .map(|&(pos, len)| &data[pos..pos + len])
         .collect();
-    let mut levels: Vec<Vec<RgbImage>> = Vec::with_capacity(full);
-    for (k, f) in faces.into_iter().enumerate() {
-        if k % 6 == 0 {
-            levels.push(Vec::with_capacity(6));
-        }
-        levels[k / 6].push(f?);
-    }
+    let levels = chain_from_pngs(path, FileFormat::Env, &pngs, w, false)?;
     let level_bytes = (0..full)
         .map(|p| m.images[6 * p..6 * p + 6].iter().map(|i| i.1 as u64).sum())
         .collect();
@@ -503,6 +621,152 @@ pub(crate) fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<Textu
             "present (not read)".to_owned(),
         ));
     }
+    babylon_file(FileFormat::Env, levels, level_bytes, key_values, None)
+}
+
+/// The faces of a chain of `pngs` (six per level, level 0 `w`² first),
+/// decoded (and raised to 2.2 when `gamma`, see [`encode_gltf`]) into
+/// levels; errors name the level and face.
+fn chain_from_pngs(
+    path: &Path,
+    format: FileFormat,
+    pngs: &[&[u8]],
+    w: u32,
+    gamma: bool,
+) -> Result<Vec<Vec<RgbImage>>> {
+    use crate::par::*;
+    let faces: Vec<Result<RgbImage>> = pngs
+        .par_iter()
+        .enumerate()
+        .map(|(k, png)| {
+            let size = (w >> (k / 6)).max(1);
+            let mut img = face_from_png(png, size).map_err(|e| {
+                decode_error(path, format, format!("level {} face {}: {e}", k / 6, k % 6))
+            })?;
+            if gamma {
+                for t in &mut img.pixels {
+                    *t = t.map(|v| v.powf(2.2));
+                }
+            }
+            Ok(img)
+        })
+        .collect();
+    let mut levels: Vec<Vec<RgbImage>> = Vec::with_capacity(pngs.len() / 6);
+    for (k, f) in faces.into_iter().enumerate() {
+        if k % 6 == 0 {
+            levels.push(Vec::with_capacity(6));
+        }
+        levels[k / 6].push(f?);
+    }
+    Ok(levels)
+}
+
+/// Decodes a glTF file's `bytes` (named `path` in errors) holding an
+/// `EXT_lights_image_based` light as [`encode_gltf`] writes one: the first
+/// light's `specularImages` (a full chain, each image a `data:` URI of an
+/// RGBD PNG), decoded as Babylon.js shows them (raised to 2.2), with the
+/// light's other fields as the description. Images in buffers or outside
+/// files are refused by name.
+pub(crate) fn decode_gltf(path: &Path, bytes: &[u8], max_texels: u64) -> Result<TextureFile> {
+    use base64::Engine as _;
+    let bad = |m: String| decode_error(path, FileFormat::Gltf, m);
+    let doc: Value = serde_json::from_slice(bytes).map_err(|e| bad(format!("JSON: {e}")))?;
+    let light = &doc["extensions"]["EXT_lights_image_based"]["lights"][0];
+    if light.is_null() {
+        return Err(bad(
+            "no EXT_lights_image_based light in the file's extensions".into(),
+        ));
+    }
+    let w = light["specularImageSize"]
+        .as_u64()
+        .and_then(|w| u32::try_from(w).ok())
+        .filter(|w| w.is_power_of_two())
+        .ok_or_else(|| bad("specularImageSize is not a power of two".into()))?;
+    let full = w.trailing_zeros() as usize + 1;
+    let levels = light["specularImages"]
+        .as_array()
+        .ok_or_else(|| bad("the light has no specularImages".into()))?;
+    if levels.len() != full {
+        return Err(bad(format!(
+            "{} specular levels; a {w}² chain down to 1×1 has {full}",
+            levels.len()
+        )));
+    }
+    crate::image::texture::check_texels(TextureKind::Cube, w, w, full, max_texels)
+        .map_err(|e| e.in_file(path))?;
+    let mut pngs = Vec::with_capacity(6 * full);
+    for (p, level) in levels.iter().enumerate() {
+        let faces = level
+            .as_array()
+            .filter(|f| f.len() == 6)
+            .ok_or_else(|| bad(format!("specular level {p} does not list six images")))?;
+        for (f, i) in faces.iter().enumerate() {
+            let image = i
+                .as_u64()
+                .and_then(|i| doc["images"].get(i as usize))
+                .ok_or_else(|| bad(format!("level {p} face {f}: no such image")))?;
+            let uri = image["uri"].as_str().unwrap_or_default();
+            let data =
+                uri.strip_prefix("data:image/png;base64,").ok_or_else(|| {
+                    bad(format!(
+                    "level {p} face {f}: envmap reads images held as data:image/png URIs, not {}",
+                    if uri.is_empty() { "buffer views" } else { "outside files" }
+                ))
+                })?;
+            let png = base64::engine::general_purpose::STANDARD
+                .decode(data)
+                .map_err(|e| bad(format!("level {p} face {f}: base64: {e}")))?;
+            pngs.push(png);
+        }
+    }
+    let pngs: Vec<&[u8]> = pngs.iter().map(Vec::as_slice).collect();
+    let chain = chain_from_pngs(path, FileFormat::Gltf, &pngs, w, true)?;
+    let mut key_values = vec![
+        (
+            "gltf.intensity".to_owned(),
+            light["intensity"].as_f64().unwrap_or(1.0).to_string(),
+        ),
+        (
+            "gltf.texels".to_owned(),
+            format!(
+                "RGBD of c^(1/2.2), read as Babylon.js shows them (decoded, raised to 2.2): up to {:.0}",
+                ceiling(true)
+            ),
+        ),
+    ];
+    if let Some(c) = light["irradianceCoefficients"].as_array() {
+        let text = c
+            .iter()
+            .map(|v| {
+                v.as_array()
+                    .map(|v| {
+                        v.iter()
+                            .map(|x| x.to_string())
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    })
+                    .unwrap_or_default()
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        key_values.push(("gltf.irradianceCoefficients".to_owned(), text));
+    }
+    let level_bytes = (0..full)
+        .map(|p| pngs[6 * p..6 * p + 6].iter().map(|i| i.len() as u64).sum())
+        .collect();
+    let writer = doc["asset"]["generator"].as_str().map(str::to_owned);
+    babylon_file(FileFormat::Gltf, chain, level_bytes, key_values, writer)
+}
+
+/// A `format` file's cube chain of RGBD `levels` as read: tagged with the
+/// axes Babylon.js looks it up in, and described.
+fn babylon_file(
+    format: FileFormat,
+    levels: Vec<Vec<RgbImage>>,
+    level_bytes: Vec<u64>,
+    key_values: Vec<(String, String)>,
+    writer: Option<String>,
+) -> Result<TextureFile> {
     // Babylon.js looks its cube up at the direction in its world
     // (left-handed, y up) on GL's face table.
     use crate::image::metadata::{format_axes, AXES, MAPPING};
@@ -518,19 +782,19 @@ pub(crate) fn decode(path: &Path, bytes: &[u8], max_texels: u64) -> Result<Textu
         (AXES.to_owned(), format_axes(axes)),
     ]);
     Ok(TextureFile {
-        texture,
         info: TextureInfo {
-            container: "Babylon.js .env",
+            container: format.name(),
             format: TexelFormat::Rgbd8,
             kind: TextureKind::Cube,
-            size: (w, w),
-            levels: full,
+            size: texture.size(),
+            levels: texture.level_count(),
             supercompression: None,
             orientation: None,
-            writer: None,
+            writer,
             key_values,
             level_bytes,
         },
+        texture,
     })
 }
 

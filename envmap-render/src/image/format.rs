@@ -427,7 +427,11 @@ registry! {
     Ktx: "KTX 1", ["ktx"], b"\xABKTX 11\xBB\r\n\x1A\n", "ktx1", Chain, crate::image::ktx1::Ktx1;
     /// Babylon.js environment (`.env`): an RGBD cube chain as PNG, with
     /// its irradiance polynomial.
-    Env: "Babylon.js .env", ["env"], b"\x86\x16\x87\x96\xF6\xD6\x96\x36", "babylon", Chain, crate::image::babylon::Env;
+    Env: "Babylon.js .env", ["env"], b"\x86\x16\x87\x96\xF6\xD6\x96\x36", "babylon", Chain, crate::image::babylon::ENV;
+    /// glTF 2.0 (`.gltf`) holding one image-based light
+    /// (`EXT_lights_image_based`, as Babylon.js's loader reads it), its
+    /// images inside (written only).
+    Gltf: "glTF (EXT_lights_image_based)", ["gltf"], b"{\"asset\":", "babylon", Chain, crate::image::babylon::GLTF;
 }
 
 #[cfg(test)]
@@ -438,7 +442,7 @@ mod tests {
     fn every_format_is_found_by_each_extension_and_by_its_first_bytes() {
         assert_eq!(
             FileFormat::EXTENSIONS,
-            "png, jpg, jpeg, hdr, exr, ktx2, dds, ktx, env"
+            "png, jpg, jpeg, hdr, exr, ktx2, dds, ktx, env, gltf"
         );
         for &f in FileFormat::ALL {
             for ext in f.extensions() {

@@ -910,7 +910,7 @@ mod tests {
             .to_string();
         assert_eq!(
             e,
-            "a.tiff: unknown image extension \".tiff\"; accepted: png, jpg, jpeg, hdr, exr, ktx2, dds, ktx, env"
+            "a.tiff: unknown image extension \".tiff\"; accepted: png, jpg, jpeg, hdr, exr, ktx2, dds, ktx, env, gltf"
         );
         let e = FileFormat::from_path(Path::new("sky"))
             .unwrap_err()

@@ -409,7 +409,7 @@ fn bc6h_errors(tex: &Texture, raw: &[Vec<u8>]) -> String {
         .map(|(p, (r, d))| {
             format!(
                 "level {p}: {}",
-                crate::image::lossy::measure_level(d, r, TexelFormat::Bc6h).describe()
+                crate::image::lossy::measure_level(d, r, TexelFormat::Bc6h.max_value()).describe()
             )
         })
         .collect::<Vec<_>>()

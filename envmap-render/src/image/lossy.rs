@@ -2,7 +2,6 @@
 //! texels measured against the texels they were encoded from.
 
 use crate::image::envimage::RgbImage;
-use crate::image::texel::TexelFormat;
 use crate::image::texture::Texture;
 
 /// How far one level's decoded texels are from the texels they were
@@ -41,15 +40,10 @@ impl LevelError {
 }
 
 /// The error of one level's `decoded` faces against its `reference` faces
-/// (the reference clamped to `format`'s range first, as its packing
-/// clamps, NaN as 0), texel by texel.
+/// (the reference clamped to [0, `max`] first, the most the file holds, as
+/// its packing clamps; NaN as 0), texel by texel.
 #[must_use]
-pub(crate) fn measure_level(
-    decoded: &[RgbImage],
-    reference: &[RgbImage],
-    format: TexelFormat,
-) -> LevelError {
-    let max = format.max_value();
+pub(crate) fn measure_level(decoded: &[RgbImage], reference: &[RgbImage], max: f32) -> LevelError {
     let (mut num, mut den, mut log, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     let mut e = LevelError::default();
     let floor = f64::from(2f32.powi(-14));
@@ -85,18 +79,14 @@ pub(crate) fn measure_level(
 }
 
 /// Every level's error: `decoded` (a texture read back from the bytes
-/// written) against `reference` (the texture they were written from in
-/// `format`).
+/// written) against `reference` (the texture they were written from, by a
+/// format holding up to `max`).
 #[must_use]
-pub(crate) fn measure(
-    decoded: &Texture,
-    reference: &Texture,
-    format: TexelFormat,
-) -> Vec<LevelError> {
+pub(crate) fn measure(decoded: &Texture, reference: &Texture, max: f32) -> Vec<LevelError> {
     decoded
         .levels()
         .iter()
         .zip(reference.levels())
-        .map(|(d, r)| measure_level(d, r, format))
+        .map(|(d, r)| measure_level(d, r, max))
         .collect()
 }

@@ -47,10 +47,14 @@ pub enum LevelBlend {
     FilamentLod,
     /// g(r) = r(1.7 − 0.7r): Unity's lod (`ImageBasedLighting.hlsl`).
     UnityLod,
-    /// g(r) = log₂ r²: Babylon.js's lod, 0.8·log₂(size·α) (its PBR
+    /// g(r) = log₂ r²: Babylon.js's lod, scale·log₂(size·α) (its PBR
     /// shader's `getLodFromAlphaG`), up to a constant; a level at
-    /// roughness 0 is lod 0, 1.25 below the next level's g.
-    BabylonLod,
+    /// roughness 0 is lod 0, `step` (1/scale) below the next level's g.
+    BabylonLod {
+        /// 1/lodGenerationScale: 1.25 for a `.env`, 1 for a glTF light
+        /// of a full chain.
+        step: f32,
+    },
 }
 
 impl LevelBlend {
@@ -63,7 +67,8 @@ impl LevelBlend {
         match rule {
             RoughnessRule::Filament => LevelBlend::FilamentLod,
             RoughnessRule::Unity => LevelBlend::UnityLod,
-            RoughnessRule::Babylon => LevelBlend::BabylonLod,
+            RoughnessRule::Babylon => LevelBlend::BabylonLod { step: 1.25 },
+            RoughnessRule::Log2 => LevelBlend::BabylonLod { step: 1.0 },
             _ => LevelBlend::Roughness,
         }
     }
@@ -79,7 +84,7 @@ impl LevelBlend {
             LevelBlend::Roughness => r,
             LevelBlend::FilamentLod => r * (2.0 - r),
             LevelBlend::UnityLod => r * (1.7 - 0.7 * r),
-            LevelBlend::BabylonLod => (r * r).log2(),
+            LevelBlend::BabylonLod { .. } => (r * r).log2(),
         }
     }
 
@@ -89,10 +94,10 @@ impl LevelBlend {
     #[must_use]
     pub(crate) fn weight(self, lo: f32, hi: f32, r: f32) -> f32 {
         let (mut a, b, mut x) = (self.key(lo), self.key(hi), self.key(r));
-        if self == LevelBlend::BabylonLod && lo == 0.0 {
-            // Level 0 is lod 0, one level step (1/0.8 in log₂ α) below
+        if let (LevelBlend::BabylonLod { step }, 0.0) = (self, lo) {
+            // Level 0 is lod 0, one level step (1/scale in log₂ α) below
             // level 1; Babylon.js clamps a smaller lod to it.
-            a = b - 1.25;
+            a = b - step;
             x = x.max(a);
         }
         let t = if a.is_finite() {
@@ -961,18 +966,19 @@ mod tests {
                 assert!((t - want).abs() < 1e-4, "{rule:?} {r}: {t} vs {want}");
             }
         }
-        // Babylon.js: lod = 0.8·log2(size·α) at levels made by its rule,
+        // Babylon.js: lod = scale·log2(size·α) at levels made by its rule,
         // clamped to level 0 below.
-        let rule = RoughnessRule::Babylon;
-        let n = 9;
-        let rs: Vec<f32> = (0..n).map(|k| rule.roughness(k, n)).collect();
-        let blend = LevelBlend::engine(&rule);
-        for r in [0.01f32, 0.05, 0.1, 0.3, 0.5, 0.8] {
-            let lod = (0.8 * (256.0 * r * r).log2()).max(0.0);
-            let k = rs.partition_point(|&x| x <= r) - 1;
-            let t = blend.weight(rs[k], rs[k + 1], r);
-            let want = lod - k as f32;
-            assert!((t - want).abs() < 1e-4, "babylon {r}: {t} vs {want}");
+        for (rule, scale) in [(RoughnessRule::Babylon, 0.8), (RoughnessRule::Log2, 1.0)] {
+            let n = 9;
+            let rs: Vec<f32> = (0..n).map(|k| rule.roughness(k, n)).collect();
+            let blend = LevelBlend::engine(&rule);
+            for r in [0.01f32, 0.05, 0.1, 0.3, 0.5, 0.8] {
+                let lod = (scale * (256.0 * r * r).log2()).max(0.0);
+                let k = rs.partition_point(|&x| x <= r) - 1;
+                let t = blend.weight(rs[k], rs[k + 1], r);
+                let want = lod - k as f32;
+                assert!((t - want).abs() < 1e-4, "{rule:?} {r}: {t} vs {want}");
+            }
         }
         let iw = LevelBlend::InverseWidth { floor: 0.0 };
         let (lo, hi) = (0.2f32, 0.3f32);

@@ -90,6 +90,11 @@ pub enum RoughnessRule {
     /// (α = 0). The levels past α = 1 (Babylon.js's filter goes on to α
     /// of 2 and more there) are made at roughness 1.
     Babylon,
+    /// lod = log2(size·α) on a chain down to 1×1: level k ≥ 1 holds α =
+    /// 2^k/size (the 1×1 level α = 1), level 0 unfiltered. How Babylon.js's
+    /// glTF loader reads an `EXT_lights_image_based` light of a full chain
+    /// (lodGenerationScale = (levels − 1)/log2 size = 1).
+    Log2,
     /// One perceptual roughness per level, level 0 first.
     Custom(Vec<f32>),
 }
@@ -103,6 +108,7 @@ impl RoughnessRule {
             RoughnessRule::Filament => "filament",
             RoughnessRule::Unity => "unity",
             RoughnessRule::Babylon => "babylon",
+            RoughnessRule::Log2 => "log2",
             RoughnessRule::Custom(_) => "custom",
         }
     }
@@ -119,6 +125,9 @@ impl RoughnessRule {
             RoughnessRule::Babylon => {
                 "alpha = r^2 = 2^(level/0.8)/size (at most 1), level 0 unfiltered: lod = 0.8 log2(size alpha)"
             }
+            RoughnessRule::Log2 => {
+                "alpha = r^2 = 2^level/size, level 0 unfiltered: lod = log2(size alpha)"
+            }
             RoughnessRule::Custom(_) => "roughness per level as given",
         }
     }
@@ -132,7 +141,7 @@ impl RoughnessRule {
         match self {
             RoughnessRule::Filament => 16,
             RoughnessRule::Unity => 8,
-            RoughnessRule::Babylon => 1,
+            RoughnessRule::Babylon | RoughnessRule::Log2 => 1,
             _ => 2,
         }
     }
@@ -144,19 +153,24 @@ impl RoughnessRule {
             return 0.0;
         }
         let t = (level as f64 / (levels - 1) as f64).clamp(0.0, 1.0);
-        if *self == RoughnessRule::Babylon {
+        if let RoughnessRule::Babylon | RoughnessRule::Log2 = self {
             // size = 2^(levels − 1): the chain goes down to 1×1.
             if level == 0 {
                 return 0.0;
             }
-            let alpha = (level as f64 / 0.8 - (levels - 1) as f64).exp2();
+            let scale = if *self == RoughnessRule::Babylon {
+                0.8
+            } else {
+                1.0
+            };
+            let alpha = (level as f64 / scale - (levels - 1) as f64).exp2();
             return alpha.min(1.0).sqrt() as f32;
         }
         let r = match self {
             RoughnessRule::Linear => t,
             RoughnessRule::Filament => 1.0 - (1.0 - t).sqrt(),
             RoughnessRule::Unity => (1.7 - (2.89 - 2.8 * t).max(0.0).sqrt()) / 1.4,
-            RoughnessRule::Babylon => 0.0,
+            RoughnessRule::Babylon | RoughnessRule::Log2 => 0.0,
             RoughnessRule::Custom(v) => {
                 return v.get(level).copied().unwrap_or(1.0).clamp(0.0, 1.0);
             }
@@ -168,7 +182,7 @@ impl RoughnessRule {
 impl std::str::FromStr for RoughnessRule {
     type Err = Error;
 
-    /// `linear`, `filament`, `unity`, `babylon`, or comma-separated roughness values
+    /// `linear`, `filament`, `unity`, `babylon`, `log2`, or comma-separated roughness values
     /// (`0,0.2,0.5,1`).
     fn from_str(s: &str) -> Result<Self> {
         match s.to_ascii_lowercase().as_str() {
@@ -176,6 +190,7 @@ impl std::str::FromStr for RoughnessRule {
             "filament" | "cmgen" => return Ok(RoughnessRule::Filament),
             "unity" => return Ok(RoughnessRule::Unity),
             "babylon" => return Ok(RoughnessRule::Babylon),
+            "log2" | "gltf-ibl" => return Ok(RoughnessRule::Log2),
             _ => {}
         }
         let v: std::result::Result<Vec<f32>, _> =
@@ -188,7 +203,7 @@ impl std::str::FromStr for RoughnessRule {
                 what: "roughness rule",
                 name: s.to_owned(),
                 expected:
-                    "linear, filament, unity, babylon, or roughness values in [0, 1] such as 0,0.25,0.5,1"
+                    "linear, filament, unity, babylon, log2, or roughness values in [0, 1] such as 0,0.25,0.5,1"
                         .to_owned(),
             }),
         }
