@@ -115,7 +115,8 @@ pub fn texture_format(format: TexelFormat) -> Option<TextureFormat> {
         TexelFormat::B10g11r11 => TextureFormat::Rg11b10Ufloat,
         TexelFormat::E5b9g9r9 => TextureFormat::Rgb9e5Ufloat,
         TexelFormat::Bc6h => TextureFormat::Bc6hRgbUfloat,
-        TexelFormat::Rgb16f | TexelFormat::Rgb32f => return None,
+        // RGBD is 8-bit RGBA that only a decoding shader reads as HDR.
+        TexelFormat::Rgb16f | TexelFormat::Rgb32f | TexelFormat::Rgbd8 => return None,
     })
 }
 
