@@ -526,9 +526,9 @@ impl<'p> Files<'p> {
     /// Stages the chain `levels` as the Babylon.js `.env` file `name`, with
     /// the irradiance polynomial of the bake's SH (in the cube's axes), or
     /// as a glTF image-based light with that SH; measures what RGBD lost:
-    /// the energy above RGBD's 255 counted, and (a `.env`) the file read
-    /// back and each level compared with the levels (a glTF light's faces
-    /// are the same PNGs).
+    /// the energy above the file's ceiling counted, and each level as the
+    /// file holds it (a `.env` read back; a glTF light's PNGs decoded and
+    /// raised to 2.2, as Babylon.js shows them) compared with the levels.
     fn stage_env(
         &self,
         run: &mut Outputs<'_>,

@@ -430,7 +430,7 @@ registry! {
     Env: "Babylon.js .env", ["env"], b"\x86\x16\x87\x96\xF6\xD6\x96\x36", "babylon", Chain, crate::image::babylon::ENV;
     /// glTF 2.0 (`.gltf`) holding one image-based light
     /// (`EXT_lights_image_based`, as Babylon.js's loader reads it), its
-    /// images inside (written only).
+    /// images inside as `data:` URIs.
     Gltf: "glTF (EXT_lights_image_based)", ["gltf"], b"{\"asset\":", "babylon", Chain, crate::image::babylon::GLTF;
 }
 
