@@ -48,6 +48,7 @@
 //! ```
 
 mod builder;
+mod manifest;
 mod preset;
 mod read;
 mod write;
