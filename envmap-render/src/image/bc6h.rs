@@ -6,7 +6,7 @@
 
 use half::f16;
 
-use crate::image::texel::{Bc6hQuality, Clamped, TexelFormat, F16_MAX};
+use crate::image::texel::{clamp_counted, Bc6hQuality, Clamped, TexelFormat, F16_MAX};
 use crate::par::*;
 
 /// Bytes per 4×4 block.
@@ -59,6 +59,7 @@ pub(crate) fn encode(
             // number of blocks, as binary16 RGBA.
             let w4 = w.div_ceil(4) * 4;
             let mut c = Clamped::default();
+            let mut padding = Clamped::default();
             let mut strip = vec![f16::ZERO; w4 * 4 * 4];
             for y in 0..4 {
                 let sy = (by * 4 + y).min(h - 1);
@@ -67,7 +68,14 @@ pub(crate) fn encode(
                     let t = row[x.min(w - 1)];
                     let at = (y * w4 + x) * 4;
                     for k in 0..3 {
-                        let v = clamp_counted(t[k], &mut c, x < w && by * 4 + y < h);
+                        // The padding of a partial block repeats texels already
+                        // counted: it is clamped alike, counted apart.
+                        let counted = if x < w && by * 4 + y < h {
+                            &mut c
+                        } else {
+                            &mut padding
+                        };
+                        let v = clamp_counted(t[k], 0.0, F16_MAX, counted);
                         strip[at + k] = f16::from_f32(v);
                     }
                     strip[at + 3] = f16::ONE;
@@ -127,23 +135,6 @@ fn refine(strip: &[f16], w4: usize, dst: &mut [u8]) {
         if error(&again) < before {
             block.copy_from_slice(&again);
         }
-    }
-}
-
-/// `v` clamped to [0, 65504], NaN to 0; counted in `c` when `count` (the
-/// padding of a partial block repeats texels already counted).
-fn clamp_counted(v: f32, c: &mut Clamped, count: bool) -> f32 {
-    if v.is_nan() {
-        c.nan += u64::from(count);
-        0.0
-    } else if v < 0.0 {
-        c.below += u64::from(count);
-        0.0
-    } else if v > F16_MAX {
-        c.above += u64::from(count);
-        F16_MAX
-    } else {
-        v
     }
 }
 
