@@ -11,6 +11,7 @@
 //! | --- | --- | --- | --- |
 //! | [`LatLong`] | [`latlong`] | 1 (2:1) | Blinn & Newell 1976; seed `000` (quadrant erratum fixed) |
 //! | [`Cube`] | [`cube`] | 6 faces | seed `000`; OpenGL / Vulkan face table |
+//! | [`Eac`] | [`eac`] | 6 faces | Brown 2017 (Google); ffmpeg `v360`'s `eac` |
 //! | [`SphereMap`] | [`sphere_map`] | 1 disk | seed `000`, class and `GL_SPHERE_MAP` conventions |
 //! | [`DualParaboloid`] | [`dual_paraboloid`] | 2 disks | seed `000`; Heidrich & Seidel 1998 |
 //! | [`Angular`] | [`angular`] | 1 disk | Debevec 1998 (the light probe; `acos` replaced by `atan2`) |
@@ -54,6 +55,7 @@ pub mod atlas;
 pub mod cube;
 mod direction;
 pub mod dual_paraboloid;
+pub mod eac;
 pub mod frame;
 pub mod latlong;
 mod mapping;
@@ -72,6 +74,7 @@ pub use atlas::Atlas;
 pub use cube::{Cube, CubeFace};
 pub use direction::normalize_direction;
 pub use dual_paraboloid::DualParaboloid;
+pub use eac::Eac;
 pub use frame::{Frame, Framed};
 pub use latlong::LatLong;
 pub use mapping::{ChartUv, Mapping};

@@ -31,6 +31,8 @@ route!(/// Arc sine.
     asin, asinf, (x));
 route!(/// Arc tangent.
     atan, atanf, (x));
+route!(/// Tangent.
+    tan, tanf, (x));
 route!(/// Four-quadrant arc tangent of `self / other`: `atan2(y, x)`.
     atan2, atan2f, (y, x));
 

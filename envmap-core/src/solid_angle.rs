@@ -56,7 +56,7 @@
 use core::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, SQRT_2, TAU};
 
 use glam::DVec3;
-use libm::{acos, asin, atan, atan2, ceil, cos, fabs, sin, sqrt};
+use libm::{acos, asin, atan, atan2, ceil, cos, fabs, sin, sqrt, tan};
 
 /// Solid angle of `[u0, u1] × [v0, v1]` in a latitude–longitude chart.
 ///
@@ -100,24 +100,53 @@ pub fn latlong(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
 #[inline]
 pub fn cube_face(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
     oriented(u0, u1, v0, v1, |u0, u1, v0, v1| {
-        let a = DVec3::new(2.0 * u0 - 1.0, 2.0 * v0 - 1.0, 1.0);
-        let dx = 2.0 * (u1 - u0);
-        let dy = 2.0 * (v1 - v0);
-        let ex = DVec3::new(dx, 0.0, 0.0);
-        let ey = DVec3::new(0.0, dy, 0.0);
-        let diagonal = DVec3::new(dx, dy, 0.0);
-        // Triangles (a, a + ex, a + diagonal) and (a, a + diagonal,
-        // a + ey), their four corners measured once.
-        let (la, lb, lc, ld) = (
-            a.length(),
-            (a + ex).length(),
-            (a + diagonal).length(),
-            (a + ey).length(),
-        );
-        let (n1, d1) = triangle_tangent(a, ex, diagonal, (la, lb, lc));
-        let (n2, d2) = triangle_tangent(a, diagonal, ey, (la, lc, ld));
-        2.0 * atan2(n1 * d2 + n2 * d1, d1 * d2 - n1 * n2)
+        face_rectangle(
+            2.0 * u0 - 1.0,
+            2.0 * v0 - 1.0,
+            2.0 * (u1 - u0),
+            2.0 * (v1 - v0),
+        )
     })
+}
+
+/// Solid angle of `[u0, u1] × [v0, v1]` on one face of the equi-angular cube map
+/// ([`crate::eac`]).
+///
+/// Each axis is an angle: the face coordinate is `x = tan(α)` with `α = π/4 · (2u − 1)`, so a
+/// rectangle of `(u, v)` is a rectangle of the cube face's plane and the cube's formula
+/// applies to it. Its width `tan α1 − tan α0` is taken as `sin(α1 − α0) / (cos α0 cos α1)`,
+/// with `α1 − α0 = π/2 · (u1 − u0)`, so that a texel keeps its relative precision. Each face
+/// totals 4π/6. Orientation, clipping and NaN as in the [module documentation](self).
+#[must_use]
+#[inline]
+pub fn eac_face(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
+    oriented(u0, u1, v0, v1, |u0, u1, v0, v1| {
+        let angle = |u: f64| FRAC_PI_4 * (2.0 * u - 1.0);
+        let (a0, b0) = (angle(u0), angle(v0));
+        let width = |a0: f64, d: f64| sin(FRAC_PI_2 * d) / (cos(a0) * cos(a0 + FRAC_PI_2 * d));
+        face_rectangle(tan(a0), tan(b0), width(a0, u1 - u0), width(b0, v1 - v0))
+    })
+}
+
+/// Solid angle of the rectangle `[x, x + dx] × [y, y + dy]` of the plane z = 1 (a cube
+/// face's, coordinates in [−1, 1]), as two triangles.
+#[inline]
+fn face_rectangle(x: f64, y: f64, dx: f64, dy: f64) -> f64 {
+    let a = DVec3::new(x, y, 1.0);
+    let ex = DVec3::new(dx, 0.0, 0.0);
+    let ey = DVec3::new(0.0, dy, 0.0);
+    let diagonal = DVec3::new(dx, dy, 0.0);
+    // Triangles (a, a + ex, a + diagonal) and (a, a + diagonal,
+    // a + ey), their four corners measured once.
+    let (la, lb, lc, ld) = (
+        a.length(),
+        (a + ex).length(),
+        (a + diagonal).length(),
+        (a + ey).length(),
+    );
+    let (n1, d1) = triangle_tangent(a, ex, diagonal, (la, lb, lc));
+    let (n2, d2) = triangle_tangent(a, diagonal, ey, (la, lc, ld));
+    2.0 * atan2(n1 * d2 + n2 * d1, d1 * d2 - n1 * n2)
 }
 
 /// Solid angle of `[u0, u1] × [v0, v1]` in a sphere map.
