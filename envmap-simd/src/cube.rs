@@ -29,10 +29,13 @@ fn xor_sign(x: f32x8, s: u32x8) -> f32x8 {
     f32x8::from_bits(x.to_bits() ^ s)
 }
 
-/// Branch-free cube forward mapping (any tier).
+/// The face each lane's direction selects and its coordinates on it, by the
+/// core's table and tie rule ([`envmap_core::cube::select_face`]), bit for
+/// bit: `(face, sc, tc, |ma|, valid)`, `valid` the lanes with a finite,
+/// non-zero direction (all bits set) and the other lanes unspecified.
 #[inline]
 #[must_use]
-pub fn forward8(d: Dir8) -> Uv8 {
+pub(crate) fn select8(d: Dir8) -> (u32x8, f32x8, f32x8, f32x8, f32x8) {
     let (ax, ay, az) = (d.x.abs(), d.y.abs(), d.z.abs());
     let zmaj = az.simd_ge(ax) & az.simd_ge(ay);
     let ymaj = !zmaj & ay.simd_ge(ax);
@@ -58,13 +61,20 @@ pub fn forward8(d: Dir8) -> Uv8 {
     let axis = zm.select(u32x8::splat(2), ym.select(u32x8::splat(1), u32x8::ZERO));
     let face = axis + axis + sign;
 
+    let finite = d.x.is_finite() & d.y.is_finite() & d.z.is_finite();
+    let valid = finite & ma.simd_gt(f32x8::ZERO);
+    (face, sc, tc, ma, valid)
+}
+
+/// Branch-free cube forward mapping (any tier).
+#[inline]
+#[must_use]
+pub fn forward8(d: Dir8) -> Uv8 {
+    let (face, sc, tc, ma, valid) = select8(d);
     let half = f32x8::splat(0.5);
     let one = f32x8::ONE;
     let s = half * (sc / ma + one);
     let t = half * (tc / ma + one);
-
-    let finite = d.x.is_finite() & d.y.is_finite() & d.z.is_finite();
-    let valid = finite & ma.simd_gt(f32x8::ZERO);
     finish(valid, face, s, t)
 }
 
@@ -79,17 +89,27 @@ pub fn ray8(c: Uv8) -> Dir8 {
     let one = f32x8::ONE;
     let sc = two * c.u - one;
     let tc = two * c.v - one;
+    rows8(c, one, sc, tc)
+}
+
+/// The face table's rows `(±m, ±sc, ±tc)` in each lane's order (its chart's
+/// face), NaN on lanes whose chart is above 5 or whose `(u, v)` is NaN or
+/// outside `[0, 1]²`: the cube's ray with `m = 1`, and the equi-angular
+/// cube's with each axis's cosines folded in.
+#[inline]
+#[must_use]
+pub(crate) fn rows8(c: Uv8, m: f32x8, sc: f32x8, tc: f32x8) -> Dir8 {
     let f = c.chart;
     let neg = |x: f32x8| -x;
-    // Rows of the face table solved for (x, y, z) with |ma| = 1; charts
+    // Rows of the face table solved for (x, y, z) with |ma| = m; charts
     // above 5 take the −z row (they come out NaN below).
     let row = |face: u32| match face {
-        0 => (one, neg(tc), neg(sc)),
-        1 => (-one, neg(tc), sc),
-        2 => (sc, one, tc),
-        3 => (sc, -one, neg(tc)),
-        4 => (sc, neg(tc), one),
-        _ => (neg(sc), neg(tc), -one),
+        0 => (m, neg(tc), neg(sc)),
+        1 => (-m, neg(tc), sc),
+        2 => (sc, m, tc),
+        3 => (sc, -m, neg(tc)),
+        4 => (sc, neg(tc), m),
+        _ => (neg(sc), neg(tc), -m),
     };
     let first = f.as_array()[0];
     let (x, y, z) = if f.simd_eq(u32x8::splat(first)).all() {

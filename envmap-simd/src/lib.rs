@@ -45,6 +45,7 @@ pub mod approx;
 pub mod batch;
 pub mod cube;
 pub mod dual_paraboloid;
+pub mod eac;
 pub mod kernel;
 pub mod latlong;
 pub mod octahedral;
