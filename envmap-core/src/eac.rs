@@ -29,8 +29,9 @@
 //!
 //! # Where it is available
 //!
-//! This scalar mapping only: [`AnyMapping`](crate::AnyMapping), the `envmap-simd` kernels, the
-//! shaders and the `envmap` command do not take it.
+//! This scalar mapping and its eight-wide kernels in `envmap-simd` (`envmap_simd::eac`, at the
+//! three accuracy tiers); [`AnyMapping`](crate::AnyMapping), the shaders and the `envmap`
+//! command do not take it.
 //!
 //! # Area element
 //!
