@@ -20,37 +20,13 @@ use std::time::Instant;
 use envmap_render::bake::{Baker, Target};
 use envmap_render::image::texture::Texture;
 use envmap_render::image::{load, Bc6hQuality, LoadOptions, RgbImage, TexelFormat};
+use envmap_render::instruments::lossy_level_error;
 use rayon::prelude::*;
 
 // intel_tex_2's prebuilt kernels include C++ (its ASTC part), which needs
 // the C++ runtime at link time.
 #[link(name = "stdc++")]
 extern "C" {}
-
-/// The relative RMS, log-space RMSE and worst texel of `decoded` against
-/// `reference` (clamped to [0, 65504] as the encoder clamps).
-fn errors(decoded: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64, f64) {
-    let (mut num, mut den, mut log, mut worst) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for (d, r) in decoded.iter().zip(reference) {
-        let (mut diff, mut top) = (0.0f64, 0.0f64);
-        for k in 0..3 {
-            let r = f64::from(r[k].clamp(0.0, 65504.0));
-            let d = f64::from(d[k]);
-            num += (d - r) * (d - r);
-            den += r * r;
-            log += ((1.0 + d).ln() - (1.0 + r).ln()).powi(2);
-            diff = diff.max((d - r).abs());
-            top = top.max(r);
-        }
-        worst = worst.max(diff / top.max(2f64.powi(-14)));
-    }
-    let n = (3 * reference.len()).max(1) as f64;
-    (
-        (num / den.max(f64::MIN_POSITIVE)).sqrt(),
-        (log / n).sqrt(),
-        worst,
-    )
-}
 
 /// A face encoded by Intel's kernel (`intel_tex_2`): binary16 RGBA padded
 /// to whole blocks by repeating the last row and column, rows of blocks
@@ -102,18 +78,24 @@ fn intel_settings(q: Bc6hQuality) -> intel_tex_2::bc6h::EncodeSettings {
 }
 
 /// Each level's (relative RMS, log RMSE, worst) of `faces` (per level, per
-/// face, the blocks) against `tex`.
+/// face, the blocks) against `tex`, measured as a bake's manifest measures
+/// BC6H (`instruments::lossy_level_error`, the reference clamped to
+/// [0, 65504] as the encoders clamp it).
 fn level_errors(tex: &Texture, faces: &[Vec<Vec<u8>>]) -> Vec<(f64, f64, f64)> {
     tex.levels()
         .iter()
         .zip(faces)
         .map(|(level, blocks)| {
-            let (mut d, mut r) = (Vec::new(), Vec::new());
-            for (f, b) in level.iter().zip(blocks) {
-                d.extend(TexelFormat::Bc6h.unpack_image(b, (f.width, f.height)));
-                r.extend_from_slice(&f.pixels);
-            }
-            errors(&d, &r)
+            let decoded: Vec<RgbImage> = level
+                .iter()
+                .zip(blocks)
+                .map(|(f, b)| RgbImage {
+                    width: f.width,
+                    height: f.height,
+                    pixels: TexelFormat::Bc6h.unpack_image(b, (f.width, f.height)),
+                })
+                .collect();
+            lossy_level_error(&decoded, level, TexelFormat::Bc6h.max_value())
         })
         .collect()
 }

@@ -103,3 +103,20 @@ pub use monte_carlo::*;
 pub use oracle::*;
 #[cfg(not(feature = "instruments"))]
 pub(crate) use oracle::*;
+
+/// How far one level's `decoded` faces are from the `reference` faces they
+/// were encoded from, as a bake's manifest records it for BC6H and RGBD:
+/// (relative RMS √(Σ (d − r)²) / √(Σ r²), log-space RMSE √(mean (ln(1 + d) −
+/// ln(1 + r))²), the worst texel's largest channel difference over its
+/// largest reference channel, at least 2⁻¹⁴), every component counted, the
+/// reference clamped to `[0, max]` first as the format's packing clamps it.
+#[cfg(all(feature = "instruments", any(feature = "bc6h", feature = "babylon")))]
+#[must_use]
+pub fn lossy_level_error(
+    decoded: &[crate::image::RgbImage],
+    reference: &[crate::image::RgbImage],
+    max: f32,
+) -> (f64, f64, f64) {
+    let e = crate::image::lossy::measure_level(decoded, reference, max);
+    (e.rel_rms, e.log_rmse, e.worst)
+}
