@@ -14,7 +14,15 @@
 //!
 //! Errors against the core: the tier's `atan` error times `2/π` in `u` and
 //! `v`; in direction, the tier's `sin_cos` error (the ray's components are
-//! products of sines and cosines of angles up to π/4).
+//! products of sines and cosines of angles up to π/4). Measured over 16 000
+//! directions and a 33² grid of each face (`cargo test -p envmap-simd --lib
+//! eac -- --nocapture`, which asserts bounds on them):
+//!
+//! | tier | forward, worst \|Δu\| or \|Δv\| | inverse, worst angle |
+//! | --- | ---: | ---: |
+//! | [`Exact`](crate::Exact) | 1.2e-7 | 9.9e-8 rad |
+//! | [`Fine`](crate::Fine) | 2.4e-7 | 7.5e-7 rad |
+//! | [`Fast`](crate::Fast) | 5.2e-5 | 1.2e-5 rad |
 
 use core::f32::consts::{FRAC_2_PI, FRAC_PI_4};
 
