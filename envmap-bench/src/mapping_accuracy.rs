@@ -48,7 +48,7 @@ pub fn forward_f64(m: AnyMapping, chart: u32, d: DVec3) -> (f64, f64) {
             }
             (u, x.hypot(y).atan2(z) / PI)
         }
-        AnyMapping::Cube => {
+        AnyMapping::Cube | AnyMapping::Eac => {
             let (sc, tc, ma) = match chart {
                 0 => (-z, -y, x),
                 1 => (z, -y, x),
@@ -57,7 +57,13 @@ pub fn forward_f64(m: AnyMapping, chart: u32, d: DVec3) -> (f64, f64) {
                 4 => (x, -y, z),
                 _ => (-x, -y, z),
             };
-            (0.5 * (sc / ma.abs() + 1.0), 0.5 * (tc / ma.abs() + 1.0))
+            let (s, t) = (sc / ma.abs(), tc / ma.abs());
+            if m == AnyMapping::Eac {
+                // Brown 2017: u = ½ + (2/π) atan(s).
+                (0.5 + s.atan() * 2.0 / PI, 0.5 + t.atan() * 2.0 / PI)
+            } else {
+                (0.5 * (s + 1.0), 0.5 * (t + 1.0))
+            }
         }
         AnyMapping::SphereMap | AnyMapping::SphereMapGl => {
             let sigma = if m == AnyMapping::SphereMap {
@@ -141,14 +147,22 @@ fn inverse_f64_at(m: AnyMapping, chart: u32, u: f64, v: f64) -> DVec3 {
                 theta.cos(),
             ]
         }
-        AnyMapping::Cube => match chart {
-            0 => [1.0, -b, -a],
-            1 => [-1.0, -b, a],
-            2 => [a, 1.0, b],
-            3 => [a, -1.0, -b],
-            4 => [a, -b, 1.0],
-            _ => [-a, -b, -1.0],
-        },
+        AnyMapping::Cube | AnyMapping::Eac => {
+            let (a, b) = if m == AnyMapping::Eac {
+                // The plane coordinates of angles π/4 · (2u − 1).
+                ((PI / 4.0 * a).tan(), (PI / 4.0 * b).tan())
+            } else {
+                (a, b)
+            };
+            match chart {
+                0 => [1.0, -b, -a],
+                1 => [-1.0, -b, a],
+                2 => [a, 1.0, b],
+                3 => [a, -1.0, -b],
+                4 => [a, -b, 1.0],
+                _ => [-a, -b, -1.0],
+            }
+        }
         AnyMapping::SphereMap | AnyMapping::SphereMapGl => {
             let sigma = if m == AnyMapping::SphereMap {
                 -1.0

@@ -8,7 +8,8 @@ use glam::Vec3;
 use crate::atlas::Atlas;
 use crate::mapping::{ChartUv, Mapping};
 use crate::{
-    Angular, Cube, DualParaboloid, EqualAreaOctahedral, LatLong, Octahedral, SphereMap, Tennisball,
+    Angular, Cube, DualParaboloid, Eac, EqualAreaOctahedral, LatLong, Octahedral, SphereMap,
+    Tennisball,
 };
 
 /// Every mapping of the crate, chosen at run time (a command-line flag, a file
@@ -33,11 +34,13 @@ pub enum AnyMapping {
     EqualAreaOctahedral,
     /// [`Angular`] (Debevec's light probe).
     Angular,
+    /// [`Eac`] (the equi-angular cube map).
+    Eac,
 }
 
 impl AnyMapping {
     /// Every mapping, in a fixed order.
-    pub const ALL: [AnyMapping; 9] = [
+    pub const ALL: [AnyMapping; 10] = [
         AnyMapping::LatLong,
         AnyMapping::Cube,
         AnyMapping::SphereMap,
@@ -47,10 +50,11 @@ impl AnyMapping {
         AnyMapping::Octahedral,
         AnyMapping::EqualAreaOctahedral,
         AnyMapping::Angular,
+        AnyMapping::Eac,
     ];
 
     /// The names [`FromStr`] accepts, in the order of [`AnyMapping::ALL`].
-    pub const NAMES: [&'static str; 9] = [
+    pub const NAMES: [&'static str; 10] = [
         "latlong",
         "cube",
         "sphere",
@@ -60,6 +64,7 @@ impl AnyMapping {
         "octahedral",
         "octahedral-equal-area",
         "angular",
+        "eac",
     ];
 
     /// Whether the charts are disks inscribed in their squares (sphere maps,
@@ -77,6 +82,15 @@ impl AnyMapping {
         )
     }
 
+    /// Whether the charts are the cube's six faces, in the GL face order and
+    /// orientation ([`Cube`] and [`Eac`]): every cube layout, face file and
+    /// face convention applies.
+    #[inline]
+    #[must_use]
+    pub const fn has_cube_faces(self) -> bool {
+        matches!(self, AnyMapping::Cube | AnyMapping::Eac)
+    }
+
     /// Forward mapping of the chosen variant.
     #[inline]
     #[must_use]
@@ -91,6 +105,7 @@ impl AnyMapping {
             AnyMapping::Octahedral => Octahedral::forward(d),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral::forward(d),
             AnyMapping::Angular => Angular::forward(d),
+            AnyMapping::Eac => Eac::forward(d),
         }
     }
 
@@ -108,6 +123,7 @@ impl AnyMapping {
             AnyMapping::Octahedral => Octahedral::inverse(c),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral::inverse(c),
             AnyMapping::Angular => Angular::inverse(c),
+            AnyMapping::Eac => Eac::inverse(c),
         }
     }
 
@@ -122,6 +138,7 @@ impl AnyMapping {
             AnyMapping::Octahedral => &Octahedral,
             AnyMapping::EqualAreaOctahedral => &EqualAreaOctahedral,
             AnyMapping::Angular => &Angular,
+            AnyMapping::Eac => &Eac,
         }
     }
 }

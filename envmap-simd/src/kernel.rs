@@ -237,6 +237,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Octahedral => Octahedral.forward_slice::<T>(dirs, out),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward_slice::<T>(dirs, out),
             AnyMapping::Angular => Angular.forward_slice::<T>(dirs, out),
+            AnyMapping::Eac => Eac.forward_slice::<T>(dirs, out),
         }
     }
     fn inverse_slice<T: Tier>(&self, coords: &[ChartUv], out: &mut [Vec3]) -> usize {
@@ -251,6 +252,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Octahedral => Octahedral.inverse_slice::<T>(coords, out),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse_slice::<T>(coords, out),
             AnyMapping::Angular => Angular.inverse_slice::<T>(coords, out),
+            AnyMapping::Eac => Eac.inverse_slice::<T>(coords, out),
         }
     }
 
@@ -266,6 +268,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Octahedral => Octahedral.forward8::<T>(d),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8::<T>(d),
             AnyMapping::Angular => Angular.forward8::<T>(d),
+            AnyMapping::Eac => Eac.forward8::<T>(d),
         }
     }
     fn forward8_ray<T: Tier>(&self, d: Dir8) -> Uv8 {
@@ -280,6 +283,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Octahedral => Octahedral.forward8_ray::<T>(d),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8_ray::<T>(d),
             AnyMapping::Angular => Angular.forward8_ray::<T>(d),
+            AnyMapping::Eac => Eac.forward8_ray::<T>(d),
         }
     }
     fn inverse8_ray<T: Tier>(&self, c: Uv8) -> Dir8 {
@@ -294,6 +298,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Octahedral => Octahedral.inverse8_ray::<T>(c),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse8_ray::<T>(c),
             AnyMapping::Angular => Angular.inverse8_ray::<T>(c),
+            AnyMapping::Eac => Eac.inverse8_ray::<T>(c),
         }
     }
     fn inverse8<T: Tier>(&self, c: Uv8) -> Dir8 {
@@ -308,6 +313,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::Octahedral => Octahedral.inverse8::<T>(c),
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse8::<T>(c),
             AnyMapping::Angular => Angular.inverse8::<T>(c),
+            AnyMapping::Eac => Eac.inverse8::<T>(c),
         }
     }
 }

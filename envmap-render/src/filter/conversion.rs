@@ -186,6 +186,10 @@ macro_rules! concrete {
                 let $name = envmap_core::Angular;
                 $body
             }
+            AnyMapping::Eac => {
+                let $name = envmap_core::Eac;
+                $body
+            }
         }
     };
 }

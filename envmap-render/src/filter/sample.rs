@@ -616,7 +616,7 @@ impl<'a> Sampler<'a> {
                 }
                 texel(0, i.rem_euclid(w), j.clamp(0, h - 1))
             }
-            AnyMapping::Cube => self.cube_source(chart, i, j),
+            AnyMapping::Cube | AnyMapping::Eac => self.cube_source(chart, i, j),
             AnyMapping::Tennisball => texel(chart, i.clamp(0, w - 1), j.clamp(0, h - 1)),
             AnyMapping::Octahedral | AnyMapping::EqualAreaOctahedral => {
                 let (mut i, mut j) = (i, j);
@@ -651,7 +651,10 @@ impl<'a> Sampler<'a> {
 
     /// A cube texel index possibly beyond the face: follows the face plane
     /// onto the neighbouring face; at corners the three texels to average.
-    /// `None` (black) only where the plane misses every face.
+    /// `None` (black) only where the plane misses every face. The EAC map
+    /// follows the same plane: its texel's angle past the edge,
+    /// tan(π/4 · (2u − 1)), is the plane coordinate, and the texel it lands
+    /// on is found with EAC's forward mapping.
     fn cube_source(&self, face: u32, i: i64, j: i64) -> Option<Source> {
         let (w, h) = (i64::from(self.cw), i64::from(self.ch));
         let iout = !(0..w).contains(&i);
@@ -671,10 +674,17 @@ impl<'a> Sampler<'a> {
         if !iout && !jout {
             return Some(Source::Texel(self.texel_at(face, i as u32, j as u32)));
         }
-        let sc = 2.0 * ((i as f32 + 0.5) / self.cw as f32) - 1.0;
-        let tc = 2.0 * ((j as f32 + 0.5) / self.ch as f32) - 1.0;
+        let mut sc = 2.0 * ((i as f32 + 0.5) / self.cw as f32) - 1.0;
+        let mut tc = 2.0 * ((j as f32 + 0.5) / self.ch as f32) - 1.0;
         let f = CubeFace::from_index(face).unwrap_or(CubeFace::PosX);
-        Cube::forward(face_direction(f, sc, tc)).map(|p| {
+        let landed = if self.mapping == AnyMapping::Eac {
+            let plane = |e: f32| (core::f32::consts::FRAC_PI_4 * e).tan();
+            (sc, tc) = (plane(sc), plane(tc));
+            envmap_core::Eac::forward(face_direction(f, sc, tc))
+        } else {
+            Cube::forward(face_direction(f, sc, tc))
+        };
+        landed.map(|p| {
             Source::Texel(self.texel_at(
                 p.chart,
                 texel_index(p.u, self.cw),

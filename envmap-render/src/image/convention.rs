@@ -255,7 +255,7 @@ impl Convention {
     ///
     /// | mapping | the file, in the y-up world |
     /// | --- | --- |
-    /// | cube (every convention) | the GL face table applied to (x, y, z) as given: +y face up |
+    /// | cube and EAC (every convention) | the GL face table applied to (x, y, z) as given: +y face up |
     /// | latlong | the preset's row of the [module docs](super) table |
     /// | tennisball | the latlong's axes |
     /// | octahedral, equal-area octahedral | centre +y (up), +x at the right edge's middle, +z at the bottom edge's middle |
@@ -264,7 +264,7 @@ impl Convention {
     pub(crate) fn frame_in_world(self, mapping: AnyMapping) -> Mat3 {
         let diag = |x: f32, y: f32, z: f32| Mat3::from_diagonal(Vec3::new(x, y, z));
         match mapping {
-            AnyMapping::Cube => Mat3::IDENTITY,
+            AnyMapping::Cube | AnyMapping::Eac => Mat3::IDENTITY,
             AnyMapping::LatLong | AnyMapping::Tennisball => self.latlong().matrix(),
             // g = (f.x, f.z, f.y)
             AnyMapping::Octahedral | AnyMapping::EqualAreaOctahedral => {
@@ -409,7 +409,7 @@ fn axis_name(v: Vec3) -> String {
 /// for a `mapping` file with `frame` in `world`.
 fn landmarks(mapping: AnyMapping, frame: Frame, world: World) -> String {
     use envmap_core::{ChartUv, Mapping};
-    if mapping == AnyMapping::Cube {
+    if mapping.has_cube_faces() {
         return "the GL face table on (x, y, z) as given, row 0 of each face at the top".to_owned();
     }
     let to_file = |w: Vec3| frame.from_canonical(world.frame().to_canonical(w));

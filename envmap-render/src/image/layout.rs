@@ -102,7 +102,7 @@ impl Layout {
         match self {
             Layout::LatLong => &[AnyMapping::LatLong],
             Layout::Cross | Layout::VCross | Layout::Strip | Layout::VStrip | Layout::Faces => {
-                &[AnyMapping::Cube]
+                &[AnyMapping::Cube, AnyMapping::Eac]
             }
             Layout::Square => &SQUARE_MAPPINGS,
             Layout::SideBySide => &[AnyMapping::DualParaboloid],
@@ -115,7 +115,7 @@ impl Layout {
     pub const fn for_mapping(mapping: AnyMapping) -> &'static [Layout] {
         match mapping {
             AnyMapping::LatLong => &[Layout::LatLong],
-            AnyMapping::Cube => &[
+            AnyMapping::Cube | AnyMapping::Eac => &[
                 Layout::Cross,
                 Layout::VCross,
                 Layout::Strip,
