@@ -105,17 +105,17 @@ pub(crate) fn warn_replaced(path: &Path, n: u64) {
     }
 }
 
-/// The image size for `--size` in a representation: a cube's face edge, any
+/// The image size for `--size` in a representation: a cube's or EAC's face edge, any
 /// other atlas's width.
 pub(crate) fn output_size(repr: &Representation, size: u32) -> Result<(u32, u32), String> {
     let atlas = repr.atlas;
     // The image width must be a whole number of cells whose height is whole.
-    let (step, what) = if repr.mapping == AnyMapping::Cube {
+    let (step, what) = if repr.mapping.has_cube_faces() {
         (atlas.cell_aspect_w, "face edge")
     } else {
         (atlas.cols * atlas.cell_aspect_w, "width")
     };
-    let cell = if repr.mapping == AnyMapping::Cube {
+    let cell = if repr.mapping.has_cube_faces() {
         Some(size)
     } else {
         size.is_multiple_of(atlas.cols).then_some(size / atlas.cols)

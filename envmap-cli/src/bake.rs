@@ -284,9 +284,14 @@ pub(crate) fn run(a: &BakeArgs, stop: &AtomicBool) -> CliResult {
         return Err("--clamp must be a positive luminance".into());
     }
     if !Layout::for_mapping(AnyMapping::Cube).contains(&a.layout) {
+        let names: Vec<&str> = Layout::for_mapping(AnyMapping::Cube)
+            .iter()
+            .map(|l| l.name())
+            .collect();
         return Err(format!(
-            "--layout {}: not a cube layout (cross, vcross, strip, vstrip, faces)",
-            a.layout
+            "--layout {}: not a cube layout ({})",
+            a.layout,
+            names.join(", ")
         )
         .into());
     }

@@ -34,10 +34,10 @@ pub(crate) struct ConvertArgs {
     pub(crate) input: PathBuf,
     /// Output file (.png, .jpg, .hdr, .exr, .ktx2, .dds, .ktx); `{face}` in the name, or --layout faces, writes six files.
     pub(crate) output: PathBuf,
-    /// Output mapping: latlong, cube, sphere, sphere-gl, paraboloid, tennisball, octahedral, octahedral-equal-area, angular (light-probe).
+    /// Output mapping: latlong, cube, sphere, sphere-gl, paraboloid, tennisball, octahedral, octahedral-equal-area, angular (light-probe), eac (the equi-angular cube map).
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) to: AnyMapping,
-    /// Output layout (cube: cross, vcross, strip, vstrip, faces); default: the mapping's own.
+    /// Output layout (cube: cross, vcross, strip, vstrip, 3x2, faces; eac: v360, ffmpeg's and YouTube's padded 3×2 with turned faces, or any cube layout); default: the mapping's own.
     #[arg(long, value_parser = parse_layout)]
     pub(crate) layout: Option<Layout>,
     /// Face edge of a cube, width of any other atlas, in texels (default: about the input's texel count).
@@ -125,7 +125,7 @@ fn default_size(repr: &Representation, input_texels: u64) -> u32 {
     let unit = f64::from(a.cols * a.cell_aspect_w);
     let cells = (width / unit).round().max(1.0);
     let width = (cells * unit) as u32;
-    if repr.mapping == AnyMapping::Cube {
+    if repr.mapping.has_cube_faces() {
         width / a.cols
     } else {
         width
@@ -155,7 +155,7 @@ fn output_axes(a: &ConvertArgs) -> FileAxes {
 
 fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), crate::Failure> {
     let layout = a.layout.unwrap_or_else(|| {
-        if a.output.to_string_lossy().contains("{face}") && a.to == AnyMapping::Cube {
+        if a.output.to_string_lossy().contains("{face}") && a.to.has_cube_faces() {
             Layout::Faces
         } else {
             Layout::for_mapping(a.to)[0]

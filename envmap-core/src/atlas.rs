@@ -15,11 +15,15 @@
 //! | [`Atlas::CUBE_VERTICAL_STRIP`] | 1×6 | 1:1 | faces 0..5 top to bottom |
 //! | [`Atlas::PARABOLOID_SIDE_BY_SIDE`] | 2×1 | 1:1 | front 0,0; back 1,0 |
 //! | [`Atlas::TENNISBALL_STACKED`] | 1×2 | 3:1 | chart 0 at 0,0; chart 1 at 0,1 |
+//! | [`Atlas::CUBE_3X2`] | 3×2 | 1:1 | +x 0,0; −x 1,0; +y 2,0; −y 0,1; +z 1,1; −z 2,1 (ffmpeg `v360`'s `c3x2`) |
+//! | [`Atlas::EAC_V360`] | 3×2 | 1:1 | −x 0,0; +z 1,0; +x 2,0; −y 0,1; −z 1,1; +y 2,1 (ffmpeg `v360`'s `eac`, as held in memory) |
 //!
 //! Faces keep their GL orientation in every cube layout (each face image is
 //! exactly what GL expects for that face), except the vertical cross's −z,
 //! which the layout's convention stores turned by half a turn so that it joins
-//! −y above it.
+//! −y above it. ffmpeg's `v360` `eac` files turn the faces of their bottom row
+//! and pad each row with 2 pixels; `envmap-render` applies both when it reads
+//! and writes such a file, and holds the faces here unturned and unpadded.
 
 use crate::mapping::ChartUv;
 
@@ -182,6 +186,41 @@ impl Atlas {
         cell_aspect_w: 1,
         cell_aspect_h: 1,
         cells: &[cell(0, 0, 0), cell(1, 1, 0)],
+    };
+    /// Cube, three faces by two: +x, −x, +y on top, −y, +z, −z below (ffmpeg
+    /// `v360`'s `c3x2` with its default face order `rludfb`).
+    pub const CUBE_3X2: Atlas = Atlas {
+        name: "3x2",
+        cols: 3,
+        rows: 2,
+        cell_aspect_w: 1,
+        cell_aspect_h: 1,
+        cells: &[
+            cell(0, 0, 0),
+            cell(1, 1, 0),
+            cell(2, 2, 0),
+            cell(3, 0, 1),
+            cell(4, 1, 1),
+            cell(5, 2, 1),
+        ],
+    };
+    /// The faces of ffmpeg `v360`'s `eac` layout: −x, +z, +x on top, −y, −z,
+    /// +y below, each in GL's orientation. The file turns the bottom row's
+    /// faces and pads the rows (`envmap-render`'s `v360` layout).
+    pub const EAC_V360: Atlas = Atlas {
+        name: "v360",
+        cols: 3,
+        rows: 2,
+        cell_aspect_w: 1,
+        cell_aspect_h: 1,
+        cells: &[
+            cell(0, 2, 0),
+            cell(1, 0, 0),
+            cell(2, 2, 1),
+            cell(3, 0, 1),
+            cell(4, 1, 0),
+            cell(5, 1, 1),
+        ],
     };
     /// Tennisball: two 3:1 strips stacked, chart 0 on top (a 3:2 image).
     pub const TENNISBALL_STACKED: Atlas = Atlas {
@@ -375,6 +414,8 @@ mod tests {
             Atlas::CUBE_VERTICAL_STRIP,
             Atlas::PARABOLOID_SIDE_BY_SIDE,
             Atlas::TENNISBALL_STACKED,
+            Atlas::CUBE_3X2,
+            Atlas::EAC_V360,
         ] {
             let (w, h) = a.image_size_for_cell_width(6).unwrap();
             let mut seen = 0;

@@ -24,14 +24,14 @@
 //!
 //! The charts are the cube's faces in GL order (+x, −x, +y, −y, +z, −z) with the cube's
 //! orientation (s to the right, t downwards), so every cube layout (crosses, strips, six
-//! files) holds an EAC map the same way. v360's own 3×2 layout, with its turned faces and its
-//! padding, is a layout of these faces.
+//! files) holds an EAC map the same way. Its default atlas is [`Atlas::EAC_V360`], the faces
+//! of ffmpeg `v360`'s `eac` layout (−x, +z, +x over −y, −z, +y); `envmap-render` writes and
+//! reads that layout's files with their turned bottom row and 2-pixel padding.
 //!
 //! # Where it is available
 //!
-//! This scalar mapping and its eight-wide kernels in `envmap-simd` (`envmap_simd::eac`, at the
-//! three accuracy tiers); [`AnyMapping`](crate::AnyMapping), the shaders and the `envmap`
-//! command do not take it.
+//! This scalar mapping, [`AnyMapping::Eac`](crate::AnyMapping::Eac) and its eight-wide
+//! kernels in `envmap-simd` (`envmap_simd::eac`, at the three accuracy tiers).
 //!
 //! # Area element
 //!
@@ -113,7 +113,7 @@ impl Mapping for Eac {
         crate::solid_angle::eac_face(u0, u1, v0, v1)
     }
     fn atlas(&self) -> Atlas {
-        Atlas::CUBE_HORIZONTAL_CROSS
+        Atlas::EAC_V360
     }
 }
 

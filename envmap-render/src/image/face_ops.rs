@@ -4,7 +4,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use envmap_core::{AnyMapping, CubeFace};
+use envmap_core::CubeFace;
 
 use crate::error::{Error, Result};
 use crate::image::envimage::{EnvImage, RgbImage};
@@ -199,7 +199,7 @@ impl FaceTransforms {
     /// orientation from how the file stored it (`!to_file`). Other mappings
     /// and the identity are returned as they are.
     pub fn apply(&self, mut img: EnvImage, to_file: bool) -> Result<EnvImage> {
-        if self.is_identity() || img.mapping() != AnyMapping::Cube {
+        if self.is_identity() || !img.mapping().has_cube_faces() {
             return Ok(img);
         }
         for (chart, t) in (0u32..).zip(self.faces) {

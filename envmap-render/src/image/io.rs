@@ -22,6 +22,7 @@ use crate::image::face_ops::FaceTransforms;
 use crate::image::format::{self, Contents, FileFormat};
 #[cfg(feature = "image")]
 use crate::image::format::{decode_error, Source};
+use crate::image::framing::Framing;
 use crate::image::layout::{resolve, Layout, Representation};
 use crate::image::metadata::FileMetadata;
 use crate::image::texel::Clamped;
@@ -587,7 +588,20 @@ fn finish_load(
     } else {
         (opts.mapping, opts.layout)
     };
-    let (mapping, atlas) = resolve(w, h, stated, stated_layout)
+    // A layout whose files are framed (v360's EAC: turned, padded), named
+    // or the default of a named mapping whose size it fits: resolved by the
+    // size inside the frame.
+    let framed_layout = stated_layout.or_else(|| {
+        stated.map(|m| Layout::for_mapping(m)[0]).filter(|l| {
+            Framing::of(&l.atlas()).is_some_and(|f| f.inner_size(&l.atlas(), w, h).is_ok())
+        })
+    });
+    let framing = framed_layout.and_then(|l| Framing::of(&l.atlas()).map(|f| (f, l.atlas())));
+    let (w, h) = match framing {
+        Some((f, atlas)) => f.inner_size(&atlas, w, h).map_err(|e| e.in_file(path))?,
+        None => (w, h),
+    };
+    let (mapping, atlas) = resolve(w, h, stated, framed_layout.or(stated_layout))
         .or_else(|e| {
             if opts.mapping.is_none() && opts.layout.is_none() && !metadata.is_empty() {
                 resolve(w, h, None, None)
@@ -605,7 +619,11 @@ fn finish_load(
             .unwrap_or_default()
             .frame(mapping),
     };
-    let image = EnvImage::from_rgb(rgb, repr).map_err(|e| e.in_file(path))?;
+    let image = match framing {
+        Some((f, _)) => f.from_file(&rgb, repr),
+        None => EnvImage::from_rgb(rgb, repr),
+    }
+    .map_err(|e| e.in_file(path))?;
     let image = opts
         .face_transforms
         .apply(image, false)
@@ -702,7 +720,7 @@ impl<'a> Outputs<'a> {
         let path = path.as_ref();
         let format = FileFormat::from_path(path)?;
         let turned;
-        let image = if opts.face_transforms.is_identity() || image.mapping() != AnyMapping::Cube {
+        let image = if opts.face_transforms.is_identity() || !image.mapping().has_cube_faces() {
             image
         } else {
             turned = opts.face_transforms.apply(image.clone(), true)?;
@@ -729,14 +747,29 @@ impl<'a> Outputs<'a> {
             metadata::description(repr, None, None),
             opts.content.as_deref(),
         );
-        let view = View {
-            width: image.width(),
-            height: image.height(),
-            pixels: image.pixels(),
-            stream: None,
-            atlas: Some(repr.atlas),
-            tags: &tags,
-            description: &description,
+        let framed = Framing::of(&repr.atlas)
+            .map(|f| f.to_file(image))
+            .transpose()
+            .map_err(|e| e.in_file(path))?;
+        let view = match &framed {
+            Some(rgb) => View {
+                width: rgb.width,
+                height: rgb.height,
+                pixels: &rgb.pixels,
+                stream: None,
+                atlas: None,
+                tags: &tags,
+                description: &description,
+            },
+            None => View {
+                width: image.width(),
+                height: image.height(),
+                pixels: image.pixels(),
+                stream: None,
+                atlas: Some(repr.atlas),
+                tags: &tags,
+                description: &description,
+            },
         };
         self.stage_with(path, |out| encode(path, format, view, opts, out))
     }
@@ -807,7 +840,8 @@ impl<'a> Outputs<'a> {
             && cfg!(feature = "exr")
             && !opts.six_files
             && !is_face_pattern(path)
-            && (opts.face_transforms.is_identity() || repr.mapping != AnyMapping::Cube);
+            && (opts.face_transforms.is_identity() || !repr.mapping.has_cube_faces())
+            && Framing::of(&repr.atlas).is_none();
         if !streams {
             let mut image = EnvImage::new(stream.width(), stream.height(), repr)?;
             let w = stream.width() as usize;

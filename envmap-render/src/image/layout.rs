@@ -30,11 +30,21 @@ pub enum Layout {
     SideBySide,
     /// `stacked`: tennisball, two 3:1 strips stacked (3:2).
     Stacked,
+    /// `3x2`: cube or EAC, three faces by two: +x, −x, +y over −y, +z, −z,
+    /// each in GL's orientation (ffmpeg `v360`'s `c3x2`).
+    Grid3x2,
+    /// `v360`: EAC as ffmpeg's `v360` filter and YouTube store it: −x, +z,
+    /// +x over −y, −z, +y, the bottom row's faces turned (−y and +y a
+    /// quarter turn counter-clockwise, −z clockwise) and every row padded by
+    /// 2 pixels on each side, so an `n`-texel face makes a
+    /// `(3n + 4) × (2n + 8)` file. Held in memory unturned and unpadded
+    /// ([`Atlas::EAC_V360`]); see [`crate::image::framing`].
+    V360,
 }
 
 impl Layout {
     /// Every layout, in the order of [`Layout::NAMES`].
-    pub const ALL: [Layout; 9] = [
+    pub const ALL: [Layout; 11] = [
         Layout::LatLong,
         Layout::Cross,
         Layout::VCross,
@@ -44,10 +54,12 @@ impl Layout {
         Layout::Square,
         Layout::SideBySide,
         Layout::Stacked,
+        Layout::Grid3x2,
+        Layout::V360,
     ];
 
     /// The names [`FromStr`] accepts (case-insensitive), in the order of [`Layout::ALL`].
-    pub const NAMES: [&'static str; 9] = [
+    pub const NAMES: [&'static str; 11] = [
         "latlong",
         "cross",
         "vcross",
@@ -57,6 +69,8 @@ impl Layout {
         "square",
         "side-by-side",
         "stacked",
+        "3x2",
+        "v360",
     ];
 
     /// The layout's name, as the command line spells it.
@@ -78,6 +92,8 @@ impl Layout {
             Layout::Square => Atlas::SINGLE_SQUARE,
             Layout::SideBySide => Atlas::PARABOLOID_SIDE_BY_SIDE,
             Layout::Stacked => Atlas::TENNISBALL_STACKED,
+            Layout::Grid3x2 => Atlas::CUBE_3X2,
+            Layout::V360 => Atlas::EAC_V360,
         }
     }
 
@@ -101,9 +117,13 @@ impl Layout {
     pub const fn mappings(self) -> &'static [AnyMapping] {
         match self {
             Layout::LatLong => &[AnyMapping::LatLong],
-            Layout::Cross | Layout::VCross | Layout::Strip | Layout::VStrip | Layout::Faces => {
-                &[AnyMapping::Cube, AnyMapping::Eac]
-            }
+            Layout::Cross
+            | Layout::VCross
+            | Layout::Strip
+            | Layout::VStrip
+            | Layout::Faces
+            | Layout::Grid3x2 => &[AnyMapping::Cube, AnyMapping::Eac],
+            Layout::V360 => &[AnyMapping::Eac],
             Layout::Square => &SQUARE_MAPPINGS,
             Layout::SideBySide => &[AnyMapping::DualParaboloid],
             Layout::Stacked => &[AnyMapping::Tennisball],
@@ -115,11 +135,21 @@ impl Layout {
     pub const fn for_mapping(mapping: AnyMapping) -> &'static [Layout] {
         match mapping {
             AnyMapping::LatLong => &[Layout::LatLong],
-            AnyMapping::Cube | AnyMapping::Eac => &[
+            AnyMapping::Cube => &[
                 Layout::Cross,
                 Layout::VCross,
                 Layout::Strip,
                 Layout::VStrip,
+                Layout::Grid3x2,
+                Layout::Faces,
+            ],
+            AnyMapping::Eac => &[
+                Layout::V360,
+                Layout::Cross,
+                Layout::VCross,
+                Layout::Strip,
+                Layout::VStrip,
+                Layout::Grid3x2,
                 Layout::Faces,
             ],
             AnyMapping::SphereMap

@@ -143,6 +143,19 @@
 //! | `square` | [`Layout::Square`] | sphere, sphere-gl, angular, octahedral, octahedral-equal-area | 1:1 | [`Atlas::SINGLE_SQUARE`](envmap_core::Atlas::SINGLE_SQUARE) |
 //! | `side-by-side` | [`Layout::SideBySide`] | paraboloid | 2:1 | [`Atlas::PARABOLOID_SIDE_BY_SIDE`](envmap_core::Atlas::PARABOLOID_SIDE_BY_SIDE) |
 //! | `stacked` | [`Layout::Stacked`] | tennisball | 3:2 | [`Atlas::TENNISBALL_STACKED`](envmap_core::Atlas::TENNISBALL_STACKED) |
+//! | `3x2` | [`Layout::Grid3x2`] | cube, eac | 3:2 | [`Atlas::CUBE_3X2`](envmap_core::Atlas::CUBE_3X2) |
+//! | `v360` | [`Layout::V360`] | eac (its default) | (3n + 4) × (2n + 8) for n × n faces | in memory: [`Atlas::EAC_V360`](envmap_core::Atlas::EAC_V360) |
+//!
+//! Every cube layout holds the equi-angular cube map (`eac`) as well, face
+//! for face. The `v360` layout is the file ffmpeg's `v360` filter writes and
+//! reads as `eac` (YouTube's 360° video frames): −x, +z, +x on top; −y, −z,
+//! +y below, −y and +y turned a quarter turn counter-clockwise and −z a
+//! quarter turn clockwise; 2 pixels of padding left and right of the image
+//! and above and below each row, filled on writing by repeating the row's
+//! edge texels. Reading cuts the padding away and turns the faces back, so
+//! in memory the faces are GL's, unpadded. Its size is not told by the
+//! aspect ratio: name it (`--from eac`, or `--from-layout v360`), or read a
+//! file envmap wrote, which says so itself.
 //!
 //! [`detect`] picks a representation from the aspect ratio alone. Two
 //! cases need the caller's word: a 2:1 image is taken as latlong, so a dual
@@ -240,6 +253,7 @@ mod exr;
 pub(crate) mod face_ops;
 mod faces;
 mod format;
+pub(crate) mod framing;
 #[cfg(feature = "image")]
 mod hdr;
 pub(crate) mod io;
