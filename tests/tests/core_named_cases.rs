@@ -2,7 +2,7 @@
 //! corners, exact ties and signed zeros; the latlong poles; the sphere map's
 //! singular direction; the angular map's centre, 90° ring and singular
 //! direction (with the SIMD tiers beside the core); the tennisball seed
-//! erratum; the frame presets.
+//! erratum; the frame presets; the equi-angular cube map against the cube.
 //!
 //! The generic properties are in `core_contract.rs`; these are the inputs
 //! the design calls out by name, with their exact expected outputs where the
@@ -12,8 +12,8 @@ use envmap_core::cube::select_face;
 use envmap_core::sphere_map::uv_from_normal;
 use envmap_core::tennisball;
 use envmap_core::{
-    Angular, AnyMapping, ChartUv, Cube, CubeFace, DualParaboloid, EqualAreaOctahedral, Frame,
-    Framed, LatLong, Mapping, Octahedral, SphereMap, Tennisball,
+    Angular, AnyMapping, Atlas, ChartUv, Cube, CubeFace, DualParaboloid, Eac, EqualAreaOctahedral,
+    Frame, Framed, LatLong, Mapping, Octahedral, SphereMap, Tennisball,
 };
 use envmap_simd::{forward_slice, inverse_slice, Exact, Fast, Fine, Tier};
 use envmap_tests::{angle_f32, check_simd_forward, check_simd_inverse, SplitMix64};
@@ -916,4 +916,84 @@ fn frame_presets() {
         cube.forward(v(4.0, 1.0, 2.0)),
         Cube::forward(v(4.0, 1.0, 2.0))
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// The equi-angular cube map
+// ---------------------------------------------------------------------------------------------
+
+/// EAC is the cube with each face coordinate warped by angle: the same face
+/// and the same direction as the cube at s = ½ + ½ tan(π/4 (2u − 1)), so
+/// that face centres, edge midpoints and corners coincide with the cube's,
+/// its edges are seamless where the cube's are, and the 22.5° point of an
+/// axis is at u = ¾ (the cube's ½ + ½ tan(π/8) = 0.7071).
+#[test]
+fn eac_is_the_cube_warped_by_angle() {
+    let warp = |u: f32| 0.5 + 0.5 * (std::f32::consts::FRAC_PI_4 * (2.0 * u - 1.0)).tan();
+    for face in 0..6 {
+        for (u, v) in [
+            (0.5, 0.5),
+            (0.0, 0.5),
+            (1.0, 0.5),
+            (0.5, 0.0),
+            (0.0, 1.0),
+            (1.0, 1.0),
+        ] {
+            let e = Eac::inverse(ChartUv::new(face, u, v)).unwrap();
+            let c = Cube::inverse(ChartUv::new(face, u, v)).unwrap();
+            assert!(angle_f32(e, c) < 2e-7, "face {face} ({u}, {v})");
+        }
+        for (u, v) in [(0.75, 0.5), (0.1, 0.9), (0.3, 0.62)] {
+            let e = Eac::inverse(ChartUv::new(face, u, v)).unwrap();
+            let c = Cube::inverse(ChartUv::new(face, warp(u), warp(v))).unwrap();
+            assert!(angle_f32(e, c) < 3e-7, "face {face} ({u}, {v})");
+            assert_eq!(Eac::forward(e).unwrap().chart, face);
+        }
+    }
+    let d = Vec3::new((std::f32::consts::PI / 8.0).tan(), 0.0, 1.0);
+    let c = Eac::forward(d).unwrap();
+    assert_eq!(c.chart, 4);
+    assert!(
+        (c.u - 0.75).abs() < 1e-7 && (c.v - 0.5).abs() < 1e-7,
+        "{c:?}"
+    );
+    assert_eq!("eac".parse::<AnyMapping>(), Ok(AnyMapping::Eac));
+    assert_eq!(AnyMapping::Eac.to_string(), "eac");
+    assert!(AnyMapping::Eac.has_cube_faces() && !AnyMapping::Eac.has_disk_charts());
+}
+
+/// The cells of EAC's default atlas, v360's `eac` layout as held in memory,
+/// look at −x, +z, +x on top and −y, −z, +y below; the cube's 3×2 at +x,
+/// −x, +y and −y, +z, −z.
+#[test]
+fn eac_and_cube_three_by_two_cells() {
+    let centre = |m: AnyMapping, atlas: Atlas, col: u32, row: u32| {
+        let p = atlas
+            .image_to_chart((col as f32 + 0.5) / 3.0, (row as f32 + 0.5) / 2.0)
+            .unwrap();
+        m.inverse(p).unwrap()
+    };
+    assert_eq!(AnyMapping::Eac.atlas(), Atlas::EAC_V360);
+    let eac = [
+        [Vec3::NEG_X, Vec3::Z, Vec3::X],
+        [Vec3::NEG_Y, Vec3::NEG_Z, Vec3::Y],
+    ];
+    let cube = [
+        [Vec3::X, Vec3::NEG_X, Vec3::Y],
+        [Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z],
+    ];
+    for row in 0..2 {
+        for col in 0..3 {
+            let got = centre(AnyMapping::Eac, Atlas::EAC_V360, col, row);
+            assert!(
+                angle_f32(got, eac[row as usize][col as usize]) < 1e-6,
+                "{col},{row}"
+            );
+            let got = centre(AnyMapping::Cube, Atlas::CUBE_3X2, col, row);
+            assert!(
+                angle_f32(got, cube[row as usize][col as usize]) < 1e-6,
+                "{col},{row}"
+            );
+        }
+    }
 }

@@ -270,6 +270,10 @@ fn equal_area_octahedral() {
 fn angular() {
     all_tiers(AnyMapping::Angular);
 }
+#[test]
+fn eac() {
+    all_tiers(AnyMapping::Eac);
+}
 
 /// Slices of awkward lengths give the same result as the scalar core in each
 /// position (the tail goes through the padded kernel).
