@@ -15,16 +15,18 @@
 //! lavapipe.
 //!
 //! WGSL has no includes: every file after [`COMMON_WGSL`] needs it (and
-//! [`LIGHTING_WGSL`] needs [`FRAME_WGSL`], [`LATLONG_WGSL`], [`CUBE_WGSL`] and
-//! [`OCTAHEDRAL_WGSL`] too), in the order of [`WGSL_FILES`]. [`ALL_WGSL`] is
-//! every file in that order, one self-contained module. Every name is
-//! prefixed `envmap_` (functions), `Envmap` (structs) or `ENVMAP_`
-//! (constants), and none ends in a digit, so naga writes every one of them
-//! unchanged into the GLSL and HLSL (a test checks it).
+//! [`EAC_WGSL`] needs [`CUBE_WGSL`] too, [`LIGHTING_WGSL`] [`FRAME_WGSL`],
+//! [`LATLONG_WGSL`], [`CUBE_WGSL`] and [`OCTAHEDRAL_WGSL`]), in the order of
+//! [`WGSL_FILES`]. [`ALL_WGSL`] is every file in that order, one
+//! self-contained module. Every name is prefixed `envmap_` (functions),
+//! `Envmap` (structs) or `ENVMAP_` (constants), and none ends in a digit, so
+//! naga writes every one of them unchanged into the GLSL and HLSL (a test
+//! checks it).
 //!
 //! The generated files are self-contained too, one per mapping (`common`,
-//! `frame` and the mapping), one for the lighting lookups and one with
-//! everything ([`ALL_GLSL`], [`ALL_GLSL_ES`], [`ALL_HLSL`]): include one of
+//! `frame` and the mapping; the EAC's holds the cube too), one for the
+//! lighting lookups and one with everything ([`ALL_GLSL`],
+//! [`ALL_GLSL_ES`], [`ALL_HLSL`]): include one of
 //! them in a shader (each carries the shared functions, so two of them
 //! together define those twice). They hold no `#version` line and no entry
 //! point: they are libraries to paste or include after the shader's own
@@ -51,7 +53,7 @@ macro_rules! wgsl_files {
         )*
         /// Every WGSL file as `(file name, text)`, in the order in which they
         /// can be concatenated (each needs only the ones before it).
-        pub const WGSL_FILES: [(&str, &str); 10] = [$(($file, $name)),*];
+        pub const WGSL_FILES: [(&str, &str); 11] = [$(($file, $name)),*];
         /// Every WGSL file concatenated in the order of [`WGSL_FILES`]: one
         /// self-contained module with every mapping and the lighting lookups.
         pub const ALL_WGSL: &str = concat!($(include_str!(concat!("../shaders/", $file))),*);
@@ -78,6 +80,11 @@ wgsl_files!(
         CUBE_WGSL,
         "cube.wgsl",
         "`envmap_cube_forward`, `envmap_cube_inverse`, `envmap_cube_select_face` and `envmap_cube_face_direction`, as [`crate::cube`]."
+    ),
+    (
+        EAC_WGSL,
+        "eac.wgsl",
+        "`envmap_eac_forward` and `envmap_eac_inverse`, as [`crate::Eac`] (through `envmap_cube_select_face` and `envmap_cube_face_direction`: it needs [`CUBE_WGSL`])."
     ),
     (
         SPHERE_MAP_WGSL,
@@ -113,9 +120,13 @@ wgsl_files!(
 
 /// The WGSL files each generated module is written from, in order: its
 /// name (the generated files' stem) and the files concatenated.
-pub const MODULES: [(&str, &[&str]); 10] = [
+pub const MODULES: [(&str, &[&str]); 11] = [
     ("latlong", &["common.wgsl", "frame.wgsl", "latlong.wgsl"]),
     ("cube", &["common.wgsl", "frame.wgsl", "cube.wgsl"]),
+    (
+        "eac",
+        &["common.wgsl", "frame.wgsl", "cube.wgsl", "eac.wgsl"],
+    ),
     (
         "sphere_map",
         &["common.wgsl", "frame.wgsl", "sphere_map.wgsl"],
@@ -151,6 +162,7 @@ pub const MODULES: [(&str, &[&str]); 10] = [
             "frame.wgsl",
             "latlong.wgsl",
             "cube.wgsl",
+            "eac.wgsl",
             "sphere_map.wgsl",
             "dual_paraboloid.wgsl",
             "angular.wgsl",
@@ -173,7 +185,7 @@ macro_rules! generated {
             pub const $hlsl: &str = include_str!(concat!("../shaders/generated/hlsl/", $file, ".hlsl"));
         )*
         /// Every generated module as `(name, GLSL 4.50, GLSL ES 3.00, HLSL)`.
-        pub const GENERATED: [(&str, &str, &str, &str); 10] = [$(($file, $glsl, $es, $hlsl)),*];
+        pub const GENERATED: [(&str, &str, &str, &str); 11] = [$(($file, $glsl, $es, $hlsl)),*];
     };
 }
 
@@ -191,6 +203,13 @@ generated!(
         CUBE_HLSL,
         "cube",
         "the cube mapping (with the common functions and the frames)"
+    ),
+    (
+        EAC_GLSL,
+        EAC_GLSL_ES,
+        EAC_HLSL,
+        "eac",
+        "the equi-angular cube map (with the common functions, the frames and the cube it builds on)"
     ),
     (
         SPHERE_MAP_GLSL,

@@ -83,6 +83,15 @@ fn cases() -> Vec<Case> {
             "envmap_cube_forward(d)",
             "envmap_cube_inverse(c)",
         ),
+        // The EAC's forward goes through common.wgsl's atan polynomial (WGSL's
+        // atan is held to 4096 ULP only), its inverse through WGSL's tan (as
+        // sin/cos, on [-pi/4, pi/4]); both are well inside the shared bounds
+        // (lavapipe: 1.2e-7 in u, v, one ulp; 1.3e-7 rad).
+        plain(
+            AnyMapping::Eac,
+            "envmap_eac_forward(d)",
+            "envmap_eac_inverse(c)",
+        ),
         plain(
             AnyMapping::SphereMap,
             "envmap_sphere_map_forward(d)",

@@ -1,4 +1,4 @@
-// envmap shaders, GLSL ES 3.00: envmap (from common.wgsl, frame.wgsl, latlong.wgsl, cube.wgsl, sphere_map.wgsl, dual_paraboloid.wgsl, angular.wgsl, tennisball.wgsl, octahedral.wgsl, lighting.wgsl).
+// envmap shaders, GLSL ES 3.00: envmap (from common.wgsl, frame.wgsl, latlong.wgsl, cube.wgsl, eac.wgsl, sphere_map.wgsl, dual_paraboloid.wgsl, angular.wgsl, tennisball.wgsl, octahedral.wgsl, lighting.wgsl).
 // Written by naga 29.0.4 from the WGSL in envmap-core/shaders/ (the source, with every
 // formula, source and comment): do not edit; after changing the WGSL run
 // ENVMAP_BLESS_SHADERS=1 cargo test --release -p envmap-tests --test shader_sources
@@ -126,23 +126,23 @@ EnvmapDirection envmap_normalize_direction(vec3 d_1) {
 
 float envmap_atan_unit(float z) {
     float p = 0.0029193612;
-    float u_4 = (z * z);
+    float u_5 = (z * z);
     float _e4 = p;
-    p = ((_e4 * u_4) - 0.016363012);
+    p = ((_e4 * u_5) - 0.016363012);
     float _e8 = p;
-    p = ((_e8 * u_4) + 0.04320454);
+    p = ((_e8 * u_5) + 0.04320454);
     float _e12 = p;
-    p = ((_e12 * u_4) - 0.075516514);
+    p = ((_e12 * u_5) - 0.075516514);
     float _e16 = p;
-    p = ((_e16 * u_4) + 0.10665768);
+    p = ((_e16 * u_5) + 0.10665768);
     float _e20 = p;
-    p = ((_e20 * u_4) - 0.14211002);
+    p = ((_e20 * u_5) - 0.14211002);
     float _e24 = p;
-    p = ((_e24 * u_4) + 0.19993767);
+    p = ((_e24 * u_5) + 0.19993767);
     float _e28 = p;
-    p = ((_e28 * u_4) - 0.33333153);
+    p = ((_e28 * u_5) - 0.33333153);
     float _e32 = p;
-    return (z + (z * (u_4 * _e32)));
+    return (z + (z * (u_5 * _e32)));
 }
 
 float envmap_atan2f(float y, float x_4) {
@@ -341,9 +341,51 @@ EnvmapDirection envmap_cube_inverse(EnvmapChartUv c_1) {
     return EnvmapDirection((_e26 / vec3(sqrt(dot(_e26, _e26)))), true);
 }
 
-EnvmapChartUv envmap_sphere_map_forward_sigma(vec3 dir_2, float sigma) {
+float envmap_eac_atan(float c_2) {
+    float _e2 = envmap_atan_unit(abs(c_2));
+    float _e3 = envmap_copysign(_e2, c_2);
+    return _e3;
+}
+
+float envmap_eac_angle(float u_1) {
+    return (ENVMAP_QUARTER_PI * ((2.0 * u_1) - 1.0));
+}
+
+EnvmapChartUv envmap_eac_forward(vec3 dir_2) {
+    EnvmapCubeFace _e1 = envmap_cube_select_face(dir_2);
+    if ((_e1.face == ENVMAP_INVALID_CHART)) {
+        EnvmapChartUv _e5 = envmap_invalid_chart_uv();
+        return _e5;
+    }
+    float _e10 = envmap_eac_atan((_e1.sc / _e1.ma));
+    float _e14 = envmap_clamp_unit((0.5 + (ENVMAP_TWO_OVER_PI * _e10)));
+    float _e19 = envmap_eac_atan((_e1.tc / _e1.ma));
+    float _e23 = envmap_clamp_unit((0.5 + (ENVMAP_TWO_OVER_PI * _e19)));
+    return EnvmapChartUv(_e1.face, vec2(_e14, _e23));
+}
+
+EnvmapDirection envmap_eac_inverse(EnvmapChartUv c_3) {
+    bool local_5 = false;
+    if (!((c_3.chart > 5u))) {
+        bool _e8 = envmap_in_unit_square(c_3.uv);
+        local_5 = !(_e8);
+    } else {
+        local_5 = true;
+    }
+    bool _e11 = local_5;
+    if (_e11) {
+        EnvmapDirection _e12 = envmap_invalid_direction();
+        return _e12;
+    }
+    float _e16 = envmap_eac_angle(c_3.uv.x);
+    float _e20 = envmap_eac_angle(c_3.uv.y);
+    vec3 _e22 = envmap_cube_face_direction(c_3.chart, tan(_e16), tan(_e20));
+    return EnvmapDirection((_e22 / vec3(sqrt(dot(_e22, _e22)))), true);
+}
+
+EnvmapChartUv envmap_sphere_map_forward_sigma(vec3 dir_3, float sigma) {
     float one_plus_w = 0.0;
-    EnvmapDirection _e2 = envmap_normalize_direction(dir_2);
+    EnvmapDirection _e2 = envmap_normalize_direction(dir_3);
     if (!(_e2.valid)) {
         EnvmapChartUv _e5 = envmap_invalid_chart_uv();
         return _e5;
@@ -370,44 +412,44 @@ EnvmapChartUv envmap_sphere_map_forward_sigma(vec3 dir_2, float sigma) {
     return EnvmapChartUv(0u, vec2(_e55, _e61));
 }
 
-EnvmapDirection envmap_sphere_map_inverse_sigma(EnvmapChartUv c_2, float sigma_1) {
-    bool local_5 = false;
-    if (!((c_2.chart != 0u))) {
-        bool _e9 = envmap_in_unit_disk(c_2.uv);
-        local_5 = !(_e9);
+EnvmapDirection envmap_sphere_map_inverse_sigma(EnvmapChartUv c_4, float sigma_1) {
+    bool local_6 = false;
+    if (!((c_4.chart != 0u))) {
+        bool _e9 = envmap_in_unit_disk(c_4.uv);
+        local_6 = !(_e9);
     } else {
-        local_5 = true;
+        local_6 = true;
     }
-    bool _e12 = local_5;
+    bool _e12 = local_6;
     if (_e12) {
         EnvmapDirection _e13 = envmap_invalid_direction();
         return _e13;
     }
-    float x_7 = ((2.0 * c_2.uv.x) - 1.0);
-    float y_3 = ((2.0 * c_2.uv.y) - 1.0);
+    float x_7 = ((2.0 * c_4.uv.x) - 1.0);
+    float y_3 = ((2.0 * c_4.uv.y) - 1.0);
     float r2_ = ((x_7 * x_7) + (y_3 * y_3));
     float nz = sqrt(max((1.0 - r2_), 0.0));
     vec3 d_9 = vec3(((2.0 * x_7) * nz), ((2.0 * y_3) * nz), (sigma_1 * (1.0 - (2.0 * r2_))));
     return EnvmapDirection((d_9 / vec3(sqrt(dot(d_9, d_9)))), true);
 }
 
-EnvmapChartUv envmap_sphere_map_forward(vec3 dir_3) {
-    EnvmapChartUv _e2 = envmap_sphere_map_forward_sigma(dir_3, -1.0);
+EnvmapChartUv envmap_sphere_map_forward(vec3 dir_4) {
+    EnvmapChartUv _e2 = envmap_sphere_map_forward_sigma(dir_4, -1.0);
     return _e2;
 }
 
-EnvmapDirection envmap_sphere_map_inverse(EnvmapChartUv c_3) {
-    EnvmapDirection _e2 = envmap_sphere_map_inverse_sigma(c_3, -1.0);
+EnvmapDirection envmap_sphere_map_inverse(EnvmapChartUv c_5) {
+    EnvmapDirection _e2 = envmap_sphere_map_inverse_sigma(c_5, -1.0);
     return _e2;
 }
 
-EnvmapChartUv envmap_sphere_map_gl_forward(vec3 dir_4) {
-    EnvmapChartUv _e2 = envmap_sphere_map_forward_sigma(dir_4, 1.0);
+EnvmapChartUv envmap_sphere_map_gl_forward(vec3 dir_5) {
+    EnvmapChartUv _e2 = envmap_sphere_map_forward_sigma(dir_5, 1.0);
     return _e2;
 }
 
-EnvmapDirection envmap_sphere_map_gl_inverse(EnvmapChartUv c_4) {
-    EnvmapDirection _e2 = envmap_sphere_map_inverse_sigma(c_4, 1.0);
+EnvmapDirection envmap_sphere_map_gl_inverse(EnvmapChartUv c_6) {
+    EnvmapDirection _e2 = envmap_sphere_map_inverse_sigma(c_6, 1.0);
     return _e2;
 }
 
@@ -422,39 +464,39 @@ EnvmapChartUv envmap_sphere_map_uv_from_normal(vec3 n) {
     return EnvmapChartUv(0u, vec2(_e12, _e19));
 }
 
-EnvmapChartUv envmap_dual_paraboloid_forward(vec3 dir_5) {
-    EnvmapDirection _e1 = envmap_normalize_direction(dir_5);
+EnvmapChartUv envmap_dual_paraboloid_forward(vec3 dir_6) {
+    EnvmapDirection _e1 = envmap_normalize_direction(dir_6);
     if (!(_e1.valid)) {
         EnvmapChartUv _e4 = envmap_invalid_chart_uv();
         return _e4;
     }
     vec3 r_4 = _e1.dir;
-    bool _e7 = envmap_sign_bit(dir_5.z);
+    bool _e7 = envmap_sign_bit(dir_6.z);
     float den_1 = (1.0 + abs(r_4.z));
     float _e18 = envmap_clamp_unit(((0.5 * (r_4.x / den_1)) + 0.5));
     float _e25 = envmap_clamp_unit(((0.5 * (r_4.y / den_1)) + 0.5));
     return EnvmapChartUv((_e7 ? 1u : 0u), vec2(_e18, _e25));
 }
 
-EnvmapDirection envmap_dual_paraboloid_inverse(EnvmapChartUv c_5) {
-    bool local_6 = false;
+EnvmapDirection envmap_dual_paraboloid_inverse(EnvmapChartUv c_7) {
+    bool local_7 = false;
     float z_2 = 0.0;
-    if (!((c_5.chart > 1u))) {
-        bool _e8 = envmap_in_unit_disk(c_5.uv);
-        local_6 = !(_e8);
+    if (!((c_7.chart > 1u))) {
+        bool _e8 = envmap_in_unit_disk(c_7.uv);
+        local_7 = !(_e8);
     } else {
-        local_6 = true;
+        local_7 = true;
     }
-    bool _e11 = local_6;
+    bool _e11 = local_7;
     if (_e11) {
         EnvmapDirection _e12 = envmap_invalid_direction();
         return _e12;
     }
-    float x_8 = ((2.0 * c_5.uv.x) - 1.0);
-    float y_4 = ((2.0 * c_5.uv.y) - 1.0);
+    float x_8 = ((2.0 * c_7.uv.x) - 1.0);
+    float y_4 = ((2.0 * c_7.uv.y) - 1.0);
     float r2_1 = ((x_8 * x_8) + (y_4 * y_4));
     z_2 = max((1.0 - r2_1), 0.0);
-    if ((c_5.chart == 1u)) {
+    if ((c_7.chart == 1u)) {
         float _e36 = z_2;
         z_2 = -(_e36);
     }
@@ -463,19 +505,19 @@ EnvmapDirection envmap_dual_paraboloid_inverse(EnvmapChartUv c_5) {
     return EnvmapDirection((d_10 / vec3(sqrt(dot(d_10, d_10)))), true);
 }
 
-EnvmapChartUv envmap_angular_forward(vec3 dir_6) {
+EnvmapChartUv envmap_angular_forward(vec3 dir_7) {
     float px = 1.0;
     float py = 0.0;
-    EnvmapDirection _e1 = envmap_normalize_direction(dir_6);
+    EnvmapDirection _e1 = envmap_normalize_direction(dir_7);
     if (!(_e1.valid)) {
         EnvmapChartUv _e4 = envmap_invalid_chart_uv();
         return _e4;
     }
     vec3 r_5 = _e1.dir;
-    float a_5 = max(abs(dir_6.x), abs(dir_6.y));
+    float a_5 = max(abs(dir_7.x), abs(dir_7.y));
     if ((a_5 != 0.0)) {
-        px = (dir_6.x / a_5);
-        py = (dir_6.y / a_5);
+        px = (dir_7.x / a_5);
+        py = (dir_7.y / a_5);
     }
     float _e21 = px;
     float _e22 = px;
@@ -493,24 +535,24 @@ EnvmapChartUv envmap_angular_forward(vec3 dir_6) {
     return EnvmapChartUv(0u, vec2(_e48, _e55));
 }
 
-EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_6) {
-    bool local_7 = false;
+EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_8) {
+    bool local_8 = false;
     float s_1 = 0.0;
     float co = 0.0;
     float k = ENVMAP_PI;
-    if (!((c_6.chart != 0u))) {
-        bool _e8 = envmap_in_unit_disk(c_6.uv);
-        local_7 = !(_e8);
+    if (!((c_8.chart != 0u))) {
+        bool _e8 = envmap_in_unit_disk(c_8.uv);
+        local_8 = !(_e8);
     } else {
-        local_7 = true;
+        local_8 = true;
     }
-    bool _e11 = local_7;
+    bool _e11 = local_8;
     if (_e11) {
         EnvmapDirection _e12 = envmap_invalid_direction();
         return _e12;
     }
-    float x_9 = ((2.0 * c_6.uv.x) - 1.0);
-    float y_5 = ((2.0 * c_6.uv.y) - 1.0);
+    float x_9 = ((2.0 * c_8.uv.x) - 1.0);
+    float y_5 = ((2.0 * c_8.uv.y) - 1.0);
     float rho_2 = min(sqrt(((x_9 * x_9) + (y_5 * y_5))), 1.0);
     if ((rho_2 <= 0.5)) {
         s_1 = sin((ENVMAP_PI * rho_2));
@@ -531,55 +573,55 @@ EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_6) {
     return EnvmapDirection((d_11 / vec3(sqrt(dot(d_11, d_11)))), true);
 }
 
-bool envmap_tennisball_selects_first_chart(float a_1, float b, float c_7) {
-    bool local_8 = false;
+bool envmap_tennisball_selects_first_chart(float a_1, float b, float c_9) {
     bool local_9 = false;
     bool local_10 = false;
-    if ((c_7 >= 0.0)) {
-        local_8 = (abs(b) <= ENVMAP_SQRT_HALF);
+    bool local_11 = false;
+    if ((c_9 >= 0.0)) {
+        local_9 = (abs(b) <= ENVMAP_SQRT_HALF);
     } else {
-        local_8 = false;
+        local_9 = false;
     }
-    bool _e11 = local_8;
+    bool _e11 = local_9;
     if (!(_e11)) {
-        if ((c_7 <= 0.0)) {
-            local_10 = (abs(a_1) >= ENVMAP_SQRT_HALF);
+        if ((c_9 <= 0.0)) {
+            local_11 = (abs(a_1) >= ENVMAP_SQRT_HALF);
         } else {
-            local_10 = false;
+            local_11 = false;
         }
-        bool _e23 = local_10;
-        local_9 = _e23;
+        bool _e23 = local_11;
+        local_10 = _e23;
     } else {
-        local_9 = true;
+        local_10 = true;
     }
-    bool _e25 = local_9;
+    bool _e25 = local_10;
     return _e25;
 }
 
-EnvmapChartUv envmap_tennisball_forward(vec3 dir_7) {
+EnvmapChartUv envmap_tennisball_forward(vec3 dir_8) {
     uint chart = 0u;
     float theta = 0.0;
     float phi_1 = 0.0;
-    EnvmapDirection _e1 = envmap_normalize_direction(dir_7);
+    EnvmapDirection _e1 = envmap_normalize_direction(dir_8);
     if (!(_e1.valid)) {
         EnvmapChartUv _e4 = envmap_invalid_chart_uv();
         return _e4;
     }
     float a_6 = _e1.dir.x;
     float b_3 = _e1.dir.y;
-    float c_14 = _e1.dir.z;
-    bool _e14 = envmap_tennisball_selects_first_chart(a_6, b_3, c_14);
+    float c_16 = _e1.dir.z;
+    bool _e14 = envmap_tennisball_selects_first_chart(a_6, b_3, c_16);
     if (_e14) {
         chart = 0u;
-        float _e20 = envmap_atan2f(b_3, sqrt(((a_6 * a_6) + (c_14 * c_14))));
+        float _e20 = envmap_atan2f(b_3, sqrt(((a_6 * a_6) + (c_16 * c_16))));
         theta = _e20;
-        float _e21 = envmap_atan2f(a_6, c_14);
+        float _e21 = envmap_atan2f(a_6, c_16);
         phi_1 = _e21;
     } else {
         chart = 1u;
-        float _e27 = envmap_atan2f(a_6, sqrt(((b_3 * b_3) + (c_14 * c_14))));
+        float _e27 = envmap_atan2f(a_6, sqrt(((b_3 * b_3) + (c_16 * c_16))));
         theta = _e27;
-        float _e29 = envmap_atan2f(b_3, -(c_14));
+        float _e29 = envmap_atan2f(b_3, -(c_16));
         phi_1 = _e29;
     }
     float _e32 = theta;
@@ -594,26 +636,26 @@ EnvmapChartUv envmap_tennisball_forward(vec3 dir_7) {
     return EnvmapChartUv(_e50, vec2(_e43, _e49));
 }
 
-EnvmapDirection envmap_tennisball_inverse(EnvmapChartUv c_8) {
-    bool local_11 = false;
-    if (!((c_8.chart > 1u))) {
-        bool _e8 = envmap_in_unit_square(c_8.uv);
-        local_11 = !(_e8);
+EnvmapDirection envmap_tennisball_inverse(EnvmapChartUv c_10) {
+    bool local_12 = false;
+    if (!((c_10.chart > 1u))) {
+        bool _e8 = envmap_in_unit_square(c_10.uv);
+        local_12 = !(_e8);
     } else {
-        local_11 = true;
+        local_12 = true;
     }
-    bool _e11 = local_11;
+    bool _e11 = local_12;
     if (_e11) {
         EnvmapDirection _e12 = envmap_invalid_direction();
         return _e12;
     }
-    float phi_4 = ((c_8.uv.x - 0.5) * 4.712389);
-    float theta_2 = ((0.5 - c_8.uv.y) * ENVMAP_HALF_PI);
+    float phi_4 = ((c_10.uv.x - 0.5) * 4.712389);
+    float theta_2 = ((0.5 - c_10.uv.y) * ENVMAP_HALF_PI);
     float sp = sin(phi_4);
     float cp = cos(phi_4);
     float st_1 = sin(theta_2);
     float ct = cos(theta_2);
-    if ((c_8.chart == 0u)) {
+    if ((c_10.chart == 0u)) {
         return EnvmapDirection(vec3((ct * sp), st_1, (ct * cp)), true);
     }
     return EnvmapDirection(vec3(st_1, (ct * sp), (-(ct) * cp)), true);
@@ -625,8 +667,8 @@ EnvmapChartUv envmap_octahedral_to_uv(float x_5, float y_1) {
     return EnvmapChartUv(0u, vec2(_e7, _e12));
 }
 
-EnvmapChartUv envmap_octahedral_forward(vec3 dir_8) {
-    EnvmapDirection _e1 = envmap_normalize_direction(dir_8);
+EnvmapChartUv envmap_octahedral_forward(vec3 dir_9) {
+    EnvmapDirection _e1 = envmap_normalize_direction(dir_9);
     if (!(_e1.valid)) {
         EnvmapChartUv _e4 = envmap_invalid_chart_uv();
         return _e4;
@@ -634,8 +676,8 @@ EnvmapChartUv envmap_octahedral_forward(vec3 dir_8) {
     vec3 d_12 = _e1.dir;
     vec3 p_2 = (d_12 / vec3(((abs(d_12.x) + abs(d_12.y)) + abs(d_12.z))));
     if ((p_2.z < 0.0)) {
-        float _e24 = envmap_copysign((1.0 - abs(p_2.y)), dir_8.x);
-        float _e30 = envmap_copysign((1.0 - abs(p_2.x)), dir_8.y);
+        float _e24 = envmap_copysign((1.0 - abs(p_2.y)), dir_9.x);
+        float _e30 = envmap_copysign((1.0 - abs(p_2.x)), dir_9.y);
         EnvmapChartUv _e31 = envmap_octahedral_to_uv(_e24, _e30);
         return _e31;
     }
@@ -643,22 +685,22 @@ EnvmapChartUv envmap_octahedral_forward(vec3 dir_8) {
     return _e34;
 }
 
-EnvmapDirection envmap_octahedral_inverse(EnvmapChartUv c_9) {
-    bool local_12 = false;
+EnvmapDirection envmap_octahedral_inverse(EnvmapChartUv c_11) {
+    bool local_13 = false;
     vec3 d_5 = vec3(0.0);
-    if (!((c_9.chart != 0u))) {
-        bool _e8 = envmap_in_unit_square(c_9.uv);
-        local_12 = !(_e8);
+    if (!((c_11.chart != 0u))) {
+        bool _e8 = envmap_in_unit_square(c_11.uv);
+        local_13 = !(_e8);
     } else {
-        local_12 = true;
+        local_13 = true;
     }
-    bool _e11 = local_12;
+    bool _e11 = local_13;
     if (_e11) {
         EnvmapDirection _e12 = envmap_invalid_direction();
         return _e12;
     }
-    float x_10 = ((2.0 * c_9.uv.x) - 1.0);
-    float y_6 = ((2.0 * c_9.uv.y) - 1.0);
+    float x_10 = ((2.0 * c_11.uv.x) - 1.0);
+    float y_6 = ((2.0 * c_11.uv.y) - 1.0);
     float z_3 = ((1.0 - abs(x_10)) - abs(y_6));
     d_5 = vec3(x_10, y_6, z_3);
     if ((z_3 < 0.0)) {
@@ -672,11 +714,11 @@ EnvmapDirection envmap_octahedral_inverse(EnvmapChartUv c_9) {
     return EnvmapDirection((_e43 / vec3(sqrt(dot(_e44, _e45)))), true);
 }
 
-EnvmapChartUv envmap_equal_area_octahedral_forward(vec3 dir_9) {
+EnvmapChartUv envmap_equal_area_octahedral_forward(vec3 dir_10) {
     float phi_2 = 0.0;
     float v = 0.0;
-    float u_1 = 0.0;
-    EnvmapDirection _e1 = envmap_normalize_direction(dir_9);
+    float u_2 = 0.0;
+    EnvmapDirection _e1 = envmap_normalize_direction(dir_10);
     if (!(_e1.valid)) {
         EnvmapChartUv _e4 = envmap_invalid_chart_uv();
         return _e4;
@@ -699,39 +741,39 @@ EnvmapChartUv envmap_equal_area_octahedral_forward(vec3 dir_9) {
     float _e33 = phi_2;
     v = (_e33 * r_6);
     float _e36 = v;
-    u_1 = (r_6 - _e36);
+    u_2 = (r_6 - _e36);
     if ((d_13.z < 0.0)) {
-        float u0_ = u_1;
+        float u0_ = u_2;
         float _e43 = v;
-        u_1 = (1.0 - _e43);
+        u_2 = (1.0 - _e43);
         v = (1.0 - u0_);
     }
-    float _e48 = u_1;
-    float _e50 = envmap_copysign(_e48, dir_9.x);
+    float _e48 = u_2;
+    float _e50 = envmap_copysign(_e48, dir_10.x);
     float _e51 = v;
-    float _e53 = envmap_copysign(_e51, dir_9.y);
+    float _e53 = envmap_copysign(_e51, dir_10.y);
     EnvmapChartUv _e54 = envmap_octahedral_to_uv(_e50, _e53);
     return _e54;
 }
 
-EnvmapDirection envmap_equal_area_octahedral_inverse(EnvmapChartUv c_10) {
-    bool local_13 = false;
+EnvmapDirection envmap_equal_area_octahedral_inverse(EnvmapChartUv c_12) {
+    bool local_14 = false;
     float r_1 = 0.0;
     float phi_3 = ENVMAP_QUARTER_PI;
-    if (!((c_10.chart != 0u))) {
-        bool _e8 = envmap_in_unit_square(c_10.uv);
-        local_13 = !(_e8);
+    if (!((c_12.chart != 0u))) {
+        bool _e8 = envmap_in_unit_square(c_12.uv);
+        local_14 = !(_e8);
     } else {
-        local_13 = true;
+        local_14 = true;
     }
-    bool _e11 = local_13;
+    bool _e11 = local_14;
     if (_e11) {
         EnvmapDirection _e12 = envmap_invalid_direction();
         return _e12;
     }
-    float u_5 = ((2.0 * c_10.uv.x) - 1.0);
-    float v_3 = ((2.0 * c_10.uv.y) - 1.0);
-    float au = abs(u_5);
+    float u_6 = ((2.0 * c_12.uv.x) - 1.0);
+    float v_3 = ((2.0 * c_12.uv.y) - 1.0);
+    float au = abs(u_6);
     float av = abs(v_3);
     float sum = (au + av);
     float signed_distance = (1.0 - sum);
@@ -752,7 +794,7 @@ EnvmapDirection envmap_equal_area_octahedral_inverse(EnvmapChartUv c_10) {
     float _e55 = r_1;
     float k_2 = (_e53 * sqrt(max((2.0 - (_e54 * _e55)), 0.0)));
     float _e63 = phi_3;
-    float _e65 = envmap_copysign(cos(_e63), u_5);
+    float _e65 = envmap_copysign(cos(_e63), u_6);
     float _e67 = phi_3;
     float _e69 = envmap_copysign(sin(_e67), v_3);
     vec3 d_14 = vec3((_e65 * k_2), (_e69 * k_2), _e52);
@@ -770,7 +812,7 @@ float[9] envmap_sh9_basis(vec3 n_1) {
     return float[9](ENVMAP_SH_Y00_CONSTANT, (ENVMAP_SH_Y1_CONSTANT * y_7), (ENVMAP_SH_Y1_CONSTANT * z_4), (ENVMAP_SH_Y1_CONSTANT * x_11), (ENVMAP_SH_Y2_CONSTANT * (x_11 * y_7)), (ENVMAP_SH_Y2_CONSTANT * (y_7 * z_4)), (ENVMAP_SH_Y20_CONSTANT * (((3.0 * z_4) * z_4) - 1.0)), (ENVMAP_SH_Y2_CONSTANT * (x_11 * z_4)), (ENVMAP_SH_Y22_CONSTANT * ((x_11 * x_11) - (y_7 * y_7))));
 }
 
-vec3 envmap_sh9_eval(vec3 c_11[9], vec3 n_2) {
+vec3 envmap_sh9_eval(vec3 c_13[9], vec3 n_2) {
     vec3 e = vec3(0.0);
     uint i = 0u;
     float _e2[9] = envmap_sh9_basis(n_2);
@@ -790,7 +832,7 @@ vec3 envmap_sh9_eval(vec3 c_11[9], vec3 n_2) {
             vec3 _e11 = e;
             uint _e12 = i;
             uint _e14 = i;
-            e = (_e11 + (c_11[_e12] * _e2[_e14]));
+            e = (_e11 + (c_13[_e12] * _e2[_e14]));
         }
     }
     vec3 _e21 = e;
@@ -866,17 +908,17 @@ vec3 envmap_reflect_incident(vec3 i_2, vec3 n_7) {
 }
 
 vec3 envmap_specular_dominant_direction(vec3 n_8, vec3 r_2, float roughness_3) {
-    bool local_14 = false;
+    bool local_15 = false;
     float a_7 = (roughness_3 * roughness_3);
     vec3 d_15 = ((r_2 * (1.0 - a_7)) + (n_8 * a_7));
     float l2_ = dot(d_15, d_15);
     if ((l2_ > 0.0)) {
         bool _e14 = envmap_all_finite(d_15);
-        local_14 = _e14;
+        local_15 = _e14;
     } else {
-        local_14 = false;
+        local_15 = false;
     }
-    bool _e16 = local_14;
+    bool _e16 = local_15;
     if (_e16) {
         return (d_15 * (1.0 / sqrt(l2_)));
     }
@@ -904,15 +946,15 @@ vec3 envmap_diffuse_color(vec3 base_color_1, float metallic_1) {
 
 vec3 envmap_split_sum_factor(vec3 f0_, vec2 dfg, bool multiscatter) {
     vec3 s_2 = vec3(0.0);
-    bool local_15 = false;
+    bool local_16 = false;
     s_2 = ((f0_ * dfg.x) + vec3(dfg.y));
     float albedo = (dfg.x + dfg.y);
     if (multiscatter) {
-        local_15 = (albedo > 0.0);
+        local_16 = (albedo > 0.0);
     } else {
-        local_15 = false;
+        local_16 = false;
     }
-    bool _e17 = local_15;
+    bool _e17 = local_16;
     if (_e17) {
         vec3 _e18 = s_2;
         s_2 = (_e18 * (vec3(1.0) + (f0_ * ((1.0 / albedo) - 1.0))));
@@ -923,14 +965,14 @@ vec3 envmap_split_sum_factor(vec3 f0_, vec2 dfg, bool multiscatter) {
 
 vec3 envmap_split_sum_factor_filament(vec3 f0_1, vec2 dfg_1, bool multiscatter_1) {
     vec3 s_3 = vec3(0.0);
-    bool local_16 = false;
+    bool local_17 = false;
     s_3 = mix(vec3(dfg_1.x), vec3(dfg_1.y), f0_1);
     if (multiscatter_1) {
-        local_16 = (dfg_1.y > 0.0);
+        local_17 = (dfg_1.y > 0.0);
     } else {
-        local_16 = false;
+        local_17 = false;
     }
-    bool _e15 = local_16;
+    bool _e15 = local_17;
     if (_e15) {
         vec3 _e16 = s_3;
         s_3 = (_e16 * (vec3(1.0) + (f0_1 * ((1.0 / dfg_1.y) - 1.0))));
@@ -960,22 +1002,22 @@ vec2 envmap_dfg_load(highp sampler2D t, float n_dot_v_1, float roughness_6) {
     vec4 _e39 = texelFetch(t, ivec2(i1_.x, i0_.y), 0);
     vec2 b_4 = _e39.xy;
     vec4 _e45 = texelFetch(t, ivec2(i0_.x, i1_.y), 0);
-    vec2 c_15 = _e45.xy;
+    vec2 c_17 = _e45.xy;
     vec4 _e51 = texelFetch(t, ivec2(i1_.x, i1_.y), 0);
     vec2 d_16 = _e51.xy;
     vec2 top = (a_8 + (f.x * (b_4 - a_8)));
-    vec2 bottom = (c_15 + (f.x * (d_16 - c_15)));
+    vec2 bottom = (c_17 + (f.x * (d_16 - c_17)));
     return (top + (f.y * (bottom - top)));
 }
 
-EnvmapFootprint envmap_bilinear_footprint(float u_2, int n_10) {
-    float x_14 = clamp(((u_2 * float(n_10)) - 0.5), -0.5, (float(n_10) - 0.5));
+EnvmapFootprint envmap_bilinear_footprint(float u_3, int n_10) {
+    float x_14 = clamp(((u_3 * float(n_10)) - 0.5), -0.5, (float(n_10) - 0.5));
     float t_17 = floor(x_14);
     return EnvmapFootprint(int(t_17), (int(t_17) + 1), (x_14 - t_17));
 }
 
-vec3 envmap_blend(vec3 a_2, vec3 b_1, vec3 c_12, vec3 d_6, float fx, float fy) {
-    vec3 left = (((c_12 - a_2) * fy) + a_2);
+vec3 envmap_blend(vec3 a_2, vec3 b_1, vec3 c_14, vec3 d_6, float fx, float fy) {
+    vec3 left = (((c_14 - a_2) * fy) + a_2);
     vec3 right = (((d_6 - b_1) * fy) + b_1);
     return (((right - left) * fx) + left);
 }
@@ -983,18 +1025,18 @@ vec3 envmap_blend(vec3 a_2, vec3 b_1, vec3 c_12, vec3 d_6, float fx, float fy) {
 vec3 envmap_latlong_texel(highp sampler2D t_1, int i_3, int j, int level) {
     int ii = 0;
     int jj = 0;
-    bool local_17 = false;
+    bool local_18 = false;
     ivec2 size_3 = ivec2(uvec2(textureSize(t_1, level).xy));
     ii = i_3;
     jj = j;
     int _e8 = jj;
     if (!((_e8 < 0))) {
         int _e14 = jj;
-        local_17 = (_e14 >= size_3.y);
+        local_18 = (_e14 >= size_3.y);
     } else {
-        local_17 = true;
+        local_18 = true;
     }
-    bool _e18 = local_17;
+    bool _e18 = local_18;
     if (_e18) {
         int _e24 = jj;
         int _e26 = jj;
@@ -1036,19 +1078,19 @@ vec3 envmap_latlong_bilinear(highp sampler2D t_2, vec2 uv_2, int level_1) {
 vec3 envmap_octahedral_texel(highp sampler2D t_3, int i_4, int j_1, int level_2) {
     int ii_1 = 0;
     int jj_1 = 0;
-    bool local_18 = false;
     bool local_19 = false;
+    bool local_20 = false;
     ivec2 size_5 = ivec2(uvec2(textureSize(t_3, level_2).xy));
     ii_1 = i_4;
     jj_1 = j_1;
     int _e8 = jj_1;
     if (!((_e8 < 0))) {
         int _e14 = jj_1;
-        local_18 = (_e14 >= size_5.y);
+        local_19 = (_e14 >= size_5.y);
     } else {
-        local_18 = true;
+        local_19 = true;
     }
-    bool _e18 = local_18;
+    bool _e18 = local_19;
     if (_e18) {
         int _e24 = jj_1;
         int _e26 = jj_1;
@@ -1060,11 +1102,11 @@ vec3 envmap_octahedral_texel(highp sampler2D t_3, int i_4, int j_1, int level_2)
     int _e38 = ii_1;
     if (!((_e38 < 0))) {
         int _e44 = ii_1;
-        local_19 = (_e44 >= size_5.x);
+        local_20 = (_e44 >= size_5.x);
     } else {
-        local_19 = true;
+        local_20 = true;
     }
-    bool _e48 = local_19;
+    bool _e48 = local_20;
     if (_e48) {
         int _e54 = ii_1;
         int _e56 = ii_1;
@@ -1091,8 +1133,8 @@ vec3 envmap_octahedral_bilinear(highp sampler2D t_4, vec2 uv_3, int level_3) {
     return _e25;
 }
 
-int envmap_texel_index(float u_3, int n_11) {
-    return min(int((u_3 * float(n_11))), (n_11 - 1));
+int envmap_texel_index(float u_4, int n_11) {
+    return min(int((u_4 * float(n_11))), (n_11 - 1));
 }
 
 vec3 envmap_cube_texel_across(highp sampler2DArray t_5, uint face_1, int i_5, int j_2, int level_4) {
@@ -1109,44 +1151,44 @@ vec3 envmap_cube_texel_across(highp sampler2DArray t_5, uint face_1, int i_5, in
 }
 
 vec3 envmap_cube_texel(highp sampler2DArray t_6, uint face_2, int i_6, int j_3, int level_5) {
-    bool local_20 = false;
     bool local_21 = false;
     bool local_22 = false;
     bool local_23 = false;
+    bool local_24 = false;
     ivec2 size_8 = ivec2(uvec2(textureSize(t_6, level_5).xy));
     if (!((i_6 < 0))) {
-        local_20 = (i_6 >= size_8.x);
-    } else {
-        local_20 = true;
-    }
-    bool iout = local_20;
-    if (!((j_3 < 0))) {
-        local_21 = (j_3 >= size_8.y);
+        local_21 = (i_6 >= size_8.x);
     } else {
         local_21 = true;
     }
-    bool jout = local_21;
+    bool iout = local_21;
+    if (!((j_3 < 0))) {
+        local_22 = (j_3 >= size_8.y);
+    } else {
+        local_22 = true;
+    }
+    bool jout = local_22;
     int ic = min(max(i_6, 0), (size_8.x - 1));
     int jc = min(max(j_3, 0), (size_8.y - 1));
     if (iout) {
-        local_22 = jout;
+        local_23 = jout;
     } else {
-        local_22 = false;
+        local_23 = false;
     }
-    bool _e38 = local_22;
+    bool _e38 = local_23;
     if (_e38) {
         vec3 _e39 = envmap_cube_texel_across(t_6, face_2, i_6, jc, level_5);
         vec3 _e40 = envmap_cube_texel_across(t_6, face_2, ic, j_3, level_5);
         vec4 _e43 = texelFetch(t_6, ivec3(ivec2(ic, jc), int(face_2)), level_5);
-        vec3 c_16 = _e43.xyz;
-        return (((_e39 + _e40) + c_16) / vec3(3.0));
+        vec3 c_18 = _e43.xyz;
+        return (((_e39 + _e40) + c_18) / vec3(3.0));
     }
     if (!(iout)) {
-        local_23 = jout;
+        local_24 = jout;
     } else {
-        local_23 = true;
+        local_24 = true;
     }
-    bool _e54 = local_23;
+    bool _e54 = local_24;
     if (_e54) {
         vec3 _e55 = envmap_cube_texel_across(t_6, face_2, i_6, j_3, level_5);
         return _e55;
@@ -1155,14 +1197,14 @@ vec3 envmap_cube_texel(highp sampler2DArray t_6, uint face_2, int i_6, int j_3, 
     return _e58.xyz;
 }
 
-vec3 envmap_cube_bilinear(highp sampler2DArray t_7, EnvmapChartUv c_13, int level_6) {
+vec3 envmap_cube_bilinear(highp sampler2DArray t_7, EnvmapChartUv c_15, int level_6) {
     ivec2 size_9 = ivec2(uvec2(textureSize(t_7, level_6).xy));
-    EnvmapFootprint _e8 = envmap_bilinear_footprint(c_13.uv.x, size_9.x);
-    EnvmapFootprint _e12 = envmap_bilinear_footprint(c_13.uv.y, size_9.y);
-    vec3 _e16 = envmap_cube_texel(t_7, c_13.chart, _e8.first, _e12.first, level_6);
-    vec3 _e20 = envmap_cube_texel(t_7, c_13.chart, _e8.second, _e12.first, level_6);
-    vec3 _e24 = envmap_cube_texel(t_7, c_13.chart, _e8.first, _e12.second, level_6);
-    vec3 _e28 = envmap_cube_texel(t_7, c_13.chart, _e8.second, _e12.second, level_6);
+    EnvmapFootprint _e8 = envmap_bilinear_footprint(c_15.uv.x, size_9.x);
+    EnvmapFootprint _e12 = envmap_bilinear_footprint(c_15.uv.y, size_9.y);
+    vec3 _e16 = envmap_cube_texel(t_7, c_15.chart, _e8.first, _e12.first, level_6);
+    vec3 _e20 = envmap_cube_texel(t_7, c_15.chart, _e8.second, _e12.first, level_6);
+    vec3 _e24 = envmap_cube_texel(t_7, c_15.chart, _e8.first, _e12.second, level_6);
+    vec3 _e28 = envmap_cube_texel(t_7, c_15.chart, _e8.second, _e12.second, level_6);
     vec3 _e31 = envmap_blend(_e16, _e20, _e24, _e28, _e8.f, _e12.f);
     return _e31;
 }
@@ -1176,8 +1218,8 @@ EnvmapLevels envmap_levels(float lod, int levels_3) {
     return EnvmapLevels(k_4, (l - float(k_4)));
 }
 
-vec3 envmap_latlong_chain(highp sampler2D t_8, int levels_4, vec3 dir_10, float lod_1) {
-    EnvmapChartUv _e4 = envmap_latlong_forward(dir_10);
+vec3 envmap_latlong_chain(highp sampler2D t_8, int levels_4, vec3 dir_11, float lod_1) {
+    EnvmapChartUv _e4 = envmap_latlong_forward(dir_11);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return vec3(0.0);
     }
@@ -1190,8 +1232,8 @@ vec3 envmap_latlong_chain(highp sampler2D t_8, int levels_4, vec3 dir_10, float 
     return _e13;
 }
 
-vec3 envmap_octahedral_chain(highp sampler2D t_9, int levels_5, vec3 dir_11, float lod_2) {
-    EnvmapChartUv _e4 = envmap_octahedral_forward(dir_11);
+vec3 envmap_octahedral_chain(highp sampler2D t_9, int levels_5, vec3 dir_12, float lod_2) {
+    EnvmapChartUv _e4 = envmap_octahedral_forward(dir_12);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return vec3(0.0);
     }
@@ -1204,8 +1246,8 @@ vec3 envmap_octahedral_chain(highp sampler2D t_9, int levels_5, vec3 dir_11, flo
     return _e13;
 }
 
-vec3 envmap_equal_area_octahedral_chain(highp sampler2D t_10, int levels_6, vec3 dir_12, float lod_3) {
-    EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_12);
+vec3 envmap_equal_area_octahedral_chain(highp sampler2D t_10, int levels_6, vec3 dir_13, float lod_3) {
+    EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_13);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return vec3(0.0);
     }
@@ -1218,8 +1260,8 @@ vec3 envmap_equal_area_octahedral_chain(highp sampler2D t_10, int levels_6, vec3
     return _e13;
 }
 
-vec3 envmap_cube_chain(highp sampler2DArray t_11, int levels_7, vec3 dir_13, float lod_4) {
-    EnvmapChartUv _e4 = envmap_cube_forward(dir_13);
+vec3 envmap_cube_chain(highp sampler2DArray t_11, int levels_7, vec3 dir_14, float lod_4) {
+    EnvmapChartUv _e4 = envmap_cube_forward(dir_14);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return vec3(0.0);
     }
@@ -1241,9 +1283,9 @@ float envmap_latlong_lod(float angle, float height) {
     return max(log2(((angle * height) / ENVMAP_PI)), 0.0);
 }
 
-float envmap_octahedral_lod(vec3 dir_14, float angle_1, float size) {
-    vec3 a_9 = abs(dir_14);
-    float p_3 = (length(dir_14) / ((a_9.x + a_9.y) + a_9.z));
+float envmap_octahedral_lod(vec3 dir_15, float angle_1, float size) {
+    vec3 a_9 = abs(dir_15);
+    float p_3 = (length(dir_15) / ((a_9.x + a_9.y) + a_9.z));
     float texel = (2.0 / ((size * p_3) * sqrt(p_3)));
     return max(log2((angle_1 / texel)), 0.0);
 }
@@ -1252,20 +1294,20 @@ float envmap_equal_area_octahedral_lod(float angle_2, float size_1) {
     return max(log2(((angle_2 * size_1) / 3.5449078)), 0.0);
 }
 
-vec4 envmap_latlong_sample_level(highp sampler2D t_12, vec3 dir_15, float lod_5) {
-    EnvmapChartUv _e4 = envmap_latlong_forward(dir_15);
+vec4 envmap_latlong_sample_level(highp sampler2D t_12, vec3 dir_16, float lod_5) {
+    EnvmapChartUv _e4 = envmap_latlong_forward(dir_16);
     vec4 _e6 = textureLod(t_12, vec2(_e4.uv), lod_5);
     return _e6;
 }
 
-vec4 envmap_octahedral_sample_level(highp sampler2D t_13, vec3 dir_16, float lod_6) {
-    EnvmapChartUv _e4 = envmap_octahedral_forward(dir_16);
+vec4 envmap_octahedral_sample_level(highp sampler2D t_13, vec3 dir_17, float lod_6) {
+    EnvmapChartUv _e4 = envmap_octahedral_forward(dir_17);
     vec4 _e6 = textureLod(t_13, vec2(_e4.uv), lod_6);
     return _e6;
 }
 
-vec4 envmap_equal_area_octahedral_sample_level(highp sampler2D t_14, vec3 dir_17, float lod_7) {
-    EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_17);
+vec4 envmap_equal_area_octahedral_sample_level(highp sampler2D t_14, vec3 dir_18, float lod_7) {
+    EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_18);
     vec4 _e6 = textureLod(t_14, vec2(_e4.uv), lod_7);
     return _e6;
 }

@@ -1,4 +1,4 @@
-// envmap shaders, HLSL (shader model 5.0): envmap (from common.wgsl, frame.wgsl, latlong.wgsl, cube.wgsl, sphere_map.wgsl, dual_paraboloid.wgsl, angular.wgsl, tennisball.wgsl, octahedral.wgsl, lighting.wgsl).
+// envmap shaders, HLSL (shader model 5.0): envmap (from common.wgsl, frame.wgsl, latlong.wgsl, cube.wgsl, eac.wgsl, sphere_map.wgsl, dual_paraboloid.wgsl, angular.wgsl, tennisball.wgsl, octahedral.wgsl, lighting.wgsl).
 // Written by naga 29.0.4 from the WGSL in envmap-core/shaders/ (the source, with every
 // formula, source and comment): do not edit; after changing the WGSL run
 // ENVMAP_BLESS_SHADERS=1 cargo test --release -p envmap-tests --test shader_sources
@@ -161,23 +161,23 @@ float envmap_atan_unit(float z)
 {
     float p = 0.0029193612;
 
-    float u_4 = (z * z);
+    float u_5 = (z * z);
     float _e4 = p;
-    p = ((_e4 * u_4) - 0.016363012);
+    p = ((_e4 * u_5) - 0.016363012);
     float _e8 = p;
-    p = ((_e8 * u_4) + 0.04320454);
+    p = ((_e8 * u_5) + 0.04320454);
     float _e12 = p;
-    p = ((_e12 * u_4) - 0.075516514);
+    p = ((_e12 * u_5) - 0.075516514);
     float _e16 = p;
-    p = ((_e16 * u_4) + 0.10665768);
+    p = ((_e16 * u_5) + 0.10665768);
     float _e20 = p;
-    p = ((_e20 * u_4) - 0.14211002);
+    p = ((_e20 * u_5) - 0.14211002);
     float _e24 = p;
-    p = ((_e24 * u_4) + 0.19993767);
+    p = ((_e24 * u_5) + 0.19993767);
     float _e28 = p;
-    p = ((_e28 * u_4) - 0.33333153);
+    p = ((_e28 * u_5) - 0.33333153);
     float _e32 = p;
-    return (z + (z * (u_4 * _e32)));
+    return (z + (z * (u_5 * _e32)));
 }
 
 float envmap_atan2f(float y, float x_4)
@@ -411,15 +411,66 @@ EnvmapDirection envmap_cube_inverse(EnvmapChartUv c_1)
     return envmapdirection_8;
 }
 
-EnvmapChartUv envmap_sphere_map_forward_sigma(float3 dir_2, float sigma)
+float envmap_eac_atan(float c_2)
 {
-    float one_plus_w = (float)0;
+    const float _e2 = envmap_atan_unit(abs(c_2));
+    const float _e3 = envmap_copysign(_e2, c_2);
+    return _e3;
+}
 
-    const EnvmapDirection _e2 = envmap_normalize_direction(dir_2);
-    if (!(_e2.valid)) {
+float envmap_eac_angle(float u_1)
+{
+    return (ENVMAP_QUARTER_PI * ((2.0 * u_1) - 1.0));
+}
+
+EnvmapChartUv envmap_eac_forward(float3 dir_2)
+{
+    const EnvmapCubeFace _e1 = envmap_cube_select_face(dir_2);
+    if ((_e1.face == ENVMAP_INVALID_CHART)) {
         const EnvmapChartUv _e5 = envmap_invalid_chart_uv();
         const EnvmapChartUv envmapchartuv_5 = _e5;
         return envmapchartuv_5;
+    }
+    const float _e10 = envmap_eac_atan((_e1.sc / _e1.ma));
+    const float _e14 = envmap_clamp_unit((0.5 + (ENVMAP_TWO_OVER_PI * _e10)));
+    const float _e19 = envmap_eac_atan((_e1.tc / _e1.ma));
+    const float _e23 = envmap_clamp_unit((0.5 + (ENVMAP_TWO_OVER_PI * _e19)));
+    const EnvmapChartUv envmapchartuv_6 = ConstructEnvmapChartUv(_e1.face, float2(_e14, _e23));
+    return envmapchartuv_6;
+}
+
+EnvmapDirection envmap_eac_inverse(EnvmapChartUv c_3)
+{
+    bool local_5 = (bool)0;
+
+    if (!((c_3.chart > 5u))) {
+        const bool _e8 = envmap_in_unit_square(c_3.uv);
+        local_5 = !(_e8);
+    } else {
+        local_5 = true;
+    }
+    bool _e11 = local_5;
+    if (_e11) {
+        const EnvmapDirection _e12 = envmap_invalid_direction();
+        const EnvmapDirection envmapdirection_9 = _e12;
+        return envmapdirection_9;
+    }
+    const float _e16 = envmap_eac_angle(c_3.uv.x);
+    const float _e20 = envmap_eac_angle(c_3.uv.y);
+    const float3 _e22 = envmap_cube_face_direction(c_3.chart, tan(_e16), tan(_e20));
+    const EnvmapDirection envmapdirection_10 = ConstructEnvmapDirection((_e22 / (sqrt(dot(_e22, _e22))).xxx), true);
+    return envmapdirection_10;
+}
+
+EnvmapChartUv envmap_sphere_map_forward_sigma(float3 dir_3, float sigma)
+{
+    float one_plus_w = (float)0;
+
+    const EnvmapDirection _e2 = envmap_normalize_direction(dir_3);
+    if (!(_e2.valid)) {
+        const EnvmapChartUv _e5 = envmap_invalid_chart_uv();
+        const EnvmapChartUv envmapchartuv_7 = _e5;
+        return envmapchartuv_7;
     }
     float3 r_3 = _e2.dir;
     float w = (sigma * r_3.z);
@@ -431,8 +482,8 @@ EnvmapChartUv envmap_sphere_map_forward_sigma(float3 dir_2, float sigma)
     float _e29 = one_plus_w;
     float s_9 = max(max(abs(r_3.x), abs(r_3.y)), _e29);
     if ((s_9 == 0.0)) {
-        const EnvmapChartUv envmapchartuv_6 = ConstructEnvmapChartUv(0u, float2(1.0, 0.5));
-        return envmapchartuv_6;
+        const EnvmapChartUv envmapchartuv_8 = ConstructEnvmapChartUv(0u, float2(1.0, 0.5));
+        return envmapchartuv_8;
     }
     float x_6 = (r_3.x / s_9);
     float y_2 = (r_3.y / s_9);
@@ -441,61 +492,61 @@ EnvmapChartUv envmap_sphere_map_forward_sigma(float3 dir_2, float sigma)
     float m_2 = sqrt((((x_6 * x_6) + (y_2 * y_2)) + (h * h)));
     const float _e55 = envmap_clamp_unit(((0.5 * (x_6 / m_2)) + 0.5));
     const float _e61 = envmap_clamp_unit(((0.5 * (y_2 / m_2)) + 0.5));
-    const EnvmapChartUv envmapchartuv_7 = ConstructEnvmapChartUv(0u, float2(_e55, _e61));
-    return envmapchartuv_7;
-}
-
-EnvmapDirection envmap_sphere_map_inverse_sigma(EnvmapChartUv c_2, float sigma_1)
-{
-    bool local_5 = (bool)0;
-
-    if (!((c_2.chart != 0u))) {
-        const bool _e9 = envmap_in_unit_disk(c_2.uv);
-        local_5 = !(_e9);
-    } else {
-        local_5 = true;
-    }
-    bool _e12 = local_5;
-    if (_e12) {
-        const EnvmapDirection _e13 = envmap_invalid_direction();
-        const EnvmapDirection envmapdirection_9 = _e13;
-        return envmapdirection_9;
-    }
-    float x_7 = ((2.0 * c_2.uv.x) - 1.0);
-    float y_3 = ((2.0 * c_2.uv.y) - 1.0);
-    float r2_ = ((x_7 * x_7) + (y_3 * y_3));
-    float nz = sqrt(max((1.0 - r2_), 0.0));
-    float3 d_9 = float3(((2.0 * x_7) * nz), ((2.0 * y_3) * nz), (sigma_1 * (1.0 - (2.0 * r2_))));
-    const EnvmapDirection envmapdirection_10 = ConstructEnvmapDirection((d_9 / (sqrt(dot(d_9, d_9))).xxx), true);
-    return envmapdirection_10;
-}
-
-EnvmapChartUv envmap_sphere_map_forward(float3 dir_3)
-{
-    const EnvmapChartUv _e2 = envmap_sphere_map_forward_sigma(dir_3, -1.0);
-    const EnvmapChartUv envmapchartuv_8 = _e2;
-    return envmapchartuv_8;
-}
-
-EnvmapDirection envmap_sphere_map_inverse(EnvmapChartUv c_3)
-{
-    const EnvmapDirection _e2 = envmap_sphere_map_inverse_sigma(c_3, -1.0);
-    const EnvmapDirection envmapdirection_11 = _e2;
-    return envmapdirection_11;
-}
-
-EnvmapChartUv envmap_sphere_map_gl_forward(float3 dir_4)
-{
-    const EnvmapChartUv _e2 = envmap_sphere_map_forward_sigma(dir_4, 1.0);
-    const EnvmapChartUv envmapchartuv_9 = _e2;
+    const EnvmapChartUv envmapchartuv_9 = ConstructEnvmapChartUv(0u, float2(_e55, _e61));
     return envmapchartuv_9;
 }
 
-EnvmapDirection envmap_sphere_map_gl_inverse(EnvmapChartUv c_4)
+EnvmapDirection envmap_sphere_map_inverse_sigma(EnvmapChartUv c_4, float sigma_1)
 {
-    const EnvmapDirection _e2 = envmap_sphere_map_inverse_sigma(c_4, 1.0);
-    const EnvmapDirection envmapdirection_12 = _e2;
+    bool local_6 = (bool)0;
+
+    if (!((c_4.chart != 0u))) {
+        const bool _e9 = envmap_in_unit_disk(c_4.uv);
+        local_6 = !(_e9);
+    } else {
+        local_6 = true;
+    }
+    bool _e12 = local_6;
+    if (_e12) {
+        const EnvmapDirection _e13 = envmap_invalid_direction();
+        const EnvmapDirection envmapdirection_11 = _e13;
+        return envmapdirection_11;
+    }
+    float x_7 = ((2.0 * c_4.uv.x) - 1.0);
+    float y_3 = ((2.0 * c_4.uv.y) - 1.0);
+    float r2_ = ((x_7 * x_7) + (y_3 * y_3));
+    float nz = sqrt(max((1.0 - r2_), 0.0));
+    float3 d_9 = float3(((2.0 * x_7) * nz), ((2.0 * y_3) * nz), (sigma_1 * (1.0 - (2.0 * r2_))));
+    const EnvmapDirection envmapdirection_12 = ConstructEnvmapDirection((d_9 / (sqrt(dot(d_9, d_9))).xxx), true);
     return envmapdirection_12;
+}
+
+EnvmapChartUv envmap_sphere_map_forward(float3 dir_4)
+{
+    const EnvmapChartUv _e2 = envmap_sphere_map_forward_sigma(dir_4, -1.0);
+    const EnvmapChartUv envmapchartuv_10 = _e2;
+    return envmapchartuv_10;
+}
+
+EnvmapDirection envmap_sphere_map_inverse(EnvmapChartUv c_5)
+{
+    const EnvmapDirection _e2 = envmap_sphere_map_inverse_sigma(c_5, -1.0);
+    const EnvmapDirection envmapdirection_13 = _e2;
+    return envmapdirection_13;
+}
+
+EnvmapChartUv envmap_sphere_map_gl_forward(float3 dir_5)
+{
+    const EnvmapChartUv _e2 = envmap_sphere_map_forward_sigma(dir_5, 1.0);
+    const EnvmapChartUv envmapchartuv_11 = _e2;
+    return envmapchartuv_11;
+}
+
+EnvmapDirection envmap_sphere_map_gl_inverse(EnvmapChartUv c_6)
+{
+    const EnvmapDirection _e2 = envmap_sphere_map_inverse_sigma(c_6, 1.0);
+    const EnvmapDirection envmapdirection_14 = _e2;
+    return envmapdirection_14;
 }
 
 EnvmapChartUv envmap_sphere_map_uv_from_normal(float3 n)
@@ -503,79 +554,79 @@ EnvmapChartUv envmap_sphere_map_uv_from_normal(float3 n)
     const EnvmapDirection _e1 = envmap_normalize_direction(n);
     if (!(_e1.valid)) {
         const EnvmapChartUv _e4 = envmap_invalid_chart_uv();
-        const EnvmapChartUv envmapchartuv_10 = _e4;
-        return envmapchartuv_10;
-    }
-    const float _e12 = envmap_clamp_unit(((0.5 * _e1.dir.x) + 0.5));
-    const float _e19 = envmap_clamp_unit(((0.5 * _e1.dir.y) + 0.5));
-    const EnvmapChartUv envmapchartuv_11 = ConstructEnvmapChartUv(0u, float2(_e12, _e19));
-    return envmapchartuv_11;
-}
-
-EnvmapChartUv envmap_dual_paraboloid_forward(float3 dir_5)
-{
-    const EnvmapDirection _e1 = envmap_normalize_direction(dir_5);
-    if (!(_e1.valid)) {
-        const EnvmapChartUv _e4 = envmap_invalid_chart_uv();
         const EnvmapChartUv envmapchartuv_12 = _e4;
         return envmapchartuv_12;
     }
-    float3 r_4 = _e1.dir;
-    const bool _e7 = envmap_sign_bit(dir_5.z);
-    float den_1 = (1.0 + abs(r_4.z));
-    const float _e18 = envmap_clamp_unit(((0.5 * (r_4.x / den_1)) + 0.5));
-    const float _e25 = envmap_clamp_unit(((0.5 * (r_4.y / den_1)) + 0.5));
-    const EnvmapChartUv envmapchartuv_13 = ConstructEnvmapChartUv((_e7 ? 1u : 0u), float2(_e18, _e25));
+    const float _e12 = envmap_clamp_unit(((0.5 * _e1.dir.x) + 0.5));
+    const float _e19 = envmap_clamp_unit(((0.5 * _e1.dir.y) + 0.5));
+    const EnvmapChartUv envmapchartuv_13 = ConstructEnvmapChartUv(0u, float2(_e12, _e19));
     return envmapchartuv_13;
 }
 
-EnvmapDirection envmap_dual_paraboloid_inverse(EnvmapChartUv c_5)
+EnvmapChartUv envmap_dual_paraboloid_forward(float3 dir_6)
 {
-    bool local_6 = (bool)0;
-    float z_2 = (float)0;
-
-    if (!((c_5.chart > 1u))) {
-        const bool _e8 = envmap_in_unit_disk(c_5.uv);
-        local_6 = !(_e8);
-    } else {
-        local_6 = true;
-    }
-    bool _e11 = local_6;
-    if (_e11) {
-        const EnvmapDirection _e12 = envmap_invalid_direction();
-        const EnvmapDirection envmapdirection_13 = _e12;
-        return envmapdirection_13;
-    }
-    float x_8 = ((2.0 * c_5.uv.x) - 1.0);
-    float y_4 = ((2.0 * c_5.uv.y) - 1.0);
-    float r2_1 = ((x_8 * x_8) + (y_4 * y_4));
-    z_2 = max((1.0 - r2_1), 0.0);
-    if ((c_5.chart == 1u)) {
-        float _e36 = z_2;
-        z_2 = -(_e36);
-    }
-    float _e42 = z_2;
-    float3 d_10 = (float3((2.0 * x_8), (2.0 * y_4), _e42) / ((1.0 + r2_1)).xxx);
-    const EnvmapDirection envmapdirection_14 = ConstructEnvmapDirection((d_10 / (sqrt(dot(d_10, d_10))).xxx), true);
-    return envmapdirection_14;
-}
-
-EnvmapChartUv envmap_angular_forward(float3 dir_6)
-{
-    float px = 1.0;
-    float py = 0.0;
-
     const EnvmapDirection _e1 = envmap_normalize_direction(dir_6);
     if (!(_e1.valid)) {
         const EnvmapChartUv _e4 = envmap_invalid_chart_uv();
         const EnvmapChartUv envmapchartuv_14 = _e4;
         return envmapchartuv_14;
     }
+    float3 r_4 = _e1.dir;
+    const bool _e7 = envmap_sign_bit(dir_6.z);
+    float den_1 = (1.0 + abs(r_4.z));
+    const float _e18 = envmap_clamp_unit(((0.5 * (r_4.x / den_1)) + 0.5));
+    const float _e25 = envmap_clamp_unit(((0.5 * (r_4.y / den_1)) + 0.5));
+    const EnvmapChartUv envmapchartuv_15 = ConstructEnvmapChartUv((_e7 ? 1u : 0u), float2(_e18, _e25));
+    return envmapchartuv_15;
+}
+
+EnvmapDirection envmap_dual_paraboloid_inverse(EnvmapChartUv c_7)
+{
+    bool local_7 = (bool)0;
+    float z_2 = (float)0;
+
+    if (!((c_7.chart > 1u))) {
+        const bool _e8 = envmap_in_unit_disk(c_7.uv);
+        local_7 = !(_e8);
+    } else {
+        local_7 = true;
+    }
+    bool _e11 = local_7;
+    if (_e11) {
+        const EnvmapDirection _e12 = envmap_invalid_direction();
+        const EnvmapDirection envmapdirection_15 = _e12;
+        return envmapdirection_15;
+    }
+    float x_8 = ((2.0 * c_7.uv.x) - 1.0);
+    float y_4 = ((2.0 * c_7.uv.y) - 1.0);
+    float r2_1 = ((x_8 * x_8) + (y_4 * y_4));
+    z_2 = max((1.0 - r2_1), 0.0);
+    if ((c_7.chart == 1u)) {
+        float _e36 = z_2;
+        z_2 = -(_e36);
+    }
+    float _e42 = z_2;
+    float3 d_10 = (float3((2.0 * x_8), (2.0 * y_4), _e42) / ((1.0 + r2_1)).xxx);
+    const EnvmapDirection envmapdirection_16 = ConstructEnvmapDirection((d_10 / (sqrt(dot(d_10, d_10))).xxx), true);
+    return envmapdirection_16;
+}
+
+EnvmapChartUv envmap_angular_forward(float3 dir_7)
+{
+    float px = 1.0;
+    float py = 0.0;
+
+    const EnvmapDirection _e1 = envmap_normalize_direction(dir_7);
+    if (!(_e1.valid)) {
+        const EnvmapChartUv _e4 = envmap_invalid_chart_uv();
+        const EnvmapChartUv envmapchartuv_16 = _e4;
+        return envmapchartuv_16;
+    }
     float3 r_5 = _e1.dir;
-    float a_5 = max(abs(dir_6.x), abs(dir_6.y));
+    float a_5 = max(abs(dir_7.x), abs(dir_7.y));
     if ((a_5 != 0.0)) {
-        px = (dir_6.x / a_5);
-        py = (dir_6.y / a_5);
+        px = (dir_7.x / a_5);
+        py = (dir_7.y / a_5);
     }
     float _e21 = px;
     float _e22 = px;
@@ -590,31 +641,31 @@ EnvmapChartUv envmap_angular_forward(float3 dir_6)
     const float _e48 = envmap_clamp_unit(((0.5 * (k_1 * _e42)) + 0.5));
     float _e49 = py;
     const float _e55 = envmap_clamp_unit(((0.5 * (k_1 * _e49)) + 0.5));
-    const EnvmapChartUv envmapchartuv_15 = ConstructEnvmapChartUv(0u, float2(_e48, _e55));
-    return envmapchartuv_15;
+    const EnvmapChartUv envmapchartuv_17 = ConstructEnvmapChartUv(0u, float2(_e48, _e55));
+    return envmapchartuv_17;
 }
 
-EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_6)
+EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_8)
 {
-    bool local_7 = (bool)0;
+    bool local_8 = (bool)0;
     float s_1 = (float)0;
     float co = (float)0;
     float k = ENVMAP_PI;
 
-    if (!((c_6.chart != 0u))) {
-        const bool _e8 = envmap_in_unit_disk(c_6.uv);
-        local_7 = !(_e8);
+    if (!((c_8.chart != 0u))) {
+        const bool _e8 = envmap_in_unit_disk(c_8.uv);
+        local_8 = !(_e8);
     } else {
-        local_7 = true;
+        local_8 = true;
     }
-    bool _e11 = local_7;
+    bool _e11 = local_8;
     if (_e11) {
         const EnvmapDirection _e12 = envmap_invalid_direction();
-        const EnvmapDirection envmapdirection_15 = _e12;
-        return envmapdirection_15;
+        const EnvmapDirection envmapdirection_17 = _e12;
+        return envmapdirection_17;
     }
-    float x_9 = ((2.0 * c_6.uv.x) - 1.0);
-    float y_5 = ((2.0 * c_6.uv.y) - 1.0);
+    float x_9 = ((2.0 * c_8.uv.x) - 1.0);
+    float y_5 = ((2.0 * c_8.uv.y) - 1.0);
     float rho_2 = min(sqrt(((x_9 * x_9) + (y_5 * y_5))), 1.0);
     if ((rho_2 <= 0.5)) {
         s_1 = sin((ENVMAP_PI * rho_2));
@@ -632,64 +683,64 @@ EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_6)
     float _e56 = k;
     float _e58 = co;
     float3 d_11 = float3((_e54 * x_9), (_e56 * y_5), _e58);
-    const EnvmapDirection envmapdirection_16 = ConstructEnvmapDirection((d_11 / (sqrt(dot(d_11, d_11))).xxx), true);
-    return envmapdirection_16;
+    const EnvmapDirection envmapdirection_18 = ConstructEnvmapDirection((d_11 / (sqrt(dot(d_11, d_11))).xxx), true);
+    return envmapdirection_18;
 }
 
-bool envmap_tennisball_selects_first_chart(float a_1, float b, float c_7)
+bool envmap_tennisball_selects_first_chart(float a_1, float b, float c_9)
 {
-    bool local_8 = (bool)0;
     bool local_9 = (bool)0;
     bool local_10 = (bool)0;
+    bool local_11 = (bool)0;
 
-    if ((c_7 >= 0.0)) {
-        local_8 = (abs(b) <= ENVMAP_SQRT_HALF);
+    if ((c_9 >= 0.0)) {
+        local_9 = (abs(b) <= ENVMAP_SQRT_HALF);
     } else {
-        local_8 = false;
+        local_9 = false;
     }
-    bool _e11 = local_8;
+    bool _e11 = local_9;
     if (!(_e11)) {
-        if ((c_7 <= 0.0)) {
-            local_10 = (abs(a_1) >= ENVMAP_SQRT_HALF);
+        if ((c_9 <= 0.0)) {
+            local_11 = (abs(a_1) >= ENVMAP_SQRT_HALF);
         } else {
-            local_10 = false;
+            local_11 = false;
         }
-        bool _e23 = local_10;
-        local_9 = _e23;
+        bool _e23 = local_11;
+        local_10 = _e23;
     } else {
-        local_9 = true;
+        local_10 = true;
     }
-    bool _e25 = local_9;
+    bool _e25 = local_10;
     return _e25;
 }
 
-EnvmapChartUv envmap_tennisball_forward(float3 dir_7)
+EnvmapChartUv envmap_tennisball_forward(float3 dir_8)
 {
     uint chart = (uint)0;
     float theta = (float)0;
     float phi_1 = (float)0;
 
-    const EnvmapDirection _e1 = envmap_normalize_direction(dir_7);
+    const EnvmapDirection _e1 = envmap_normalize_direction(dir_8);
     if (!(_e1.valid)) {
         const EnvmapChartUv _e4 = envmap_invalid_chart_uv();
-        const EnvmapChartUv envmapchartuv_16 = _e4;
-        return envmapchartuv_16;
+        const EnvmapChartUv envmapchartuv_18 = _e4;
+        return envmapchartuv_18;
     }
     float a_6 = _e1.dir.x;
     float b_3 = _e1.dir.y;
-    float c_14 = _e1.dir.z;
-    const bool _e14 = envmap_tennisball_selects_first_chart(a_6, b_3, c_14);
+    float c_16 = _e1.dir.z;
+    const bool _e14 = envmap_tennisball_selects_first_chart(a_6, b_3, c_16);
     if (_e14) {
         chart = 0u;
-        const float _e20 = envmap_atan2f(b_3, sqrt(((a_6 * a_6) + (c_14 * c_14))));
+        const float _e20 = envmap_atan2f(b_3, sqrt(((a_6 * a_6) + (c_16 * c_16))));
         theta = _e20;
-        const float _e21 = envmap_atan2f(a_6, c_14);
+        const float _e21 = envmap_atan2f(a_6, c_16);
         phi_1 = _e21;
     } else {
         chart = 1u;
-        const float _e27 = envmap_atan2f(a_6, sqrt(((b_3 * b_3) + (c_14 * c_14))));
+        const float _e27 = envmap_atan2f(a_6, sqrt(((b_3 * b_3) + (c_16 * c_16))));
         theta = _e27;
-        const float _e29 = envmap_atan2f(b_3, -(c_14));
+        const float _e29 = envmap_atan2f(b_3, -(c_16));
         phi_1 = _e29;
     }
     float _e32 = theta;
@@ -701,77 +752,16 @@ EnvmapChartUv envmap_tennisball_forward(float3 dir_7)
     float _e44 = theta;
     const float _e49 = envmap_clamp_unit((0.5 - (_e44 / ENVMAP_HALF_PI)));
     uint _e50 = chart;
-    const EnvmapChartUv envmapchartuv_17 = ConstructEnvmapChartUv(_e50, float2(_e43, _e49));
-    return envmapchartuv_17;
+    const EnvmapChartUv envmapchartuv_19 = ConstructEnvmapChartUv(_e50, float2(_e43, _e49));
+    return envmapchartuv_19;
 }
 
-EnvmapDirection envmap_tennisball_inverse(EnvmapChartUv c_8)
-{
-    bool local_11 = (bool)0;
-
-    if (!((c_8.chart > 1u))) {
-        const bool _e8 = envmap_in_unit_square(c_8.uv);
-        local_11 = !(_e8);
-    } else {
-        local_11 = true;
-    }
-    bool _e11 = local_11;
-    if (_e11) {
-        const EnvmapDirection _e12 = envmap_invalid_direction();
-        const EnvmapDirection envmapdirection_17 = _e12;
-        return envmapdirection_17;
-    }
-    float phi_4 = ((c_8.uv.x - 0.5) * 4.712389);
-    float theta_2 = ((0.5 - c_8.uv.y) * ENVMAP_HALF_PI);
-    float sp = sin(phi_4);
-    float cp = cos(phi_4);
-    float st_1 = sin(theta_2);
-    float ct = cos(theta_2);
-    if ((c_8.chart == 0u)) {
-        const EnvmapDirection envmapdirection_18 = ConstructEnvmapDirection(float3((ct * sp), st_1, (ct * cp)), true);
-        return envmapdirection_18;
-    }
-    const EnvmapDirection envmapdirection_19 = ConstructEnvmapDirection(float3(st_1, (ct * sp), (-(ct) * cp)), true);
-    return envmapdirection_19;
-}
-
-EnvmapChartUv envmap_octahedral_to_uv(float x_5, float y_1)
-{
-    const float _e7 = envmap_clamp_unit(((0.5 * x_5) + 0.5));
-    const float _e12 = envmap_clamp_unit(((0.5 * y_1) + 0.5));
-    const EnvmapChartUv envmapchartuv_18 = ConstructEnvmapChartUv(0u, float2(_e7, _e12));
-    return envmapchartuv_18;
-}
-
-EnvmapChartUv envmap_octahedral_forward(float3 dir_8)
-{
-    const EnvmapDirection _e1 = envmap_normalize_direction(dir_8);
-    if (!(_e1.valid)) {
-        const EnvmapChartUv _e4 = envmap_invalid_chart_uv();
-        const EnvmapChartUv envmapchartuv_19 = _e4;
-        return envmapchartuv_19;
-    }
-    float3 d_12 = _e1.dir;
-    float3 p_2 = (d_12 / (((abs(d_12.x) + abs(d_12.y)) + abs(d_12.z))).xxx);
-    if ((p_2.z < 0.0)) {
-        const float _e24 = envmap_copysign((1.0 - abs(p_2.y)), dir_8.x);
-        const float _e30 = envmap_copysign((1.0 - abs(p_2.x)), dir_8.y);
-        const EnvmapChartUv _e31 = envmap_octahedral_to_uv(_e24, _e30);
-        const EnvmapChartUv envmapchartuv_20 = _e31;
-        return envmapchartuv_20;
-    }
-    const EnvmapChartUv _e34 = envmap_octahedral_to_uv(p_2.x, p_2.y);
-    const EnvmapChartUv envmapchartuv_21 = _e34;
-    return envmapchartuv_21;
-}
-
-EnvmapDirection envmap_octahedral_inverse(EnvmapChartUv c_9)
+EnvmapDirection envmap_tennisball_inverse(EnvmapChartUv c_10)
 {
     bool local_12 = (bool)0;
-    float3 d_5 = (float3)0;
 
-    if (!((c_9.chart != 0u))) {
-        const bool _e8 = envmap_in_unit_square(c_9.uv);
+    if (!((c_10.chart > 1u))) {
+        const bool _e8 = envmap_in_unit_square(c_10.uv);
         local_12 = !(_e8);
     } else {
         local_12 = true;
@@ -779,11 +769,72 @@ EnvmapDirection envmap_octahedral_inverse(EnvmapChartUv c_9)
     bool _e11 = local_12;
     if (_e11) {
         const EnvmapDirection _e12 = envmap_invalid_direction();
-        const EnvmapDirection envmapdirection_20 = _e12;
+        const EnvmapDirection envmapdirection_19 = _e12;
+        return envmapdirection_19;
+    }
+    float phi_4 = ((c_10.uv.x - 0.5) * 4.712389);
+    float theta_2 = ((0.5 - c_10.uv.y) * ENVMAP_HALF_PI);
+    float sp = sin(phi_4);
+    float cp = cos(phi_4);
+    float st_1 = sin(theta_2);
+    float ct = cos(theta_2);
+    if ((c_10.chart == 0u)) {
+        const EnvmapDirection envmapdirection_20 = ConstructEnvmapDirection(float3((ct * sp), st_1, (ct * cp)), true);
         return envmapdirection_20;
     }
-    float x_10 = ((2.0 * c_9.uv.x) - 1.0);
-    float y_6 = ((2.0 * c_9.uv.y) - 1.0);
+    const EnvmapDirection envmapdirection_21 = ConstructEnvmapDirection(float3(st_1, (ct * sp), (-(ct) * cp)), true);
+    return envmapdirection_21;
+}
+
+EnvmapChartUv envmap_octahedral_to_uv(float x_5, float y_1)
+{
+    const float _e7 = envmap_clamp_unit(((0.5 * x_5) + 0.5));
+    const float _e12 = envmap_clamp_unit(((0.5 * y_1) + 0.5));
+    const EnvmapChartUv envmapchartuv_20 = ConstructEnvmapChartUv(0u, float2(_e7, _e12));
+    return envmapchartuv_20;
+}
+
+EnvmapChartUv envmap_octahedral_forward(float3 dir_9)
+{
+    const EnvmapDirection _e1 = envmap_normalize_direction(dir_9);
+    if (!(_e1.valid)) {
+        const EnvmapChartUv _e4 = envmap_invalid_chart_uv();
+        const EnvmapChartUv envmapchartuv_21 = _e4;
+        return envmapchartuv_21;
+    }
+    float3 d_12 = _e1.dir;
+    float3 p_2 = (d_12 / (((abs(d_12.x) + abs(d_12.y)) + abs(d_12.z))).xxx);
+    if ((p_2.z < 0.0)) {
+        const float _e24 = envmap_copysign((1.0 - abs(p_2.y)), dir_9.x);
+        const float _e30 = envmap_copysign((1.0 - abs(p_2.x)), dir_9.y);
+        const EnvmapChartUv _e31 = envmap_octahedral_to_uv(_e24, _e30);
+        const EnvmapChartUv envmapchartuv_22 = _e31;
+        return envmapchartuv_22;
+    }
+    const EnvmapChartUv _e34 = envmap_octahedral_to_uv(p_2.x, p_2.y);
+    const EnvmapChartUv envmapchartuv_23 = _e34;
+    return envmapchartuv_23;
+}
+
+EnvmapDirection envmap_octahedral_inverse(EnvmapChartUv c_11)
+{
+    bool local_13 = (bool)0;
+    float3 d_5 = (float3)0;
+
+    if (!((c_11.chart != 0u))) {
+        const bool _e8 = envmap_in_unit_square(c_11.uv);
+        local_13 = !(_e8);
+    } else {
+        local_13 = true;
+    }
+    bool _e11 = local_13;
+    if (_e11) {
+        const EnvmapDirection _e12 = envmap_invalid_direction();
+        const EnvmapDirection envmapdirection_22 = _e12;
+        return envmapdirection_22;
+    }
+    float x_10 = ((2.0 * c_11.uv.x) - 1.0);
+    float y_6 = ((2.0 * c_11.uv.y) - 1.0);
     float z_3 = ((1.0 - abs(x_10)) - abs(y_6));
     d_5 = float3(x_10, y_6, z_3);
     if ((z_3 < 0.0)) {
@@ -794,21 +845,21 @@ EnvmapDirection envmap_octahedral_inverse(EnvmapChartUv c_9)
     float3 _e43 = d_5;
     float3 _e44 = d_5;
     float3 _e45 = d_5;
-    const EnvmapDirection envmapdirection_21 = ConstructEnvmapDirection((_e43 / (sqrt(dot(_e44, _e45))).xxx), true);
-    return envmapdirection_21;
+    const EnvmapDirection envmapdirection_23 = ConstructEnvmapDirection((_e43 / (sqrt(dot(_e44, _e45))).xxx), true);
+    return envmapdirection_23;
 }
 
-EnvmapChartUv envmap_equal_area_octahedral_forward(float3 dir_9)
+EnvmapChartUv envmap_equal_area_octahedral_forward(float3 dir_10)
 {
     float phi_2 = 0.0;
     float v = (float)0;
-    float u_1 = (float)0;
+    float u_2 = (float)0;
 
-    const EnvmapDirection _e1 = envmap_normalize_direction(dir_9);
+    const EnvmapDirection _e1 = envmap_normalize_direction(dir_10);
     if (!(_e1.valid)) {
         const EnvmapChartUv _e4 = envmap_invalid_chart_uv();
-        const EnvmapChartUv envmapchartuv_22 = _e4;
-        return envmapchartuv_22;
+        const EnvmapChartUv envmapchartuv_24 = _e4;
+        return envmapchartuv_24;
     }
     float3 d_13 = _e1.dir;
     float ax_2 = abs(d_13.x);
@@ -828,43 +879,43 @@ EnvmapChartUv envmap_equal_area_octahedral_forward(float3 dir_9)
     float _e33 = phi_2;
     v = (_e33 * r_6);
     float _e36 = v;
-    u_1 = (r_6 - _e36);
+    u_2 = (r_6 - _e36);
     if ((d_13.z < 0.0)) {
-        float u0_ = u_1;
+        float u0_ = u_2;
         float _e43 = v;
-        u_1 = (1.0 - _e43);
+        u_2 = (1.0 - _e43);
         v = (1.0 - u0_);
     }
-    float _e48 = u_1;
-    const float _e50 = envmap_copysign(_e48, dir_9.x);
+    float _e48 = u_2;
+    const float _e50 = envmap_copysign(_e48, dir_10.x);
     float _e51 = v;
-    const float _e53 = envmap_copysign(_e51, dir_9.y);
+    const float _e53 = envmap_copysign(_e51, dir_10.y);
     const EnvmapChartUv _e54 = envmap_octahedral_to_uv(_e50, _e53);
-    const EnvmapChartUv envmapchartuv_23 = _e54;
-    return envmapchartuv_23;
+    const EnvmapChartUv envmapchartuv_25 = _e54;
+    return envmapchartuv_25;
 }
 
-EnvmapDirection envmap_equal_area_octahedral_inverse(EnvmapChartUv c_10)
+EnvmapDirection envmap_equal_area_octahedral_inverse(EnvmapChartUv c_12)
 {
-    bool local_13 = (bool)0;
+    bool local_14 = (bool)0;
     float r_1 = (float)0;
     float phi_3 = ENVMAP_QUARTER_PI;
 
-    if (!((c_10.chart != 0u))) {
-        const bool _e8 = envmap_in_unit_square(c_10.uv);
-        local_13 = !(_e8);
+    if (!((c_12.chart != 0u))) {
+        const bool _e8 = envmap_in_unit_square(c_12.uv);
+        local_14 = !(_e8);
     } else {
-        local_13 = true;
+        local_14 = true;
     }
-    bool _e11 = local_13;
+    bool _e11 = local_14;
     if (_e11) {
         const EnvmapDirection _e12 = envmap_invalid_direction();
-        const EnvmapDirection envmapdirection_22 = _e12;
-        return envmapdirection_22;
+        const EnvmapDirection envmapdirection_24 = _e12;
+        return envmapdirection_24;
     }
-    float u_5 = ((2.0 * c_10.uv.x) - 1.0);
-    float v_3 = ((2.0 * c_10.uv.y) - 1.0);
-    float au = abs(u_5);
+    float u_6 = ((2.0 * c_12.uv.x) - 1.0);
+    float v_3 = ((2.0 * c_12.uv.y) - 1.0);
+    float au = abs(u_6);
     float av = abs(v_3);
     float sum = (au + av);
     float signed_distance = (1.0 - sum);
@@ -885,12 +936,12 @@ EnvmapDirection envmap_equal_area_octahedral_inverse(EnvmapChartUv c_10)
     float _e55 = r_1;
     float k_2 = (_e53 * sqrt(max((2.0 - (_e54 * _e55)), 0.0)));
     float _e63 = phi_3;
-    const float _e65 = envmap_copysign(cos(_e63), u_5);
+    const float _e65 = envmap_copysign(cos(_e63), u_6);
     float _e67 = phi_3;
     const float _e69 = envmap_copysign(sin(_e67), v_3);
     float3 d_14 = float3((_e65 * k_2), (_e69 * k_2), _e52);
-    const EnvmapDirection envmapdirection_23 = ConstructEnvmapDirection((d_14 / (sqrt(dot(d_14, d_14))).xxx), true);
-    return envmapdirection_23;
+    const EnvmapDirection envmapdirection_25 = ConstructEnvmapDirection((d_14 / (sqrt(dot(d_14, d_14))).xxx), true);
+    return envmapdirection_25;
 }
 
 typedef float ret_Constructarray9_float_[9];
@@ -912,7 +963,7 @@ ret_envmap_sh9_basis envmap_sh9_basis(float3 n_1)
     return Constructarray9_float_(ENVMAP_SH_Y00_CONSTANT, (ENVMAP_SH_Y1_CONSTANT * y_7), (ENVMAP_SH_Y1_CONSTANT * z_4), (ENVMAP_SH_Y1_CONSTANT * x_11), (ENVMAP_SH_Y2_CONSTANT * (x_11 * y_7)), (ENVMAP_SH_Y2_CONSTANT * (y_7 * z_4)), (ENVMAP_SH_Y20_CONSTANT * (((3.0 * z_4) * z_4) - 1.0)), (ENVMAP_SH_Y2_CONSTANT * (x_11 * z_4)), (ENVMAP_SH_Y22_CONSTANT * ((x_11 * x_11) - (y_7 * y_7))));
 }
 
-float3 envmap_sh9_eval(float3 c_11[9], float3 n_2)
+float3 envmap_sh9_eval(float3 c_13[9], float3 n_2)
 {
     float3 e = (0.0).xxx;
     uint i = 0u;
@@ -937,7 +988,7 @@ float3 envmap_sh9_eval(float3 c_11[9], float3 n_2)
             float3 _e11 = e;
             uint _e12 = i;
             uint _e14 = i;
-            e = (_e11 + (c_11[min(uint(_e12), 8u)] * _e2[min(uint(_e14), 8u)]));
+            e = (_e11 + (c_13[min(uint(_e12), 8u)] * _e2[min(uint(_e14), 8u)]));
         }
     }
     float3 _e21 = e;
@@ -1026,18 +1077,18 @@ float3 envmap_reflect_incident(float3 i_2, float3 n_7)
 
 float3 envmap_specular_dominant_direction(float3 n_8, float3 r_2, float roughness_3)
 {
-    bool local_14 = (bool)0;
+    bool local_15 = (bool)0;
 
     float a_7 = (roughness_3 * roughness_3);
     float3 d_15 = ((r_2 * (1.0 - a_7)) + (n_8 * a_7));
     float l2_ = dot(d_15, d_15);
     if ((l2_ > 0.0)) {
         const bool _e14 = envmap_all_finite(d_15);
-        local_14 = _e14;
+        local_15 = _e14;
     } else {
-        local_14 = false;
+        local_15 = false;
     }
-    bool _e16 = local_14;
+    bool _e16 = local_15;
     if (_e16) {
         return (d_15 * (1.0 / sqrt(l2_)));
     }
@@ -1069,16 +1120,16 @@ float3 envmap_diffuse_color(float3 base_color_1, float metallic_1)
 float3 envmap_split_sum_factor(float3 f0_, float2 dfg, bool multiscatter)
 {
     float3 s_2 = (float3)0;
-    bool local_15 = (bool)0;
+    bool local_16 = (bool)0;
 
     s_2 = ((f0_ * dfg.x) + (dfg.y).xxx);
     float albedo = (dfg.x + dfg.y);
     if (multiscatter) {
-        local_15 = (albedo > 0.0);
+        local_16 = (albedo > 0.0);
     } else {
-        local_15 = false;
+        local_16 = false;
     }
-    bool _e17 = local_15;
+    bool _e17 = local_16;
     if (_e17) {
         float3 _e18 = s_2;
         s_2 = (_e18 * ((1.0).xxx + (f0_ * ((1.0 / albedo) - 1.0))));
@@ -1090,15 +1141,15 @@ float3 envmap_split_sum_factor(float3 f0_, float2 dfg, bool multiscatter)
 float3 envmap_split_sum_factor_filament(float3 f0_1, float2 dfg_1, bool multiscatter_1)
 {
     float3 s_3 = (float3)0;
-    bool local_16 = (bool)0;
+    bool local_17 = (bool)0;
 
     s_3 = lerp((dfg_1.x).xxx, (dfg_1.y).xxx, f0_1);
     if (multiscatter_1) {
-        local_16 = (dfg_1.y > 0.0);
+        local_17 = (dfg_1.y > 0.0);
     } else {
-        local_16 = false;
+        local_17 = false;
     }
-    bool _e15 = local_16;
+    bool _e15 = local_17;
     if (_e15) {
         float3 _e16 = s_3;
         s_3 = (_e16 * ((1.0).xxx + (f0_1 * ((1.0 / dfg_1.y) - 1.0))));
@@ -1142,11 +1193,11 @@ float2 envmap_dfg_load(Texture2D<float4> t, float n_dot_v_1, float roughness_6)
     float4 _e39 = t.Load(int3(int2(i1_.x, i0_.y), int(0)));
     float2 b_4 = _e39.xy;
     float4 _e45 = t.Load(int3(int2(i0_.x, i1_.y), int(0)));
-    float2 c_15 = _e45.xy;
+    float2 c_17 = _e45.xy;
     float4 _e51 = t.Load(int3(int2(i1_.x, i1_.y), int(0)));
     float2 d_16 = _e51.xy;
     float2 top = (a_8 + (f.x * (b_4 - a_8)));
-    float2 bottom = (c_15 + (f.x * (d_16 - c_15)));
+    float2 bottom = (c_17 + (f.x * (d_16 - c_17)));
     return (top + (f.y * (bottom - top)));
 }
 
@@ -1162,17 +1213,17 @@ int naga_f2i32(float value) {
     return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
-EnvmapFootprint envmap_bilinear_footprint(float u_2, int n_10)
+EnvmapFootprint envmap_bilinear_footprint(float u_3, int n_10)
 {
-    float x_14 = clamp(((u_2 * float(n_10)) - 0.5), -0.5, (float(n_10) - 0.5));
+    float x_14 = clamp(((u_3 * float(n_10)) - 0.5), -0.5, (float(n_10) - 0.5));
     float t_17 = floor(x_14);
     const EnvmapFootprint envmapfootprint = ConstructEnvmapFootprint(naga_f2i32(t_17), asint(asuint(naga_f2i32(t_17)) + asuint(int(1))), (x_14 - t_17));
     return envmapfootprint;
 }
 
-float3 envmap_blend(float3 a_2, float3 b_1, float3 c_12, float3 d_6, float fx, float fy)
+float3 envmap_blend(float3 a_2, float3 b_1, float3 c_14, float3 d_6, float fx, float fy)
 {
-    float3 left = (((c_12 - a_2) * fy) + a_2);
+    float3 left = (((c_14 - a_2) * fy) + a_2);
     float3 right = (((d_6 - b_1) * fy) + b_1);
     return (((right - left) * fx) + left);
 }
@@ -1185,7 +1236,7 @@ float3 envmap_latlong_texel(Texture2D<float4> t_1, int i_3, int j, int level)
 {
     int ii = (int)0;
     int jj = (int)0;
-    bool local_17 = (bool)0;
+    bool local_18 = (bool)0;
 
     int2 size_3 = int2(NagaMipDimensions2D(t_1, level));
     ii = i_3;
@@ -1193,11 +1244,11 @@ float3 envmap_latlong_texel(Texture2D<float4> t_1, int i_3, int j, int level)
     int _e8 = jj;
     if (!((_e8 < int(0)))) {
         int _e14 = jj;
-        local_17 = (_e14 >= size_3.y);
+        local_18 = (_e14 >= size_3.y);
     } else {
-        local_17 = true;
+        local_18 = true;
     }
-    bool _e18 = local_17;
+    bool _e18 = local_18;
     if (_e18) {
         int _e24 = jj;
         int _e26 = jj;
@@ -1241,8 +1292,8 @@ float3 envmap_octahedral_texel(Texture2D<float4> t_3, int i_4, int j_1, int leve
 {
     int ii_1 = (int)0;
     int jj_1 = (int)0;
-    bool local_18 = (bool)0;
     bool local_19 = (bool)0;
+    bool local_20 = (bool)0;
 
     int2 size_5 = int2(NagaMipDimensions2D(t_3, level_2));
     ii_1 = i_4;
@@ -1250,11 +1301,11 @@ float3 envmap_octahedral_texel(Texture2D<float4> t_3, int i_4, int j_1, int leve
     int _e8 = jj_1;
     if (!((_e8 < int(0)))) {
         int _e14 = jj_1;
-        local_18 = (_e14 >= size_5.y);
+        local_19 = (_e14 >= size_5.y);
     } else {
-        local_18 = true;
+        local_19 = true;
     }
-    bool _e18 = local_18;
+    bool _e18 = local_19;
     if (_e18) {
         int _e24 = jj_1;
         int _e26 = jj_1;
@@ -1266,11 +1317,11 @@ float3 envmap_octahedral_texel(Texture2D<float4> t_3, int i_4, int j_1, int leve
     int _e38 = ii_1;
     if (!((_e38 < int(0)))) {
         int _e44 = ii_1;
-        local_19 = (_e44 >= size_5.x);
+        local_20 = (_e44 >= size_5.x);
     } else {
-        local_19 = true;
+        local_20 = true;
     }
-    bool _e48 = local_19;
+    bool _e48 = local_20;
     if (_e48) {
         int _e54 = ii_1;
         int _e56 = ii_1;
@@ -1298,9 +1349,9 @@ float3 envmap_octahedral_bilinear(Texture2D<float4> t_4, float2 uv_3, int level_
     return _e25;
 }
 
-int envmap_texel_index(float u_3, int n_11)
+int envmap_texel_index(float u_4, int n_11)
 {
-    return min(naga_f2i32((u_3 * float(n_11))), asint(asuint(n_11) - asuint(int(1))));
+    return min(naga_f2i32((u_4 * float(n_11))), asint(asuint(n_11) - asuint(int(1))));
 }
 
 uint2 NagaMipDimensions2DArray(Texture2DArray<float4> tex, uint mip_level)
@@ -1326,45 +1377,45 @@ float3 envmap_cube_texel_across(Texture2DArray<float4> t_5, uint face_1, int i_5
 
 float3 envmap_cube_texel(Texture2DArray<float4> t_6, uint face_2, int i_6, int j_3, int level_5)
 {
-    bool local_20 = (bool)0;
     bool local_21 = (bool)0;
     bool local_22 = (bool)0;
     bool local_23 = (bool)0;
+    bool local_24 = (bool)0;
 
     int2 size_8 = int2(NagaMipDimensions2DArray(t_6, level_5));
     if (!((i_6 < int(0)))) {
-        local_20 = (i_6 >= size_8.x);
-    } else {
-        local_20 = true;
-    }
-    bool iout = local_20;
-    if (!((j_3 < int(0)))) {
-        local_21 = (j_3 >= size_8.y);
+        local_21 = (i_6 >= size_8.x);
     } else {
         local_21 = true;
     }
-    bool jout = local_21;
+    bool iout = local_21;
+    if (!((j_3 < int(0)))) {
+        local_22 = (j_3 >= size_8.y);
+    } else {
+        local_22 = true;
+    }
+    bool jout = local_22;
     int ic = clamp(i_6, int(0), asint(asuint(size_8.x) - asuint(int(1))));
     int jc = clamp(j_3, int(0), asint(asuint(size_8.y) - asuint(int(1))));
     if (iout) {
-        local_22 = jout;
+        local_23 = jout;
     } else {
-        local_22 = false;
+        local_23 = false;
     }
-    bool _e38 = local_22;
+    bool _e38 = local_23;
     if (_e38) {
         const float3 _e39 = envmap_cube_texel_across(t_6, face_2, i_6, jc, level_5);
         const float3 _e40 = envmap_cube_texel_across(t_6, face_2, ic, j_3, level_5);
         float4 _e43 = t_6.Load(int4(int2(ic, jc), int(face_2), level_5));
-        float3 c_16 = _e43.xyz;
-        return (((_e39 + _e40) + c_16) / (3.0).xxx);
+        float3 c_18 = _e43.xyz;
+        return (((_e39 + _e40) + c_18) / (3.0).xxx);
     }
     if (!(iout)) {
-        local_23 = jout;
+        local_24 = jout;
     } else {
-        local_23 = true;
+        local_24 = true;
     }
-    bool _e54 = local_23;
+    bool _e54 = local_24;
     if (_e54) {
         const float3 _e55 = envmap_cube_texel_across(t_6, face_2, i_6, j_3, level_5);
         return _e55;
@@ -1373,15 +1424,15 @@ float3 envmap_cube_texel(Texture2DArray<float4> t_6, uint face_2, int i_6, int j
     return _e58.xyz;
 }
 
-float3 envmap_cube_bilinear(Texture2DArray<float4> t_7, EnvmapChartUv c_13, int level_6)
+float3 envmap_cube_bilinear(Texture2DArray<float4> t_7, EnvmapChartUv c_15, int level_6)
 {
     int2 size_9 = int2(NagaMipDimensions2DArray(t_7, level_6));
-    const EnvmapFootprint _e8 = envmap_bilinear_footprint(c_13.uv.x, size_9.x);
-    const EnvmapFootprint _e12 = envmap_bilinear_footprint(c_13.uv.y, size_9.y);
-    const float3 _e16 = envmap_cube_texel(t_7, c_13.chart, _e8.first, _e12.first, level_6);
-    const float3 _e20 = envmap_cube_texel(t_7, c_13.chart, _e8.second, _e12.first, level_6);
-    const float3 _e24 = envmap_cube_texel(t_7, c_13.chart, _e8.first, _e12.second, level_6);
-    const float3 _e28 = envmap_cube_texel(t_7, c_13.chart, _e8.second, _e12.second, level_6);
+    const EnvmapFootprint _e8 = envmap_bilinear_footprint(c_15.uv.x, size_9.x);
+    const EnvmapFootprint _e12 = envmap_bilinear_footprint(c_15.uv.y, size_9.y);
+    const float3 _e16 = envmap_cube_texel(t_7, c_15.chart, _e8.first, _e12.first, level_6);
+    const float3 _e20 = envmap_cube_texel(t_7, c_15.chart, _e8.second, _e12.first, level_6);
+    const float3 _e24 = envmap_cube_texel(t_7, c_15.chart, _e8.first, _e12.second, level_6);
+    const float3 _e28 = envmap_cube_texel(t_7, c_15.chart, _e8.second, _e12.second, level_6);
     const float3 _e31 = envmap_blend(_e16, _e20, _e24, _e28, _e8.f, _e12.f);
     return _e31;
 }
@@ -1405,9 +1456,9 @@ EnvmapLevels envmap_levels(float lod, int levels_3)
     return envmaplevels_1;
 }
 
-float3 envmap_latlong_chain(Texture2D<float4> t_8, int levels_4, float3 dir_10, float lod_1)
+float3 envmap_latlong_chain(Texture2D<float4> t_8, int levels_4, float3 dir_11, float lod_1)
 {
-    const EnvmapChartUv _e4 = envmap_latlong_forward(dir_10);
+    const EnvmapChartUv _e4 = envmap_latlong_forward(dir_11);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return (0.0).xxx;
     }
@@ -1420,9 +1471,9 @@ float3 envmap_latlong_chain(Texture2D<float4> t_8, int levels_4, float3 dir_10, 
     return _e13;
 }
 
-float3 envmap_octahedral_chain(Texture2D<float4> t_9, int levels_5, float3 dir_11, float lod_2)
+float3 envmap_octahedral_chain(Texture2D<float4> t_9, int levels_5, float3 dir_12, float lod_2)
 {
-    const EnvmapChartUv _e4 = envmap_octahedral_forward(dir_11);
+    const EnvmapChartUv _e4 = envmap_octahedral_forward(dir_12);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return (0.0).xxx;
     }
@@ -1435,9 +1486,9 @@ float3 envmap_octahedral_chain(Texture2D<float4> t_9, int levels_5, float3 dir_1
     return _e13;
 }
 
-float3 envmap_equal_area_octahedral_chain(Texture2D<float4> t_10, int levels_6, float3 dir_12, float lod_3)
+float3 envmap_equal_area_octahedral_chain(Texture2D<float4> t_10, int levels_6, float3 dir_13, float lod_3)
 {
-    const EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_12);
+    const EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_13);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return (0.0).xxx;
     }
@@ -1450,9 +1501,9 @@ float3 envmap_equal_area_octahedral_chain(Texture2D<float4> t_10, int levels_6, 
     return _e13;
 }
 
-float3 envmap_cube_chain(Texture2DArray<float4> t_11, int levels_7, float3 dir_13, float lod_4)
+float3 envmap_cube_chain(Texture2DArray<float4> t_11, int levels_7, float3 dir_14, float lod_4)
 {
-    const EnvmapChartUv _e4 = envmap_cube_forward(dir_13);
+    const EnvmapChartUv _e4 = envmap_cube_forward(dir_14);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return (0.0).xxx;
     }
@@ -1476,10 +1527,10 @@ float envmap_latlong_lod(float angle, float height)
     return max(log2(((angle * height) / ENVMAP_PI)), 0.0);
 }
 
-float envmap_octahedral_lod(float3 dir_14, float angle_1, float size)
+float envmap_octahedral_lod(float3 dir_15, float angle_1, float size)
 {
-    float3 a_9 = abs(dir_14);
-    float p_3 = (length(dir_14) / ((a_9.x + a_9.y) + a_9.z));
+    float3 a_9 = abs(dir_15);
+    float p_3 = (length(dir_15) / ((a_9.x + a_9.y) + a_9.z));
     float texel = (2.0 / ((size * p_3) * sqrt(p_3)));
     return max(log2((angle_1 / texel)), 0.0);
 }
@@ -1489,23 +1540,23 @@ float envmap_equal_area_octahedral_lod(float angle_2, float size_1)
     return max(log2(((angle_2 * size_1) / 3.5449078)), 0.0);
 }
 
-float4 envmap_latlong_sample_level(Texture2D<float4> t_12, SamplerState s_4, float3 dir_15, float lod_5)
+float4 envmap_latlong_sample_level(Texture2D<float4> t_12, SamplerState s_4, float3 dir_16, float lod_5)
 {
-    const EnvmapChartUv _e4 = envmap_latlong_forward(dir_15);
+    const EnvmapChartUv _e4 = envmap_latlong_forward(dir_16);
     float4 _e6 = t_12.SampleLevel(s_4, _e4.uv, lod_5);
     return _e6;
 }
 
-float4 envmap_octahedral_sample_level(Texture2D<float4> t_13, SamplerState s_5, float3 dir_16, float lod_6)
+float4 envmap_octahedral_sample_level(Texture2D<float4> t_13, SamplerState s_5, float3 dir_17, float lod_6)
 {
-    const EnvmapChartUv _e4 = envmap_octahedral_forward(dir_16);
+    const EnvmapChartUv _e4 = envmap_octahedral_forward(dir_17);
     float4 _e6 = t_13.SampleLevel(s_5, _e4.uv, lod_6);
     return _e6;
 }
 
-float4 envmap_equal_area_octahedral_sample_level(Texture2D<float4> t_14, SamplerState s_6, float3 dir_17, float lod_7)
+float4 envmap_equal_area_octahedral_sample_level(Texture2D<float4> t_14, SamplerState s_6, float3 dir_18, float lod_7)
 {
-    const EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_17);
+    const EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_18);
     float4 _e6 = t_14.SampleLevel(s_6, _e4.uv, lod_7);
     return _e6;
 }
