@@ -74,7 +74,7 @@ pub(crate) struct ConvertArgs {
     /// How to turn the output cube's faces against GL's (as --from-face-transform).
     #[arg(long, value_parser = parse_face_transforms, allow_hyphen_values = true)]
     pub(crate) face_transform: Option<FaceTransforms>,
-    /// Reconstruction filter: nearest or bilinear.
+    /// Reconstruction filter: nearest, bilinear, or cubic (Catmull-Rom clamped to each point's 2×2 neighbourhood, so a sun does not ring: for outputs finer than the input).
     #[arg(long, default_value = "bilinear")]
     pub(crate) filter: Filter,
     /// Sub-samples per output texel side (N×N); default: automatic from the size ratio.
@@ -283,7 +283,12 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         o.cancel = Some(stop);
         o
     };
-    let (src_w, src_h, src_mapping) = (src.width(), src.height(), src.mapping());
+    let (src_mapping, (src_w, src_h)) = (
+        src.mapping(),
+        src.representation().file_size(src.width(), src.height()),
+    );
+    // The sizes the summary names are the files' (v360's EAC pads its rows).
+    let (file_w, file_h) = repr.file_size(w, h);
     let src_axes = envmap_render::image::identify(src_mapping, src.representation().frame);
     let streams = matches!(FileFormat::from_path(&a.output), Ok(FileFormat::Exr));
     let (times, written) = if streams {
@@ -355,12 +360,13 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
                 || a.output.display().to_string(),
                 |p| p.display().to_string()
             ),
-            w,
-            h,
+            file_w,
+            file_h,
             repr.mapping,
             match a.filter {
                 Filter::Nearest => "nearest",
                 Filter::Bilinear => "bilinear",
+                Filter::Cubic => "cubic",
             },
             samples,
             samples,

@@ -84,7 +84,14 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
         p(
             &mut out,
             "dimensions",
-            format!("{} × {}", img.width(), img.height()),
+            match repr.file_size(img.width(), img.height()) {
+                (w, h) if (w, h) == (img.width(), img.height()) => format!("{w} × {h}"),
+                (w, h) => format!(
+                    "{w} × {h} in the file; {} × {} without the layout's padding",
+                    img.width(),
+                    img.height()
+                ),
+            },
         )?;
         p(
             &mut out,

@@ -68,7 +68,7 @@ impl Framing {
 
     /// `image` as the file stores it: its faces turned, then padded by
     /// repeating each row's edge texels outwards.
-    pub(crate) fn to_file(&self, image: &EnvImage) -> Result<RgbImage> {
+    pub(crate) fn framed(&self, image: &EnvImage) -> Result<RgbImage> {
         let turned = self.turns.apply(image.clone(), true)?;
         let atlas = image.representation().atlas;
         let (w, h) = (turned.width(), turned.height());
@@ -91,7 +91,7 @@ impl Framing {
 
     /// The image a file of this framing holds: the padding cut away, the
     /// faces turned back to GL's orientation.
-    pub(crate) fn from_file(&self, rgb: &RgbImage, repr: Representation) -> Result<EnvImage> {
+    pub(crate) fn unframed(&self, rgb: &RgbImage, repr: Representation) -> Result<EnvImage> {
         let atlas = repr.atlas;
         let (w, h) = self.inner_size(&atlas, rgb.width, rgb.height)?;
         let ch = h / atlas.rows;
@@ -134,9 +134,9 @@ mod tests {
     fn file_round_trips_and_pads_with_edges() {
         let img = numbered(5);
         let f = Framing::of(&img.representation().atlas).unwrap();
-        let file = f.to_file(&img).unwrap();
+        let file = f.framed(&img).unwrap();
         assert_eq!((file.width, file.height), (19, 18));
-        let back = f.from_file(&file, *img.representation()).unwrap();
+        let back = f.unframed(&file, *img.representation()).unwrap();
         assert_eq!(back, img);
         // The top-left corner of the file repeats the −x face's texel (0, 0),
         // as stored (that face is not turned).

@@ -620,7 +620,7 @@ fn finish_load(
             .frame(mapping),
     };
     let image = match framing {
-        Some((f, _)) => f.from_file(&rgb, repr),
+        Some((f, _)) => f.unframed(&rgb, repr),
         None => EnvImage::from_rgb(rgb, repr),
     }
     .map_err(|e| e.in_file(path))?;
@@ -748,7 +748,7 @@ impl<'a> Outputs<'a> {
             opts.content.as_deref(),
         );
         let framed = Framing::of(&repr.atlas)
-            .map(|f| f.to_file(image))
+            .map(|f| f.framed(image))
             .transpose()
             .map_err(|e| e.in_file(path))?;
         let view = match &framed {

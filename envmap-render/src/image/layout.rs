@@ -238,6 +238,17 @@ impl Representation {
         self.atlas.image_size_for_cell_width(cell_width)
     }
 
+    /// The size of the file that holds a `width × height` image of this
+    /// representation: the image's own, but for a layout whose files are
+    /// padded ([`Layout::V360`]: 4 more pixels across, 8 more down).
+    #[must_use]
+    pub fn file_size(&self, width: u32, height: u32) -> (u32, u32) {
+        match crate::image::framing::Framing::of(&self.atlas) {
+            Some(f) => f.file_size(&self.atlas, width, height),
+            None => (width, height),
+        }
+    }
+
     /// Checks that a `width × height` image fits this representation.
     pub(crate) fn check_size(&self, width: u32, height: u32) -> Result<()> {
         check_fits(self.mapping, &self.atlas, width, height)

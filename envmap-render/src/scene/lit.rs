@@ -409,12 +409,14 @@ pub(crate) fn specular_direction(n: Vec3, v: Vec3, r: f32, dominant: bool) -> Ve
 }
 
 /// The angle a texel of `level` spans at its chart's centre (for a cube
-/// face of s², 2·atan(1/s); a latitude-longitude map's at the equator).
+/// face of s², 2·atan(1/s); an EAC face's, (π/2)/s; a latitude-longitude
+/// map's at the equator).
 fn texel_angle(level: &EnvImage) -> f64 {
     let (w, h) = level.cell_size();
     let s = f64::from(w.max(h).max(1));
     match level.mapping() {
         AnyMapping::Cube => 2.0 * (1.0 / s).atan(),
+        AnyMapping::Eac => core::f64::consts::FRAC_PI_2 / s,
         AnyMapping::LatLong => 2.0 * core::f64::consts::PI / f64::from(w.max(1)),
         _ => core::f64::consts::PI / s,
     }

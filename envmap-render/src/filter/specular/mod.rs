@@ -276,13 +276,13 @@ pub enum Method {
 }
 
 /// The angle a texel of `img` spans across at its chart's centre
-/// (radians): a cube face's π/2 over its width, else the full turn over
-/// the atlas's width (a latlong's row).
+/// (radians): a cube or EAC face's π/2 over its width, else the full turn
+/// over the atlas's width (a latlong's row).
 #[must_use]
 pub(crate) fn texel_pitch(img: &EnvImage) -> f64 {
     let (cw, _) = img.cell_size();
     match img.mapping() {
-        AnyMapping::Cube => std::f64::consts::FRAC_PI_2 / f64::from(cw.max(1)),
+        AnyMapping::Cube | AnyMapping::Eac => std::f64::consts::FRAC_PI_2 / f64::from(cw.max(1)),
         _ => std::f64::consts::TAU / f64::from((cw * img.atlas().cols).max(1)),
     }
 }
