@@ -478,8 +478,9 @@ pub(crate) fn check_compatible(mapping: AnyMapping, atlas: &Atlas) -> Result<()>
 /// * neither: [`detect`];
 /// * a mapping only: the mapping's layout that fits the size (a cube tries
 ///   cross, vcross, strip, vstrip), or an error saying what it needs;
-/// * a layout only: the layout's mapping; `square` fits five mappings and
-///   is an error asking for the mapping;
+/// * a layout only: the layout's mapping (a cube layout's: the cube, not
+///   EAC); `square` fits five mappings and is an error asking for the
+///   mapping;
 /// * both: the layout must be one of the mapping's and fit the size
 ///   ("cross needs 4:3, this image is 2048×1024 (2:1)").
 ///
@@ -521,8 +522,9 @@ pub fn resolve(
                 size_text(width, height)
             )))
         }
+        // A cube layout alone is the cube's: an EAC map in one is named.
         (None, Some(l)) => match l.mappings() {
-            [m] => {
+            [m] | [m @ AnyMapping::Cube, ..] => {
                 check_fits(*m, &l.atlas(), width, height)?;
                 Ok((*m, l.atlas()))
             }

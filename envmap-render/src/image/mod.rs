@@ -147,7 +147,8 @@
 //! | `v360` | [`Layout::V360`] | eac (its default) | (3n + 4) × (2n + 8) for n × n faces | in memory: [`Atlas::EAC_V360`](envmap_core::Atlas::EAC_V360) |
 //!
 //! Every cube layout holds the equi-angular cube map (`eac`) as well, face
-//! for face. The `v360` layout is the file ffmpeg's `v360` filter writes and
+//! for face; named alone, a cube layout is read as the cube (`--from eac`
+//! reads it as EAC). The `v360` layout is the file ffmpeg's `v360` filter writes and
 //! reads as `eac` (YouTube's 360° video frames): −x, +z, +x on top; −y, −z,
 //! +y below, −y and +y turned a quarter turn counter-clockwise and −z a
 //! quarter turn clockwise; 2 pixels of padding left and right of the image
