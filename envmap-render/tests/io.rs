@@ -354,13 +354,33 @@ fn detection_for_every_aspect() {
         ((48, 64), AnyMapping::Cube, Atlas::CUBE_VERTICAL_CROSS),
         ((96, 16), AnyMapping::Cube, Atlas::CUBE_HORIZONTAL_STRIP),
         ((16, 96), AnyMapping::Cube, Atlas::CUBE_VERTICAL_STRIP),
-        ((96, 64), AnyMapping::Tennisball, Atlas::TENNISBALL_STACKED),
     ];
     for ((w, h), m, a) in cases {
         assert_eq!(detect(w, h).unwrap(), (m, a), "{w}×{h}");
         // An explicit mapping alone finds the same layout.
         assert_eq!(resolve(w, h, Some(m), None).unwrap(), (m, a));
     }
+    // 3:2 is a tennisball or a cube of three faces by two: named, not guessed.
+    let m = message(&detect(96, 64).unwrap_err());
+    assert!(
+        m.contains("--from tennisball") && m.contains("--from-layout 3x2"),
+        "{m}"
+    );
+    assert_eq!(
+        resolve(96, 64, Some(AnyMapping::Tennisball), None).unwrap(),
+        (AnyMapping::Tennisball, Atlas::TENNISBALL_STACKED)
+    );
+    assert_eq!(
+        resolve(96, 64, None, Some(Layout::Grid3x2)).unwrap(),
+        (AnyMapping::Cube, Atlas::CUBE_3X2)
+    );
+    assert_eq!(
+        resolve(96, 64, Some(AnyMapping::Eac), Some(Layout::Grid3x2)).unwrap(),
+        (AnyMapping::Eac, Atlas::CUBE_3X2)
+    );
+    // ffmpeg v360's EAC file: refused, with the flag that reads it.
+    let m = message(&detect(3076, 2056).unwrap_err());
+    assert!(m.contains("--from eac") && m.contains("n = 1024"), "{m}");
     let m = message(&detect(64, 64).unwrap_err());
     for name in [
         "sphere",

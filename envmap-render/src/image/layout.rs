@@ -304,7 +304,7 @@ impl FromStr for Layout {
 }
 
 /// The aspect ratios [`detect`] accepts, with what each is taken for.
-const DETECTED: [((u32, u32), AnyMapping, Layout, &str); 6] = [
+const DETECTED: [((u32, u32), AnyMapping, Layout, &str); 5] = [
     ((2, 1), AnyMapping::LatLong, Layout::LatLong, "latlong"),
     ((4, 3), AnyMapping::Cube, Layout::Cross, "cube cross"),
     (
@@ -319,12 +319,6 @@ const DETECTED: [((u32, u32), AnyMapping, Layout, &str); 6] = [
         AnyMapping::Cube,
         Layout::VStrip,
         "cube vertical strip",
-    ),
-    (
-        (3, 2),
-        AnyMapping::Tennisball,
-        Layout::Stacked,
-        "tennisball",
     ),
 ];
 
@@ -347,8 +341,9 @@ fn accepted_ratios() -> String {
         s.push_str(&format!("{w}:{h} {what}, "));
     }
     s.push_str(
-        "1:1 sphere or octahedral (name the mapping); a dual paraboloid is 2:1 and needs \
-         its mapping named (--from paraboloid)",
+        "1:1 sphere or octahedral (name the mapping), 3:2 tennisball or a cube in 3×2 (name \
+         it); a dual paraboloid is 2:1 and needs its mapping named (--from paraboloid); \
+         ffmpeg v360's EAC, (3n + 4) × (2n + 8), needs --from eac",
     );
     s
 }
@@ -391,7 +386,24 @@ pub fn detect(width: u32, height: u32) -> Result<(AnyMapping, Atlas)> {
             size_text(width, height)
         )));
     }
-    let hint = if ratio == (3, 1) {
+    if ratio == (3, 2) {
+        return Err(Error::layout(format!(
+            "image is {}: a 3:2 image can be a tennisball map (two 3:1 strips stacked: \
+             --from tennisball) or a cube of three faces by two (ffmpeg v360's c3x2: \
+             --from-layout 3x2; an equi-angular one: --from eac --from-layout 3x2); name it",
+            size_text(width, height)
+        )));
+    }
+    let v360 = Layout::V360.atlas();
+    let eac = crate::image::framing::Framing::of(&v360)
+        .and_then(|f| f.inner_size(&v360, width, height).ok());
+    let hint = if let Some((w, _)) = eac {
+        format!(
+            " ({width}×{height} is (3n + 4) × (2n + 8) for n = {}: ffmpeg v360's equi-angular \
+             cube map, read with --from eac)",
+            w / 3
+        )
+    } else if ratio == (3, 1) {
         " (3:1 is one tennisball strip; a tennisball map stacks both strips, 3:2)".to_owned()
     } else {
         near_hint(width, height)
@@ -409,6 +421,7 @@ fn near_hint(width: u32, height: u32) -> String {
     let mut ratios: Vec<((u32, u32), &str)> =
         DETECTED.iter().map(|(r, _, _, what)| (*r, *what)).collect();
     ratios.push(((1, 1), "square"));
+    ratios.push(((3, 2), "tennisball or a 3×2 cube"));
     for ((a, b), what) in ratios {
         let q = f64::from(a) / f64::from(b);
         if (r / q - 1.0).abs() < 0.01 {

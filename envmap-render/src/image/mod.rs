@@ -158,11 +158,13 @@
 //! aspect ratio: name it (`--from eac`, or `--from-layout v360`), or read a
 //! file envmap wrote, which says so itself.
 //!
-//! [`detect`] picks a representation from the aspect ratio alone. Two
+//! [`detect`] picks a representation from the aspect ratio alone. Three
 //! cases need the caller's word: a 2:1 image is taken as latlong, so a dual
 //! paraboloid (two disks side by side, also 2:1) needs its mapping named
-//! explicitly (`--from paraboloid`); and a square image could be any of five
-//! mappings, so [`detect`] refuses it and says how to choose. [`resolve`]
+//! explicitly (`--from paraboloid`); a square image could be any of five
+//! mappings, and a 3:2 image a tennisball or a cube of three faces by two
+//! (`3x2`), so [`detect`] refuses them and says how to choose; a v360 EAC
+//! file, `(3n + 4) × (2n + 8)`, is refused with the hint `--from eac`. [`resolve`]
 //! takes an explicit mapping and/or layout and checks it against the size.
 //!
 //! # Cube faces stored turned or mirrored
