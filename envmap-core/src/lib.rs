@@ -18,6 +18,7 @@
 //! | [`Tennisball`] | [`tennisball`] | 2 strips (3:1) | seed `000` (coverage erratum fixed) |
 //! | [`Octahedral`] | [`octahedral`] | 1 square | Engelhardt & Dachsbacher 2008 |
 //! | [`EqualAreaOctahedral`] | [`octahedral`] | 1 square | Clarberg 2008; pbrt-v4 |
+//! | [`Fisheye`](fisheye::Fisheye) | [`fisheye`] | 1 or 2 disks | Kannala & Brandt 2006: equidistant and equisolid lenses, field of view up to 360° |
 //!
 //! Also: the two reflection formulas ([`reflect_view`], [`reflect_incident`]),
 //! axis conventions ([`Frame`], [`Framed`]), atlas layouts ([`Atlas`]), texel
@@ -56,6 +57,7 @@ pub mod cube;
 mod direction;
 pub mod dual_paraboloid;
 pub mod eac;
+pub mod fisheye;
 pub mod frame;
 pub mod latlong;
 mod mapping;

@@ -216,7 +216,31 @@ pub fn paraboloid(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
 #[inline]
 pub fn angular(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
     oriented(u0, u1, v0, v1, |u0, u1, v0, v1| {
-        PI * equidistant_disk(DiskRect::new(u0, u1, v0, v1))
+        PI * equidistant_disk(DiskRect::new(u0, u1, v0, v1), PI)
+    })
+}
+
+/// Solid angle of `[u0, u1] × [v0, v1]` in one lens of a fisheye of half field of view `k`
+/// (radians, in (0, π]; [`crate::fisheye`]).
+///
+/// Parameterization: u' = 2u − 1, v' = 2v − 1, ρ = √(u'² + v'²) ≤ 1 the image circle. The
+/// equidistant lens puts θ = kρ from its axis, so dΩ = k sin(kρ)/ρ du' dv', integrated as the
+/// angular map's (which is k = π) is; the equisolid lens is equal-area,
+/// dΩ = 4 sin²(k/2) du' dv', so the solid angle is that times the area of the rectangle's part
+/// inside the circle, in closed form as the sphere map's. Orientation, clipping and NaN as in
+/// the [module documentation](self).
+#[must_use]
+#[inline]
+pub fn fisheye(lens: crate::fisheye::Lens, k: f64, u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
+    oriented(u0, u1, v0, v1, |u0, u1, v0, v1| {
+        let r = DiskRect::new(u0, u1, v0, v1);
+        match lens {
+            crate::fisheye::Lens::Equidistant => k * equidistant_disk(r, k),
+            crate::fisheye::Lens::Equisolid => {
+                let s = sin(0.5 * k);
+                4.0 * s * s * disk_area(r)
+            }
+        }
     })
 }
 
@@ -699,8 +723,18 @@ fn stereographic_disk(r: DiskRect) -> f64 {
 /// in the inner half of the disk (by its series where `s` is tiny or has underflowed), and as
 /// `sin(π(1 − ρ))/ρ` with `1 − ρ = rest/(1 + ρ)` in the outer half, where `sin(πρ)` would
 /// lose the relative precision of its small value.
+///
+/// For another lens scale `k` (an equidistant fisheye of field of view 2k < 2π), `sin(kρ)/ρ`:
+/// its value on the rim, sin k, is not small, so it is computed directly.
 #[inline]
-fn equidistant_density(s: f64, rest: f64) -> f64 {
+fn equidistant_density(k: f64, s: f64, rest: f64) -> f64 {
+    if k != PI {
+        if s < 1e-16 {
+            return k * (1.0 - k * k * s / 6.0);
+        }
+        let rho = sqrt(s);
+        return sin(k * rho) / rho;
+    }
     if s < 1e-16 {
         // π(1 − π²s/6 + …): the next term, π⁵s²/120, is below 1e-32.
         return PI * (1.0 - PI * PI * s / 6.0);
@@ -718,15 +752,15 @@ fn equidistant_density(s: f64, rest: f64) -> f64 {
 /// ρ² = x² + (h − z)² and 1 − ρ² = z(2h − z) exactly (given x² + h² = 1), so the density
 /// next to the rim is computed without cancellation.
 #[inline]
-fn equidistant_rim_column(x: f64, h: f64, len: f64) -> f64 {
+fn equidistant_rim_column(k: f64, x: f64, h: f64, len: f64) -> f64 {
     gauss_legendre_entire(0.0, len, |z| {
         let y = h - z;
-        equidistant_density(x * x + y * y, z * (2.0 * h - z))
+        equidistant_density(k, x * x + y * y, z * (2.0 * h - z))
     })
 }
 
-/// `∫∫ sin(πρ)/ρ dx dy` over `r ∩ unit disk` (ρ² = x² + y²).
-fn equidistant_disk(r: DiskRect) -> f64 {
+/// `∫∫ sin(kρ)/ρ dx dy` over `r ∩ unit disk` (ρ² = x² + y²; k = π for the angular map).
+fn equidistant_disk(r: DiskRect, k: f64) -> f64 {
     let DiskRect { y0, y1, height, .. } = r;
     let alpha0 = acos(fabs(y0));
     let alpha1 = acos(fabs(y1));
@@ -736,7 +770,7 @@ fn equidistant_disk(r: DiskRect) -> f64 {
             return gauss_legendre_entire(p.xa, p.dx, |x| {
                 gauss_legendre_entire(y0, height, |y| {
                     let s = x * x + y * y;
-                    equidistant_density(s, 1.0 - s)
+                    equidistant_density(k, s, 1.0 - s)
                 })
             });
         }
@@ -745,13 +779,13 @@ fn equidistant_disk(r: DiskRect) -> f64 {
             let h = cos(t);
             let column = match (p.upper_rim, p.lower_rim) {
                 // [−h, h], symmetric: twice [0, h], measured from the top.
-                (true, true) => 2.0 * equidistant_rim_column(x, h, h),
+                (true, true) => 2.0 * equidistant_rim_column(k, x, h, h),
                 // [y0, h], from the top.
-                (true, _) if y0 <= 0.0 => equidistant_rim_column(x, h, h - y0),
-                (true, _) => equidistant_rim_column(x, h, cos_minus_cos(t, alpha0)),
+                (true, _) if y0 <= 0.0 => equidistant_rim_column(k, x, h, h - y0),
+                (true, _) => equidistant_rim_column(k, x, h, cos_minus_cos(t, alpha0)),
                 // [−h, y1], from the bottom (the density is even in y).
-                (_, _) if y1 >= 0.0 => equidistant_rim_column(x, h, y1 + h),
-                (_, _) => equidistant_rim_column(x, h, cos_minus_cos(t, alpha1)),
+                (_, _) if y1 >= 0.0 => equidistant_rim_column(k, x, h, y1 + h),
+                (_, _) => equidistant_rim_column(k, x, h, cos_minus_cos(t, alpha1)),
             };
             h * column
         })
@@ -1835,7 +1869,7 @@ mod tests {
         for c in [0.0, 0.3, 0.7, 0.95] {
             let f = |x: f64| {
                 let s = x * x + c * c;
-                equidistant_density(s, 1.0 - s)
+                equidistant_density(PI, s, 1.0 - s)
             };
             for length in [1.0 / 128.0, 1e-3, 0.125, 0.05] {
                 for k in 0..16 {
