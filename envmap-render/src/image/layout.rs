@@ -38,7 +38,7 @@ pub enum Layout {
     /// quarter turn counter-clockwise, −z clockwise) and every row padded by
     /// 2 pixels on each side, so an `n`-texel face makes a
     /// `(3n + 4) × (2n + 8)` file. Held in memory unturned and unpadded
-    /// ([`Atlas::EAC_V360`]); see [`crate::image::framing`].
+    /// ([`Atlas::EAC_V360`]); see [`crate::image`], "Layouts".
     V360,
 }
 
