@@ -17,7 +17,7 @@
 use std::f64::consts::{PI, TAU};
 
 use envmap_core::glam::{DVec3, Vec3};
-use envmap_core::{AnyMapping, ChartUv, Mapping};
+use envmap_core::{AnyMapping, ChartUv, Lens, Mapping};
 
 use crate::accuracy::SplitMix64;
 
@@ -114,6 +114,22 @@ pub fn forward_f64(m: AnyMapping, chart: u32, d: DVec3) -> (f64, f64) {
                 (u, v) = (1.0 - v, 1.0 - u);
             }
             (0.5 * copysign(u, x) + 0.5, 0.5 * copysign(v, y) + 0.5)
+        }
+        AnyMapping::Fisheye(f) => {
+            let (side, axial) = if chart == 1 { (-1.0, -z) } else { (1.0, z) };
+            let s = x.hypot(y);
+            let theta = s.atan2(axial);
+            let k = f.fov_degrees().to_radians() / 2.0;
+            let r = match f.lens() {
+                Lens::Equidistant => theta / k,
+                Lens::Equisolid => (theta / 2.0).sin() / (k / 2.0).sin(),
+            };
+            let (a, b) = if s == 0.0 {
+                (0.0, 0.0)
+            } else {
+                (r * x / s, r * y / s)
+            };
+            (0.5 + 0.5 * side * a, 0.5 - 0.5 * b)
         }
         AnyMapping::Angular => {
             let s = x.hypot(y);
@@ -212,6 +228,19 @@ fn inverse_f64_at(m: AnyMapping, chart: u32, u: f64, v: f64) -> DVec3 {
             let k = r * (2.0 - r * r).max(0.0).sqrt();
             [copysign(phi.cos(), a) * k, copysign(phi.sin(), b) * k, zz]
         }
+        AnyMapping::Fisheye(f) => {
+            let (side, axial) = if chart == 1 { (-1.0, -1.0) } else { (1.0, 1.0) };
+            // The lens's image has +y up: b = 1 − 2v.
+            let b = -b;
+            let r = a.hypot(b).min(1.0);
+            let k = f.fov_degrees().to_radians() / 2.0;
+            let theta = match f.lens() {
+                Lens::Equidistant => r * k,
+                Lens::Equisolid => 2.0 * (r * (k / 2.0).sin()).min(1.0).asin(),
+            };
+            let q = if r > 0.0 { theta.sin() / r } else { 0.0 };
+            [side * q * a, q * b, axial * theta.cos()]
+        }
         AnyMapping::Angular => {
             let rho = a.hypot(b).min(1.0);
             let theta = PI * rho;
@@ -232,12 +261,24 @@ fn random_direction(rng: &mut SplitMix64) -> Vec3 {
     Vec3::new((r * cp) as f32, (r * sp) as f32, z as f32)
 }
 
+/// A number of `m` for seeding: its index in [`AnyMapping::ALL`] (a fisheye not there takes
+/// that of its kind).
+fn seed_of(m: AnyMapping) -> u64 {
+    let kind = match m {
+        AnyMapping::Fisheye(f) if f.is_dual() => AnyMapping::Fisheye(envmap_core::Fisheye::DUAL),
+        AnyMapping::Fisheye(_) => AnyMapping::Fisheye(envmap_core::Fisheye::SINGLE),
+        m => m,
+    };
+    AnyMapping::ALL.iter().position(|a| *a == kind).unwrap_or(0) as u64
+}
+
 /// `n` uniform directions plus `3n/8` in thin bands at the poles and the
 /// equator (where the formulas change branches), deterministic for each
-/// mapping; a sphere map's are kept `1e-3` rad from its singular direction.
+/// mapping; a sphere map's are kept `1e-3` rad from its singular direction, and a fisheye's
+/// only those it sees, `1e-5` rad inside its field of view.
 #[must_use]
 pub fn directions(m: AnyMapping, n: usize) -> Vec<Vec3> {
-    let mut rng = SplitMix64(0x5EED ^ m as u64);
+    let mut rng = SplitMix64(0x5EED ^ seed_of(m));
     let mut v: Vec<Vec3> = (0..n).map(|_| random_direction(&mut rng)).collect();
     for k in 0..n / 8 {
         let t = 1e-6 * (1.0 + k as f64);
@@ -258,13 +299,21 @@ pub fn directions(m: AnyMapping, n: usize) -> Vec<Vec3> {
         _ => None,
     };
     v.retain(|d| singular.is_none_or(|s| angle(d.as_dvec3(), s) >= 1e-3));
+    if let AnyMapping::Fisheye(f) = m {
+        let k = f.fov_degrees().to_radians() / 2.0;
+        v.retain(|d| {
+            let d = d.as_dvec3();
+            let axial = if f.is_dual() { d.z.abs() } else { d.z };
+            d.x.hypot(d.y).atan2(axial) <= k - 1e-5
+        });
+    }
     v
 }
 
 /// `n` random chart points uniformly inside `m`'s charts.
 #[must_use]
 pub fn chart_points(m: AnyMapping, n: usize) -> Vec<ChartUv> {
-    let mut rng = SplitMix64(0xC0DE ^ m as u64);
+    let mut rng = SplitMix64(0xC0DE ^ seed_of(m));
     let mut v = Vec::with_capacity(n);
     while v.len() < n {
         let c = ChartUv::new(

@@ -15,6 +15,10 @@
 //! `map` refuses zero, NaN and infinite directions; `unmap` refuses a chart
 //! that is not a whole number below the chart count and points outside the
 //! chart (u, v outside `[0, 1]`, NaN, a disk chart's corners).
+//!
+//! A direction a fisheye does not see (beyond its field of view) has no chart point: `map`
+//! writes an empty row for it (`,,`, or `,,,,` with an image size), and `unmap` answers an
+//! empty row with an empty row (`,,`), so that rows stay aligned through both.
 
 use envmap_core::glam::Vec3;
 use envmap_core::texel::texel_index;
@@ -91,7 +95,8 @@ impl MapLines {
     /// # Errors
     ///
     /// [`Error::Input`]: not a number, not three numbers, or a direction
-    /// that has no mapping (zero, NaN or infinite).
+    /// that has no mapping (zero, NaN or infinite). A direction a fisheye does not see gives
+    /// an empty row (see the [module docs](self)).
     pub fn line(&self, line: &str) -> Result<Option<String>> {
         if is_skipped(line) {
             return Ok(None);
@@ -104,7 +109,14 @@ impl MapLines {
                 plural(v.len())
             )));
         };
-        let Some(c) = self.mapping.forward(Vec3::new(x, y, z)) else {
+        let d = Vec3::new(x, y, z);
+        let Some(c) = self.mapping.forward(d) else {
+            if envmap_core::normalize_direction(d).is_some() {
+                // A valid direction the mapping does not see.
+                return Ok(Some(
+                    if self.size.is_some() { ",,,," } else { ",," }.to_owned(),
+                ));
+            }
             return Err(Error::Input(format!(
                 "({x}, {y}, {z}) has no direction (zero, NaN or infinite)"
             )));
@@ -147,8 +159,13 @@ impl UnmapLines {
     /// # Errors
     ///
     /// [`Error::Input`]: not a number, fewer than three numbers, a chart
-    /// that does not exist, or a point outside its chart.
+    /// that does not exist, or a point outside its chart. An empty row (commas only: `map`'s
+    /// row for a direction a fisheye does not see) gives an empty row.
     pub fn line(&self, line: &str) -> Result<Option<String>> {
+        let t = line.trim();
+        if t.contains(',') && t.chars().all(|c| c == ',' || c.is_whitespace()) {
+            return Ok(Some(",,".to_owned()));
+        }
         if is_skipped(line) {
             return Ok(None);
         }
@@ -206,6 +223,20 @@ mod tests {
         assert!(msg(m.line("1 2")).contains("got 2 numbers"));
         assert!(msg(m.line("1 2 z3")).contains("'z3' is not a number"));
         assert!(msg(m.line("0 0 0")).contains("has no direction"));
+        // A fisheye's unseen direction: an empty row, and back.
+        let f = MapLines::new(
+            AnyMapping::Fisheye(envmap_core::Fisheye::SINGLE),
+            Frame::IDENTITY,
+            Atlas::SINGLE_SQUARE,
+            None,
+        );
+        assert_eq!(f.line("0 0 -1").unwrap().as_deref(), Some(",,"));
+        assert_eq!(f.line("0 0 1").unwrap().as_deref(), Some("0,0.5,0.5"));
+        let back = UnmapLines::new(
+            AnyMapping::Fisheye(envmap_core::Fisheye::SINGLE),
+            Frame::IDENTITY,
+        );
+        assert_eq!(back.line(",,").unwrap().as_deref(), Some(",,"));
         assert!(msg(m.line("nan 0 1")).contains("has no direction"));
 
         let u = UnmapLines::new(AnyMapping::Cube, Frame::IDENTITY);

@@ -6,6 +6,7 @@ use core::str::FromStr;
 use glam::Vec3;
 
 use crate::atlas::Atlas;
+use crate::fisheye::Fisheye;
 use crate::mapping::{ChartUv, Mapping};
 use crate::{
     Angular, Cube, DualParaboloid, Eac, EqualAreaOctahedral, LatLong, Octahedral, SphereMap,
@@ -14,6 +15,10 @@ use crate::{
 
 /// Every mapping of the crate, chosen at run time (a command-line flag, a file
 /// header). Implements [`Mapping`] by dispatching to the concrete type.
+///
+/// Every mapping but a [`Fisheye`] that does not cover the sphere (one lens under 360°, two
+/// under 180°) gives every finite non-zero direction a chart point; such a fisheye gives
+/// `None` for the directions it does not see ([`AnyMapping::covers_sphere`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AnyMapping {
     /// [`LatLong`].
@@ -36,11 +41,16 @@ pub enum AnyMapping {
     Angular,
     /// [`Eac`] (the equi-angular cube map).
     Eac,
+    /// A [`Fisheye`]: one lens or two back to back, of a given law and field of view.
+    Fisheye(Fisheye),
 }
 
 impl AnyMapping {
     /// Every mapping, in a fixed order.
-    pub const ALL: [AnyMapping; 10] = [
+    ///
+    /// The fisheyes appear with their defaults ([`Fisheye::SINGLE`], [`Fisheye::DUAL`]): one
+    /// equidistant lens of 180°, which sees half the sphere, and two back to back.
+    pub const ALL: [AnyMapping; 12] = [
         AnyMapping::LatLong,
         AnyMapping::Cube,
         AnyMapping::SphereMap,
@@ -51,10 +61,14 @@ impl AnyMapping {
         AnyMapping::EqualAreaOctahedral,
         AnyMapping::Angular,
         AnyMapping::Eac,
+        AnyMapping::Fisheye(Fisheye::SINGLE),
+        AnyMapping::Fisheye(Fisheye::DUAL),
     ];
 
     /// The names [`FromStr`] accepts, in the order of [`AnyMapping::ALL`].
-    pub const NAMES: [&'static str; 10] = [
+    /// The names are those of the kinds of mapping: a fisheye's parameters other than whether
+    /// it is dual are not part of its name.
+    pub const NAMES: [&'static str; 12] = [
         "latlong",
         "cube",
         "sphere",
@@ -65,10 +79,12 @@ impl AnyMapping {
         "octahedral-equal-area",
         "angular",
         "eac",
+        "fisheye",
+        "dual-fisheye",
     ];
 
     /// Whether the charts are disks inscribed in their squares (sphere maps,
-    /// dual paraboloid, angular map): texels outside the disk hold no
+    /// dual paraboloid, angular map, fisheyes): texels outside the disk hold no
     /// direction, and a filter must stay inside the rim.
     #[inline]
     #[must_use]
@@ -79,7 +95,20 @@ impl AnyMapping {
                 | AnyMapping::SphereMapGl
                 | AnyMapping::DualParaboloid
                 | AnyMapping::Angular
+                | AnyMapping::Fisheye(_)
         )
+    }
+
+    /// Whether every finite non-zero direction has a chart point: true but for a
+    /// [`Fisheye`] that does not cover the sphere, whose
+    /// [`forward`](AnyMapping::forward) gives `None` for the directions it does not see.
+    #[inline]
+    #[must_use]
+    pub const fn covers_sphere(self) -> bool {
+        match self {
+            AnyMapping::Fisheye(f) => f.covers_sphere(),
+            _ => true,
+        }
     }
 
     /// Whether the charts are the cube's six faces, in the GL face order and
@@ -91,7 +120,18 @@ impl AnyMapping {
         matches!(self, AnyMapping::Cube | AnyMapping::Eac)
     }
 
-    /// Forward mapping of the chosen variant.
+    /// The solid angle of the directions that have a chart point, in steradians: 4π but for
+    /// a fisheye that does not cover the sphere ([`Fisheye::seen_solid_angle`]).
+    #[must_use]
+    pub fn seen_solid_angle(self) -> f64 {
+        match self {
+            AnyMapping::Fisheye(f) => f.seen_solid_angle(),
+            _ => 4.0 * core::f64::consts::PI,
+        }
+    }
+
+    /// Forward mapping of the chosen variant; `None` also for a direction a fisheye does not
+    /// see ([`AnyMapping::covers_sphere`]).
     #[inline]
     #[must_use]
     pub fn forward(self, d: Vec3) -> Option<ChartUv> {
@@ -106,6 +146,7 @@ impl AnyMapping {
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral::forward(d),
             AnyMapping::Angular => Angular::forward(d),
             AnyMapping::Eac => Eac::forward(d),
+            AnyMapping::Fisheye(f) => f.forward(d),
         }
     }
 
@@ -124,6 +165,7 @@ impl AnyMapping {
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral::inverse(c),
             AnyMapping::Angular => Angular::inverse(c),
             AnyMapping::Eac => Eac::inverse(c),
+            AnyMapping::Fisheye(f) => f.inverse(c),
         }
     }
 
@@ -139,6 +181,7 @@ impl AnyMapping {
             AnyMapping::EqualAreaOctahedral => &EqualAreaOctahedral,
             AnyMapping::Angular => &Angular,
             AnyMapping::Eac => &Eac,
+            AnyMapping::Fisheye(f) => f,
         }
     }
 }
@@ -196,8 +239,10 @@ impl FromStr for AnyMapping {
     /// Parses the names in [`AnyMapping::NAMES`] (case-insensitive), plus the
     /// aliases `equirect`, `equirectangular`, `cubemap`, `dual-paraboloid`,
     /// `octahedral-ea`, `sphere-class`, `light-probe` and `lightprobe` (the
-    /// angular map), and `mirror-ball` and `mirrorball` (`sphere-gl`: a
-    /// photograph of a chrome ball is a GL sphere map seen from the camera).
+    /// angular map), `mirror-ball` and `mirrorball` (`sphere-gl`: a
+    /// photograph of a chrome ball is a GL sphere map seen from the camera), and
+    /// `dfisheye` and `dual_fisheye` (`dual-fisheye`, as ffmpeg's v360 spells it). A fisheye
+    /// parses to its default lens and field of view ([`Fisheye::SINGLE`], [`Fisheye::DUAL`]).
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         let eq = |a: &str| s.eq_ignore_ascii_case(a);
         for (m, n) in AnyMapping::ALL.iter().zip(AnyMapping::NAMES) {
@@ -213,6 +258,7 @@ impl FromStr for AnyMapping {
             () if eq("sphere-class") => AnyMapping::SphereMap,
             () if eq("light-probe") || eq("lightprobe") => AnyMapping::Angular,
             () if eq("mirror-ball") || eq("mirrorball") => AnyMapping::SphereMapGl,
+            () if eq("dfisheye") || eq("dual_fisheye") => AnyMapping::Fisheye(Fisheye::DUAL),
             () => return Err(UnknownMapping),
         })
     }

@@ -35,10 +35,11 @@
 //!
 //! # Where it is available
 //!
-//! This scalar mapping and its exact solid angles; [`AnyMapping`](crate::AnyMapping), the
-//! eight-wide kernels, the shaders and the `envmap` command do not take it yet. Its forward
-//! mapping gives `None` for directions a lens does not see, which `AnyMapping`'s contract
-//! (every finite non-zero direction has a point) does not allow today.
+//! Everywhere a mapping is: [`AnyMapping::Fisheye`](crate::AnyMapping::Fisheye) (with
+//! [`Fisheye::SINGLE`] and [`Fisheye::DUAL`] in `AnyMapping::ALL`), the eight-wide kernels of
+//! `envmap-simd`, and the `envmap` command (`--to fisheye --fov 190`, `--from dual-fisheye`).
+//! A fisheye that does not cover the sphere ([`Fisheye::covers_sphere`]) is the one mapping
+//! whose forward mapping leaves directions without a point.
 //!
 //! # Area element and solid angles
 //!
@@ -47,6 +48,12 @@
 //! Ω(θ) = 4π sin²(θ/2) = 4π sin²(k/2) ρ'², so dΩ = 4 sin²(k/2) dx' dy', uniform (the lens is
 //! equal-area). A lens's disk totals 2π(1 − cos k). Texel solid angles are exact
 //! ([`crate::solid_angle::fisheye`]).
+//!
+//! Two lenses of more than 180° each own only their hemisphere (the directions `forward`
+//! sends to them): the disk of radius ρ₀ = (π/2)/k (equidistant) or sin(π/4)/sin(k/2)
+//! (equisolid) around the centre. Scaled by 1/ρ₀ that disk is the image circle of a 180°
+//! lens of the same law (the density scales to the same form), so its solid angles are a
+//! 180° lens's on the rectangle scaled about the centre, and the atlas totals 4π.
 
 use core::f32::consts::PI;
 
@@ -79,17 +86,51 @@ pub struct Fisheye {
 }
 
 impl Default for Fisheye {
-    /// One equidistant lens of 180°.
+    /// [`Fisheye::SINGLE`]: one equidistant lens of 180°.
     fn default() -> Self {
-        Fisheye {
-            lens: Lens::Equidistant,
-            fov_millidegrees: 180_000,
-            dual: false,
-        }
+        Fisheye::SINGLE
     }
 }
 
 impl Fisheye {
+    /// One equidistant lens of 180° looking along +z: ffmpeg v360's `fisheye` with its
+    /// default field of view; what `fisheye` means without `--fov`.
+    pub const SINGLE: Fisheye = Fisheye {
+        lens: Lens::Equidistant,
+        fov_millidegrees: 180_000,
+        dual: false,
+    };
+
+    /// Two equidistant lenses of 180° back to back, side by side: ffmpeg v360's `dfisheye`
+    /// with its default field of view; what `dual-fisheye` means without `--fov`.
+    pub const DUAL: Fisheye = Fisheye {
+        lens: Lens::Equidistant,
+        fov_millidegrees: 180_000,
+        dual: true,
+    };
+
+    /// Whether every direction is seen: two lenses of 180° or more, or one of 360°.
+    #[must_use]
+    pub const fn covers_sphere(self) -> bool {
+        if self.dual {
+            self.fov_millidegrees >= 180_000
+        } else {
+            self.fov_millidegrees >= 360_000
+        }
+    }
+
+    /// The solid angle the lenses see, in steradians: 2π(1 − cos k) per lens (k half the
+    /// field of view), 4π for two lenses of 180° or more.
+    #[must_use]
+    pub fn seen_solid_angle(self) -> f64 {
+        let tau = 2.0 * core::f64::consts::PI;
+        if self.covers_sphere() {
+            return 2.0 * tau;
+        }
+        let k = f64::from(self.fov_millidegrees) * (core::f64::consts::PI / 360_000.0);
+        f64::from(self.chart_count()) * tau * (1.0 - libm::cos(k))
+    }
+
     /// A fisheye of `lens` with the full field of view `fov_degrees` (rounded to a thousandth
     /// of a degree), two lenses back to back if `dual`; `None` unless the field of view is in
     /// (0°, 360°].
@@ -139,9 +180,29 @@ impl Fisheye {
         self.dual
     }
 
-    /// Half the field of view, k = F/2, in radians.
-    fn half_fov(self) -> f32 {
+    /// Half the field of view, k = F/2, in radians: the angle from the axis of the image
+    /// circle.
+    #[must_use]
+    pub fn half_fov(self) -> f32 {
         (f64::from(self.fov_millidegrees) * (core::f64::consts::PI / 360_000.0)) as f32
+    }
+
+    /// The largest angle from the axis a lens sees, k·(1 + 4ε): the rim, and the directions
+    /// its points invert to, whose angle rounds up to a few ulps past k (their image radius
+    /// is clamped to 1). Infinite for lenses that cover the sphere: every direction.
+    #[must_use]
+    pub fn seen_limit(self) -> f32 {
+        if self.covers_sphere() {
+            f32::INFINITY
+        } else {
+            self.half_fov() * (1.0 + 4.0 * f32::EPSILON)
+        }
+    }
+
+    /// sin(k/2) = sin(F/4): the equisolid law's divisor, r = sin(θ/2)/sin(k/2).
+    #[must_use]
+    pub fn half_fov_sin_half(self) -> f32 {
+        math::sin(0.5 * self.half_fov())
     }
 
     /// Forward mapping: the lens (chart) and the image point; `None` for a direction the
@@ -149,25 +210,36 @@ impl Fisheye {
     #[must_use]
     pub fn forward(self, dir: Vec3) -> Option<ChartUv> {
         let d = normalize_direction(dir)?;
-        let back = self.dual && d.z < 0.0;
+        // The hemisphere from z as given (normalising can flush a tiny z to −0).
+        let back = self.dual && dir.z < 0.0;
         let (axial, side) = if back { (-d.z, -1.0) } else { (d.z, 1.0) };
         let rho = math::sqrt(d.x * d.x + d.y * d.y);
         let theta = math::atan2(rho, axial);
-        let k = self.half_fov();
-        if theta > k {
+        if theta > self.seen_limit() {
             return None;
         }
+        let k = self.half_fov();
         let r = match self.lens {
             Lens::Equidistant => theta / k,
-            Lens::Equisolid => math::sin(0.5 * theta) / math::sin(0.5 * k),
+            Lens::Equisolid => math::sin(0.5 * theta) / self.half_fov_sin_half(),
         }
         .min(1.0);
         let chart = u32::from(back);
-        if rho == 0.0 {
-            return Some(ChartUv::new(chart, 0.5, 0.5));
-        }
-        let s = 0.5 * r / rho;
-        Some(ChartUv::new(chart, 0.5 + side * s * d.x, 0.5 - s * d.y))
+        // The azimuth from the components as given, divided by the larger of |x|, |y| (the
+        // normalised ones can underflow next to the axis); on the axis the azimuth of +x,
+        // which matters only for a 360° lens looking away (θ = π, r = 1: a rim point).
+        let a = dir.x.abs().max(dir.y.abs());
+        let (x, y) = if a == 0.0 {
+            (1.0, 0.0)
+        } else {
+            (dir.x / a, dir.y / a)
+        };
+        let s = 0.5 * r / math::sqrt(x * x + y * y);
+        Some(ChartUv::new(
+            chart,
+            (0.5 + side * s * x).clamp(0.0, 1.0),
+            (0.5 - s * y).clamp(0.0, 1.0),
+        ))
     }
 
     /// Inverse mapping: `None` for a chart the fisheye lacks, NaN, or a point outside the
@@ -187,7 +259,7 @@ impl Fisheye {
         let k = self.half_fov();
         let theta = match self.lens {
             Lens::Equidistant => r * k,
-            Lens::Equisolid => 2.0 * math::asin((r * math::sin(0.5 * k)).min(1.0)),
+            Lens::Equisolid => 2.0 * math::asin((r * self.half_fov_sin_half()).min(1.0)),
         };
         let (sin_t, cos_t) = math::sin_cos(theta.min(PI));
         if r == 0.0 {
@@ -232,7 +304,25 @@ impl Mapping for Fisheye {
             return 0.0;
         }
         let k = f64::from(self.fov_millidegrees) * (core::f64::consts::PI / 360_000.0);
-        crate::solid_angle::fisheye(self.lens, k, u0, u1, v0, v1)
+        let half_pi = core::f64::consts::FRAC_PI_2;
+        if !(self.dual && k > half_pi) {
+            return crate::solid_angle::fisheye(self.lens, k, u0, u1, v0, v1);
+        }
+        // Two overlapping lenses: each owns the disk of radius ρ₀ (its hemisphere), which
+        // scaled by 1/ρ₀ is a 180° lens's image circle (module docs).
+        let rho0 = match self.lens {
+            Lens::Equidistant => half_pi / k,
+            Lens::Equisolid => libm::sin(0.25 * core::f64::consts::PI) / libm::sin(0.5 * k),
+        };
+        let scale = |t: f64| 0.5 + (t - 0.5) / rho0;
+        crate::solid_angle::fisheye(
+            self.lens,
+            half_pi,
+            scale(u0),
+            scale(u1),
+            scale(v0),
+            scale(v1),
+        )
     }
     fn atlas(&self) -> Atlas {
         if self.dual {
@@ -370,14 +460,20 @@ mod tests {
         assert_eq!(Fisheye::default().fov_degrees(), 180.0);
     }
 
-    /// A lens's texels total its cap, 2π(1 − cos(F/2)); at 360° the equidistant lens's solid
+    /// A lens's texels total its cap, 2π(1 − cos(F/2)), or its hemisphere, 2π, when two
+    /// lenses overlap; at 360° the equidistant lens's solid
     /// angles are the angular map's and the equisolid lens's the sphere map's (the same laws).
     #[test]
     fn solid_angles_total_the_caps() {
         use crate::{Angular, SphereMap};
         for f in lenses() {
             let k = f.fov_degrees().to_radians() / 2.0;
-            let cap = 2.0 * core::f64::consts::PI * (1.0 - libm::cos(k));
+            let owned = if f.is_dual() {
+                k.min(core::f64::consts::FRAC_PI_2)
+            } else {
+                k
+            };
+            let cap = 2.0 * core::f64::consts::PI * (1.0 - libm::cos(owned));
             let n = 24;
             let mut total = 0.0;
             for j in 0..n {
@@ -406,10 +502,11 @@ mod tests {
     }
 
     /// Texel solid angles against the area element integrated by a midpoint rule (64² and
-    /// 32² points per texel, extrapolated), on texels inside the circle.
+    /// 32² points per texel, extrapolated), on texels inside the circle (one lens each, where
+    /// it owns the whole circle).
     #[test]
     fn solid_angles_match_the_area_element() {
-        for f in lenses() {
+        for f in lenses().filter(|f| !f.is_dual()) {
             let k = f.fov_degrees().to_radians() / 2.0;
             let density = |x: f64, y: f64| {
                 let rho = libm::sqrt(x * x + y * y);

@@ -18,7 +18,7 @@
 //! | [`Tennisball`] | [`tennisball`] | 2 strips (3:1) | seed `000` (coverage erratum fixed) |
 //! | [`Octahedral`] | [`octahedral`] | 1 square | Engelhardt & Dachsbacher 2008 |
 //! | [`EqualAreaOctahedral`] | [`octahedral`] | 1 square | Clarberg 2008; pbrt-v4 |
-//! | [`Fisheye`](fisheye::Fisheye) | [`fisheye`] | 1 or 2 disks | Kannala & Brandt 2006: equidistant and equisolid lenses, field of view up to 360° |
+//! | [`Fisheye`] | [`fisheye`] | 1 or 2 disks | Kannala & Brandt 2006: equidistant and equisolid lenses, field of view up to 360° |
 //!
 //! Also: the two reflection formulas ([`reflect_view`], [`reflect_incident`]),
 //! axis conventions ([`Frame`], [`Framed`]), atlas layouts ([`Atlas`]), texel
@@ -29,7 +29,8 @@
 //!
 //! Nothing panics, whatever the input, and the crate has no error type: a bad
 //! direction or chart point (NaN, infinite, zero, out of range, outside a disk)
-//! gives `None` from [`Mapping::forward`] or [`Mapping::inverse`], and
+//! gives `None` from [`Mapping::forward`] or [`Mapping::inverse`] (as does a direction a
+//! [`Fisheye`] does not see), and
 //! [`texel::texel_index`] clamps any `u`. Every case, with what `envmap-simd`
 //! gives beside it, is in `docs/bad-input.md`; the `envmap-tests` crate checks
 //! each for every mapping.
@@ -77,6 +78,7 @@ pub use cube::{Cube, CubeFace};
 pub use direction::normalize_direction;
 pub use dual_paraboloid::DualParaboloid;
 pub use eac::Eac;
+pub use fisheye::{Fisheye, Lens};
 pub use frame::{Frame, Framed};
 pub use latlong::LatLong;
 pub use mapping::{ChartUv, Mapping};

@@ -102,7 +102,8 @@ fn per_pixel_renders_match_the_reference() {
     let reference = Renderer::new()
         .render(&mesh, EnvSource::Analytic(&smooth), &cam, &opts)
         .unwrap();
-    for m in AnyMapping::ALL {
+    // Whole environments only: a fisheye under 360° is black where it does not see.
+    for m in AnyMapping::ALL.into_iter().filter(|m| m.covers_sphere()) {
         let repr = Representation::default_for(m);
         let cell = if repr.atlas.cell_aspect_w == 3 {
             384

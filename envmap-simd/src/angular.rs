@@ -17,7 +17,7 @@ use wide::{f32x8, u32x8};
 
 use crate::approx::Tier;
 use crate::batch::{finish, scale_pow2, valid_direction, Dir8, Uv8};
-use crate::kernel::{chart_below, clamp01, in_unit_disk, mask_dir, unit, Mapping8};
+use crate::kernel::{azimuth, chart_below, clamp01, in_unit_disk, mask_dir, unit, Mapping8};
 
 impl Mapping8 for Angular {
     #[inline]
@@ -25,11 +25,7 @@ impl Mapping8 for Angular {
         let valid = valid_direction(&d);
         // The azimuth from the components as given (the power-of-two
         // scaling below could flush x and y of a direction next to ±z).
-        let a = d.x.abs().fast_max(d.y.abs());
-        let pole = a.simd_eq(f32x8::ZERO);
-        let px = pole.select(f32x8::ONE, d.x / a);
-        let py = pole.select(f32x8::ZERO, d.y / a);
-        let len = (px * px + py * py).sqrt();
+        let (px, py, len) = azimuth(&d);
         // The polar angle, scale-invariant, from the direction scaled so
         // that x² + y² and z² neither overflow nor underflow harmfully.
         let n = scale_pow2(&d);

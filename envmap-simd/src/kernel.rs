@@ -205,6 +205,19 @@ pub(crate) fn mask_dir(valid: f32x8, d: Dir8) -> Dir8 {
     )
 }
 
+/// The azimuth about z of each lane, from x and y as given divided by the larger of |x|, |y|
+/// (so that neither underflows next to ±z): `(px, py, √(px² + py²))`; on the z axis the
+/// azimuth of +x, `(1, 0, 1)`.
+#[inline]
+#[must_use]
+pub(crate) fn azimuth(d: &Dir8) -> (f32x8, f32x8, f32x8) {
+    let a = d.x.abs().fast_max(d.y.abs());
+    let pole = a.simd_eq(f32x8::ZERO);
+    let px = pole.select(f32x8::ONE, d.x / a);
+    let py = pole.select(f32x8::ZERO, d.y / a);
+    (px, py, (px * px + py * py).sqrt())
+}
+
 /// Divides each lane by its length.
 #[inline]
 #[must_use]
@@ -238,6 +251,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward_slice::<T>(dirs, out),
             AnyMapping::Angular => Angular.forward_slice::<T>(dirs, out),
             AnyMapping::Eac => Eac.forward_slice::<T>(dirs, out),
+            AnyMapping::Fisheye(f) => f.forward_slice::<T>(dirs, out),
         }
     }
     fn inverse_slice<T: Tier>(&self, coords: &[ChartUv], out: &mut [Vec3]) -> usize {
@@ -253,6 +267,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse_slice::<T>(coords, out),
             AnyMapping::Angular => Angular.inverse_slice::<T>(coords, out),
             AnyMapping::Eac => Eac.inverse_slice::<T>(coords, out),
+            AnyMapping::Fisheye(f) => f.inverse_slice::<T>(coords, out),
         }
     }
 
@@ -269,6 +284,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8::<T>(d),
             AnyMapping::Angular => Angular.forward8::<T>(d),
             AnyMapping::Eac => Eac.forward8::<T>(d),
+            AnyMapping::Fisheye(f) => f.forward8::<T>(d),
         }
     }
     fn forward8_ray<T: Tier>(&self, d: Dir8) -> Uv8 {
@@ -284,6 +300,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.forward8_ray::<T>(d),
             AnyMapping::Angular => Angular.forward8_ray::<T>(d),
             AnyMapping::Eac => Eac.forward8_ray::<T>(d),
+            AnyMapping::Fisheye(f) => f.forward8_ray::<T>(d),
         }
     }
     fn inverse8_ray<T: Tier>(&self, c: Uv8) -> Dir8 {
@@ -299,6 +316,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse8_ray::<T>(c),
             AnyMapping::Angular => Angular.inverse8_ray::<T>(c),
             AnyMapping::Eac => Eac.inverse8_ray::<T>(c),
+            AnyMapping::Fisheye(f) => f.inverse8_ray::<T>(c),
         }
     }
     fn inverse8<T: Tier>(&self, c: Uv8) -> Dir8 {
@@ -314,6 +332,7 @@ impl Mapping8 for AnyMapping {
             AnyMapping::EqualAreaOctahedral => EqualAreaOctahedral.inverse8::<T>(c),
             AnyMapping::Angular => Angular.inverse8::<T>(c),
             AnyMapping::Eac => Eac.inverse8::<T>(c),
+            AnyMapping::Fisheye(f) => f.inverse8::<T>(c),
         }
     }
 }

@@ -46,6 +46,7 @@ pub mod batch;
 pub mod cube;
 pub mod dual_paraboloid;
 pub mod eac;
+pub mod fisheye;
 pub mod kernel;
 pub mod latlong;
 pub mod octahedral;

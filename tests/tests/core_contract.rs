@@ -121,6 +121,41 @@ fn singular_direction(m: AnyMapping) -> Option<DVec3> {
     }
 }
 
+/// Whether `m` sees the unit direction `d` (in `m`'s own axes): `Some(true)` for every
+/// mapping but a fisheye that does not cover the sphere; for that one, whether `d` is within
+/// its field of view, or `None` within 1e-6 rad of the rim, where rounding decides.
+fn sees(m: AnyMapping, d: DVec3) -> Option<bool> {
+    let AnyMapping::Fisheye(f) = m else {
+        return Some(true);
+    };
+    if f.covers_sphere() {
+        return Some(true);
+    }
+    let axial = if f.is_dual() { d.z.abs() } else { d.z };
+    let theta = d.x.hypot(d.y).atan2(axial);
+    let k = f.fov_degrees().to_radians() / 2.0;
+    if (theta - k).abs() < 1e-6 {
+        None
+    } else {
+        Some(theta < k)
+    }
+}
+
+/// `c`, the forward image of a direction whose unit vector in `m`'s axes is `d`, checked
+/// against what `m` sees: a point exactly where the direction is seen, none where it is not.
+fn check_seen(
+    m: AnyMapping,
+    c: Option<ChartUv>,
+    d: DVec3,
+) -> Result<Option<ChartUv>, TestCaseError> {
+    match sees(m, d) {
+        Some(true) => prop_assert!(c.is_some(), "{m}: forward({d}) is None"),
+        Some(false) => prop_assert!(c.is_none(), "{m}: {d} is not seen, but forward gave {c:?}"),
+        None => {}
+    }
+    Ok(c)
+}
+
 /// β: the angle (rad) from the unit direction `d` to `m`'s singular direction
 /// (π for mappings without one).
 fn beta(m: AnyMapping, d: DVec3) -> f64 {
@@ -161,6 +196,9 @@ const EQUAL_AREA_OCTAHEDRAL_RT: f64 = 1e-6;
 /// rad along the radius, which is π rad per unit of u' = 2u − 1), and θ,
 /// θ/π and the inverse's ρ and πρ are rounded on the way.
 const ANGULAR_RT: f64 = 1.5e-6;
+/// Fisheyes (the defaults of `AnyMapping::ALL`: equidistant, 180°): θ and θ/k rounded, then
+/// the inverse's kρ and its sine and cosine.
+const FISHEYE_RT: f64 = 1.5e-6;
 
 /// The bound on the direction round-trip error of `m` at the unit direction
 /// `d` (see the constants above). For the sphere maps it grows like 1/β near
@@ -178,6 +216,7 @@ fn direction_round_trip_bound(m: AnyMapping, d: DVec3) -> f64 {
         AnyMapping::EqualAreaOctahedral => EQUAL_AREA_OCTAHEDRAL_RT,
         AnyMapping::Angular => ANGULAR_RT,
         AnyMapping::Eac => EAC_RT,
+        AnyMapping::Fisheye(_) => FISHEYE_RT,
     }
 }
 
@@ -209,6 +248,10 @@ fn direction_round_trip_bound(m: AnyMapping, d: DVec3) -> f64 {
 ///   face corner (c = 1 on both axes, ρ² = 2), along the diagonal:
 ///   3 · (1/π) · √2/√2 = 3/π (also found by a finite-difference search over
 ///   2·10⁵ directions: 0.9544).
+/// * fisheye of half field of view k, θ from the nearer lens's axis: equidistant, r = θ/k,
+///   radially 1/k and along the circle θ/(k sin θ); equisolid, r = sin(θ/2)/sin(k/2),
+///   radially cos(θ/2)/(2 sin(k/2)) and along the circle 1/(2 sin(k/2) cos(θ/2)); in (u, v)
+///   half of the larger.
 fn stretch(m: AnyMapping, d: DVec3) -> f64 {
     match m {
         AnyMapping::LatLong => {
@@ -225,6 +268,23 @@ fn stretch(m: AnyMapping, d: DVec3) -> f64 {
         AnyMapping::EqualAreaOctahedral => 0.4886,
         AnyMapping::Angular => angular_stretch(beta(m, d)),
         AnyMapping::Eac => 3.0 / PI,
+        AnyMapping::Fisheye(f) => {
+            let axial = if f.is_dual() { d.z.abs() } else { d.z };
+            let theta = d.x.hypot(d.y).atan2(axial);
+            let k = f.fov_degrees().to_radians() / 2.0;
+            let s = if theta > 0.0 {
+                theta / theta.sin()
+            } else {
+                1.0
+            };
+            match f.lens() {
+                envmap_core::Lens::Equidistant => s / (2.0 * k),
+                envmap_core::Lens::Equisolid => {
+                    let h = (k / 2.0).sin();
+                    ((theta / 2.0).cos() / (4.0 * h)).max(1.0 / (4.0 * h * (theta / 2.0).cos()))
+                }
+            }
+        }
     }
 }
 
@@ -249,16 +309,16 @@ fn describe_c(c: ChartUv) -> String {
 // 1. Forward output is in range
 // ---------------------------------------------------------------------------------------------
 
-/// Property 1: for any finite non-zero direction, `forward` gives a chart
+/// Property 1: for any finite non-zero direction (that a fisheye sees), `forward` gives a chart
 /// below `chart_count` and (u, v) in [0, 1] for which `in_chart` holds (the
 /// disk for the disk maps), at any length, without overflow.
 #[test]
 fn forward_output_is_in_range() {
     proptest!(|(d in prop_oneof![awkward_direction(), any_direction()])| {
         for m in AnyMapping::ALL {
-            let c = m.forward(d);
-            prop_assert!(c.is_some(), "{m}: forward({}) is None", describe(d));
-            let c = c.unwrap();
+            let Some(c) = check_seen(m, m.forward(d), unit_f64(d))? else {
+                continue;
+            };
             prop_assert!(c.chart < m.chart_count(), "{m}: {} -> {c:?}", describe(d));
             prop_assert!((0.0..=1.0).contains(&c.u), "{m}: {} -> {c:?}", describe(d));
             prop_assert!((0.0..=1.0).contains(&c.v), "{m}: {} -> {c:?}", describe(d));
@@ -291,7 +351,9 @@ fn direction_round_trip() {
     proptest!(|(d in any_direction())| {
         let unit = unit_f64(d);
         for (k, m) in AnyMapping::ALL.into_iter().enumerate() {
-            let c = m.forward(d).unwrap();
+            let Some(c) = check_seen(m, m.forward(d), unit)? else {
+                continue;
+            };
             let back = m.inverse(c);
             prop_assert!(back.is_some(), "{m}: inverse({c:?}) of {} is None", describe(d));
             let err = angle(unit, back.unwrap().as_dvec3());
@@ -331,11 +393,17 @@ fn forward_is_scale_invariant() {
     proptest!(|(d in prop_oneof![unit_direction(), near_special_direction()])| {
         let unit = unit_f64(d);
         for (k, m) in AnyMapping::ALL.into_iter().enumerate() {
-            let c = m.forward(d).unwrap();
+            let Some(c) = check_seen(m, m.forward(d), unit)? else {
+                continue;
+            };
             for scale in [1e-30f32, 1e30, f32::MAX / 2.0] {
                 let ds = d * scale;
                 let turned = angle(unit, ds.as_dvec3());
-                let cs = m.forward(ds).unwrap();
+                let Some(cs) = m.forward(ds) else {
+                    // Only at a fisheye's rim, where rounding decides.
+                    prop_assert!(sees(m, unit).is_none(), "{m}: {} × {scale:e} unseen", describe(d));
+                    continue;
+                };
                 if cs.chart != c.chart {
                     // A chart boundary (cube edge, tennisball selection
                     // boundary, paraboloid equator): both must be the same
@@ -393,6 +461,8 @@ const OCTAHEDRAL_CRT: f64 = 1.4e-7;
 const EQUAL_AREA_OCTAHEDRAL_CRT: f64 = 2.8e-7;
 /// Angular map.
 const ANGULAR_CRT: f64 = 2.4e-7;
+/// Fisheyes.
+const FISHEYE_CRT: f64 = 2.4e-7;
 
 /// Sphere-map points this close to the rim (in r = |(u', v')|) are left out
 /// of the coordinate round trip: the whole rim is one direction, and within
@@ -467,7 +537,9 @@ fn coordinate_round_trip() {
             let d = m.inverse(c);
             prop_assert!(d.is_some(), "{m}: inverse({c:?}) is None");
             let d = d.unwrap();
-            let c2 = m.forward(d).unwrap();
+            let c2 = m.forward(d);
+            prop_assert!(c2.is_some(), "{m}: {} -> {d} is not seen", describe_c(c));
+            let c2 = c2.unwrap();
             let (u64_, v64) = (f64::from(u), f64::from(v));
             let err = match m {
                 AnyMapping::LatLong => {
@@ -492,6 +564,25 @@ fn coordinate_round_trip() {
                 AnyMapping::Angular => {
                     let r = (2.0 * u64_ - 1.0).hypot(2.0 * v64 - 1.0);
                     if r > 1.0 - ANGULAR_RIM {
+                        continue;
+                    }
+                    uv_distance(c, c2)
+                }
+                AnyMapping::Fisheye(f) => {
+                    if c2.chart != c.chart {
+                        // Two lenses: the other one owns the directions past the equator,
+                        // at radius ρ₀ = (π/2)/k (equidistant) or sin(π/4)/sin(k/2)
+                        // (equisolid), 1 for 180°.
+                        let r = (2.0 * u64_ - 1.0).hypot(2.0 * v64 - 1.0);
+                        let k = f.fov_degrees().to_radians() / 2.0;
+                        let rho0 = match f.lens() {
+                            envmap_core::Lens::Equidistant => FRAC_PI_2 / k,
+                            envmap_core::Lens::Equisolid => FRAC_PI_4.sin() / (k / 2.0).sin(),
+                        };
+                        prop_assert!(
+                            f.is_dual() && r >= rho0 - 1e-6,
+                            "{m}: {} -> {d} -> {c2:?} changed lens", describe_c(c)
+                        );
                         continue;
                     }
                     uv_distance(c, c2)
@@ -526,6 +617,7 @@ fn coordinate_round_trip() {
                 AnyMapping::EqualAreaOctahedral => EQUAL_AREA_OCTAHEDRAL_CRT,
                 AnyMapping::Angular => ANGULAR_CRT,
                 AnyMapping::Eac => EAC_CRT,
+                AnyMapping::Fisheye(_) => FISHEYE_CRT,
             };
             prop_assert!(
                 err <= bound,
@@ -615,7 +707,11 @@ fn forward_is_continuous() {
         let (ua, ub) = (unit_f64(a), unit_f64(b));
         let alpha = angle(ua, ub);
         for (k, m) in AnyMapping::ALL.into_iter().enumerate() {
-            let (ca, cb) = (m.forward(a).unwrap(), m.forward(b).unwrap());
+            let ca = check_seen(m, m.forward(a), ua)?;
+            let cb = check_seen(m, m.forward(b), ub)?;
+            let (Some(ca), Some(cb)) = (ca, cb) else {
+                continue;
+            };
             if ca.chart != cb.chart {
                 continue;
             }
@@ -767,7 +863,7 @@ fn tennisball_covers_the_sphere() {
 // ---------------------------------------------------------------------------------------------
 
 /// Property 6: over each mapping's atlas, the texel solid angles add up to
-/// 4π (relative 1e-4 is the contract; the error is printed), and none is
+/// 4π, or to what a fisheye sees (relative 1e-4 is the contract; the error is printed), and none is
 /// negative. Cell widths 1, 3, 16 and 64 (where the layout allows them; the
 /// tennisball's 3:1 cells need widths divisible by 3: 3, 48, 192).
 #[test]
@@ -798,7 +894,8 @@ fn texel_solid_angles_add_up_to_4pi() {
                     texels += 1;
                 }
             }
-            let rel = (sum.value() - envmap_tests::FOUR_PI).abs() / envmap_tests::FOUR_PI;
+            let total = covered_solid_angle(m);
+            let rel = (sum.value() - total).abs() / total;
             println!(
                 "{m:>22} {w:>4}×{h:<4} ({texels:>6} texels): Σ = {:.17} rel err {rel:.2e}",
                 sum.value()
@@ -814,6 +911,20 @@ fn texel_solid_angles_add_up_to_4pi() {
         assert!(tested >= 3, "{m}: only {tested} sizes fit the layout");
     }
     println!("worst relative error of Σ texel solid angles: {worst:.2e}");
+}
+
+/// The solid angle `m` sees: 4π, or a fisheye's caps 2π(1 − cos k), computed here from the
+/// field of view (the library's `seen_solid_angle` is checked against it).
+fn covered_solid_angle(m: AnyMapping) -> f64 {
+    let total = match m {
+        AnyMapping::Fisheye(f) if !f.covers_sphere() => {
+            let k = f.fov_degrees().to_radians() / 2.0;
+            f64::from(f.chart_count()) * 2.0 * PI * (1.0 - k.cos())
+        }
+        _ => envmap_tests::FOUR_PI,
+    };
+    assert!((m.seen_solid_angle() - total).abs() <= 1e-14 * total, "{m}");
+    total
 }
 
 /// Property 6, cube: a texel's solid angle equals the gnomonic area element
@@ -995,7 +1106,9 @@ fn framed_round_trip() {
         let canonical = frame.matrix().as_dmat3() * unit;
         for (k, m) in AnyMapping::ALL.into_iter().enumerate() {
             let f = Framed::new(m, frame);
-            let c = f.forward(d).unwrap();
+            let Some(c) = check_seen(m, f.forward(d), canonical / canonical.length())? else {
+                continue;
+            };
             prop_assert!(
                 f.in_chart(c.chart, c.u, c.v),
                 "{m}: {} through {frame:?} -> {c:?}", describe(d)

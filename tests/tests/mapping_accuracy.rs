@@ -113,7 +113,11 @@ fn references_agree_with_each_other() {
     for m in AnyMapping::ALL {
         for _ in 0..2000 {
             let d = rng.direction();
-            let c = m.forward(d).unwrap();
+            // A fisheye under 360° sees only part of the sphere.
+            let Some(c) = m.forward(d) else {
+                assert!(!m.covers_sphere(), "{m} {d}");
+                continue;
+            };
             let dd = d.as_dvec3();
             let dd = dd / dd.length();
             let (u, v) = forward_f64(m, c.chart, dd);

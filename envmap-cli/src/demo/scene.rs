@@ -224,7 +224,12 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
     let mut run = Outputs::with(&[], false, opts.cancel);
     // The representations, then the lit section's steps.
     let lit_steps = if opts.lit { 5 } else { 0 };
-    let total = AnyMapping::ALL.len() as u32 + 1 + lit_steps;
+    // Every mapping that holds the whole sky (a one-lens fisheye sees half of it).
+    let mappings: Vec<AnyMapping> = AnyMapping::ALL
+        .into_iter()
+        .filter(|m| m.covers_sphere())
+        .collect();
+    let total = mappings.len() as u32 + 1 + lit_steps;
     let mesh = Mesh::teapot(10);
     let cam = Camera::default();
     let (w, h) = (opts.width.max(16), (opts.width.max(16) * 3 / 4).max(12));
@@ -262,7 +267,7 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
         .map(|p| p.iter().any(|c| *c > 0.0))
         .collect();
     let mut rows = Vec::new();
-    for (k, m) in AnyMapping::ALL.into_iter().enumerate() {
+    for (k, &m) in mappings.iter().enumerate() {
         progress(k as u32 + 1, total, m.name());
         let t = Instant::now();
         let (aw, ah) = size_for_budget(m, opts.texels);
@@ -318,7 +323,7 @@ fn run_in(opts: &DemoOptions, progress: &dyn Fn(u32, u32, &str)) -> Result<DemoR
         });
     }
     let lit = if opts.lit {
-        let step = std::cell::Cell::new(AnyMapping::ALL.len() as u32 + 1);
+        let step = std::cell::Cell::new(mappings.len() as u32 + 1);
         crate::demo::lit::run(opts, &mut run, &|what| {
             progress(step.get(), total, what);
             step.set(step.get() + 1);

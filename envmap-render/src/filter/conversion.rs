@@ -190,6 +190,10 @@ macro_rules! concrete {
                 let $name = envmap_core::Eac;
                 $body
             }
+            AnyMapping::Fisheye(f) => {
+                let $name = f;
+                $body
+            }
         }
     };
 }

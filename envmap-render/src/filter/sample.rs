@@ -727,7 +727,8 @@ impl<'a> Sampler<'a> {
             AnyMapping::SphereMap
             | AnyMapping::SphereMapGl
             | AnyMapping::DualParaboloid
-            | AnyMapping::Angular => {
+            | AnyMapping::Angular
+            | AnyMapping::Fisheye(_) => {
                 // The disk charts (`has_disk_charts`).
                 if !inside {
                     return None;

@@ -681,7 +681,8 @@ mod tests {
             let (w, h) = (8 * a.cell_aspect_w, 8 * a.cell_aspect_h);
             let t = TexelWeights::new(m, w, h);
             let total = t.total();
-            let sphere = 4.0 * std::f64::consts::PI;
+            // The sphere, or what a fisheye sees.
+            let sphere = m.seen_solid_angle();
             if m.has_disk_charts() {
                 // The slivers of the rim texels whose centres are outside.
                 assert!(total < sphere && total > 0.95 * sphere, "{m}: {total}");

@@ -256,6 +256,7 @@ impl Convention {
     /// | mapping | the file, in the y-up world |
     /// | --- | --- |
     /// | cube and EAC (every convention) | the GL face table applied to (x, y, z) as given: +y face up |
+    /// | fisheye, dual fisheye (every convention) | the (front) lens looks along +z, the latlong's centre, with +x to the right of its image and +y up; the back lens looks along −z with −x to its right |
     /// | latlong | the preset's row of the [module docs](super) table |
     /// | tennisball | the latlong's axes |
     /// | octahedral, equal-area octahedral | centre +y (up), +x at the right edge's middle, +z at the bottom edge's middle |
@@ -264,7 +265,8 @@ impl Convention {
     pub(crate) fn frame_in_world(self, mapping: AnyMapping) -> Mat3 {
         let diag = |x: f32, y: f32, z: f32| Mat3::from_diagonal(Vec3::new(x, y, z));
         match mapping {
-            AnyMapping::Cube | AnyMapping::Eac => Mat3::IDENTITY,
+            // The fisheye's formula axes are the camera's: x right, y up, the lens along z.
+            AnyMapping::Cube | AnyMapping::Eac | AnyMapping::Fisheye(_) => Mat3::IDENTITY,
             AnyMapping::LatLong | AnyMapping::Tennisball => self.latlong().matrix(),
             // g = (f.x, f.z, f.y)
             AnyMapping::Octahedral | AnyMapping::EqualAreaOctahedral => {

@@ -3,7 +3,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use envmap_core::{AnyMapping, Atlas, Frame, Mapping};
+use envmap_core::{AnyMapping, Atlas, Fisheye, Frame, Mapping};
 
 use crate::error::{Error, Result};
 use crate::image::convention::FileAxes;
@@ -125,7 +125,10 @@ impl Layout {
             | Layout::Grid3x2 => &[AnyMapping::Cube, AnyMapping::Eac],
             Layout::V360 => &[AnyMapping::Eac],
             Layout::Square => &SQUARE_MAPPINGS,
-            Layout::SideBySide => &[AnyMapping::DualParaboloid],
+            Layout::SideBySide => &[
+                AnyMapping::DualParaboloid,
+                AnyMapping::Fisheye(Fisheye::DUAL),
+            ],
             Layout::Stacked => &[AnyMapping::Tennisball],
         }
     }
@@ -158,6 +161,8 @@ impl Layout {
             | AnyMapping::EqualAreaOctahedral
             | AnyMapping::Angular => &[Layout::Square],
             AnyMapping::DualParaboloid => &[Layout::SideBySide],
+            AnyMapping::Fisheye(f) if f.is_dual() => &[Layout::SideBySide],
+            AnyMapping::Fisheye(_) => &[Layout::Square],
             AnyMapping::Tennisball => &[Layout::Stacked],
         }
     }
@@ -256,12 +261,13 @@ impl Representation {
 }
 
 /// The square single-chart mappings, which a 1:1 image cannot tell apart.
-const SQUARE_MAPPINGS: [AnyMapping; 5] = [
+const SQUARE_MAPPINGS: [AnyMapping; 6] = [
     AnyMapping::SphereMap,
     AnyMapping::SphereMapGl,
     AnyMapping::Angular,
     AnyMapping::Octahedral,
     AnyMapping::EqualAreaOctahedral,
+    AnyMapping::Fisheye(Fisheye::SINGLE),
 ];
 
 impl fmt::Display for Layout {
@@ -535,9 +541,10 @@ pub fn resolve(
                 size_text(width, height)
             )))
         }
-        // A cube layout alone is the cube's: an EAC map in one is named.
+        // A cube layout alone is the cube's, side by side the paraboloid's: an EAC map or a
+        // dual fisheye in one is named.
         (None, Some(l)) => match l.mappings() {
-            [m] | [m @ AnyMapping::Cube, ..] => {
+            [m] | [m @ (AnyMapping::Cube | AnyMapping::DualParaboloid), ..] => {
                 check_fits(*m, &l.atlas(), width, height)?;
                 Ok((*m, l.atlas()))
             }

@@ -122,7 +122,8 @@ mod tests {
         // poles): the former within 10⁻³ of each other, the latter spread
         // by more than 1 %.
         let mut means = Vec::new();
-        for m in AnyMapping::ALL {
+        // A fisheye under 360° holds part of the sphere, whose mean is its own.
+        for m in AnyMapping::ALL.into_iter().filter(|m| m.covers_sphere()) {
             let repr = Representation::default_for(m);
             let (w, h) = repr.atlas.image_size_for_cell_width(192).unwrap();
             let s = fill(repr, w, h, smooth).unwrap().stats();
