@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use envmap_core::glam::Vec3;
-use envmap_core::{AnyMapping, Frame};
+use envmap_core::{AnyMapping, Fisheye, Frame, Lens};
 
 use envmap_render::image::FaceNames;
 use envmap_render::image::FaceTransforms;
@@ -35,6 +35,75 @@ pub(crate) fn parse_mode(s: &str) -> Result<Mode, String> {
 /// The mapping names the command accepts.
 pub(crate) fn parse_mapping(s: &str) -> Result<AnyMapping, String> {
     s.parse::<AnyMapping>().map_err(|e| e.to_string())
+}
+
+/// `--lens`, `--from-lens`: a fisheye's law.
+pub(crate) fn parse_lens(s: &str) -> Result<Lens, String> {
+    Lens::from_name(s)
+        .ok_or_else(|| format!("unknown lens '{s}'; expected {}", Lens::NAMES.join(" or ")))
+}
+
+/// `--fov`, `--from-fov`: a fisheye's field of view per lens, in degrees.
+pub(crate) fn parse_fov(s: &str) -> Result<f64, String> {
+    match s.trim_end_matches('°').parse::<f64>() {
+        Ok(f) if f > 0.0 && f <= 360.0 => Ok(f),
+        _ => Err(format!(
+            "expected a field of view in degrees, above 0 and at most 360 (e.g. 190), got '{s}'"
+        )),
+    }
+}
+
+/// The input's fisheye lens, for a file whose own metadata does not say it.
+#[derive(clap::Args, Clone, Copy, Debug, Default)]
+pub(crate) struct FromLensFlags {
+    /// Field of view of each lens of a fisheye input (--from fisheye or dual-fisheye), in degrees (default 180, as ffmpeg's v360; files envmap wrote say theirs).
+    #[arg(long, value_parser = parse_fov)]
+    pub(crate) from_fov: Option<f64>,
+    /// Lens law of a fisheye input: equidistant (r ∝ θ, the default, as v360's fisheye) or equisolid (r ∝ sin(θ/2): equal-area, most real fisheye lenses).
+    #[arg(long, value_parser = parse_lens)]
+    pub(crate) from_lens: Option<Lens>,
+}
+
+impl FromLensFlags {
+    /// `--from` with the lens these flags give.
+    pub(crate) fn apply(&self, from: Option<AnyMapping>) -> Result<Option<AnyMapping>, String> {
+        match from {
+            Some(m) => with_lens(
+                m,
+                self.from_lens,
+                self.from_fov,
+                "--from-fov and --from-lens",
+            )
+            .map(Some),
+            None if self.from_fov.is_some() || self.from_lens.is_some() => Err(
+                "--from-fov and --from-lens need --from fisheye or --from dual-fisheye".to_owned(),
+            ),
+            None => Ok(None),
+        }
+    }
+}
+
+/// `m` with a fisheye's lens law and field of view set where given; an error naming `flags`
+/// when they are given for a mapping that is not a fisheye.
+pub(crate) fn with_lens(
+    m: AnyMapping,
+    lens: Option<Lens>,
+    fov: Option<f64>,
+    flags: &str,
+) -> Result<AnyMapping, String> {
+    match m {
+        AnyMapping::Fisheye(f) => Fisheye::new(
+            lens.unwrap_or(f.lens()),
+            fov.unwrap_or(f.fov_degrees()),
+            f.is_dual(),
+        )
+        .map(AnyMapping::Fisheye)
+        .ok_or_else(|| format!("{flags}: a field of view above 0° and at most 360°")),
+        _ if lens.is_some() || fov.is_some() => {
+            Err(format!("{flags} are for fisheye and dual-fisheye, not {m}"))
+        }
+        _ => Ok(m),
+    }
 }
 
 pub(crate) fn parse_layout(s: &str) -> Result<Layout, String> {

@@ -103,6 +103,8 @@ pub(crate) struct BakeArgs {
     /// The input's mapping, when its aspect ratio does not say.
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) from: Option<AnyMapping>,
+    #[command(flatten)]
+    pub(crate) from_lens: crate::args::FromLensFlags,
     /// The world the input file's conventions are in (default: what the file says, else y-up).
     #[arg(long, value_parser = parse_world)]
     pub(crate) from_frame: Option<World>,
@@ -246,7 +248,7 @@ fn source(
     });
     let opts = {
         let mut o = LoadOptions::default();
-        o.mapping = a.from;
+        o.mapping = a.from_lens.apply(a.from)?;
         o.axes = axes;
         o.non_finite = NonFinite::Zero;
         o.max_texels = a.max_megatexels.saturating_mul(1_000_000);

@@ -9,13 +9,13 @@ use envmap_core::{AnyMapping, Frame};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::args::{
-    load_error, output_size, parse_convention, parse_face_names, parse_face_transforms,
-    parse_layout, parse_mapping, parse_rotation, parse_world, set_threads, warn_clamped,
-    warn_replaced, CliResult, TextureFlags, WriteFlags,
+    load_error, output_size, parse_convention, parse_face_names, parse_face_transforms, parse_fov,
+    parse_layout, parse_lens, parse_mapping, parse_rotation, parse_world, set_threads,
+    warn_clamped, warn_replaced, with_lens, CliResult, FromLensFlags, TextureFlags, WriteFlags,
 };
 use envmap_render::filter::pyramid::Pyramid;
 use envmap_render::filter::Filter;
-use envmap_render::filter::{auto_samples, convert, ConvertOptions, Streamed};
+use envmap_render::filter::{auto_samples, convert, coverage, ConvertOptions, Streamed};
 use envmap_render::image::texture::Texture;
 use envmap_render::image::FaceNames;
 use envmap_render::image::FaceTransforms;
@@ -34,9 +34,20 @@ pub(crate) struct ConvertArgs {
     pub(crate) input: PathBuf,
     /// Output file (.png, .jpg, .hdr, .exr, .ktx2, .dds, .ktx); `{face}` in the name, or --layout faces, writes six files.
     pub(crate) output: PathBuf,
-    /// Output mapping: latlong, cube, sphere, sphere-gl, paraboloid, tennisball, octahedral, octahedral-equal-area, angular (light-probe), eac (the equi-angular cube map).
+    /// Output mapping: latlong, cube, sphere, sphere-gl, paraboloid, tennisball, octahedral, octahedral-equal-area, angular (light-probe), eac (the equi-angular cube map), fisheye (one lens looking at the latlong's centre), dual-fisheye (two back to back, side by side; dfisheye).
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) to: AnyMapping,
+    /// Field of view of each lens of a fisheye output, in degrees (default 180; up to 360 for one lens).
+    #[arg(long, value_parser = parse_fov)]
+    pub(crate) fov: Option<f64>,
+    /// Lens law of a fisheye output: equidistant (r ∝ θ, the default, as v360's fisheye) or equisolid (r ∝ sin(θ/2), equal-area).
+    #[arg(long, value_parser = parse_lens)]
+    pub(crate) lens: Option<envmap_core::Lens>,
+    #[command(flatten)]
+    pub(crate) from_lens: FromLensFlags,
+    /// Write where the output's directions are seen by the input (a fisheye under 360° sees part of the sphere) as an 8-bit PNG: white seen, black unseen, grey the fraction of a texel seen.
+    #[arg(long)]
+    pub(crate) mask: Option<PathBuf>,
     /// Output layout (cube: cross, vcross, strip, vstrip, 3x2, faces; eac: v360, ffmpeg's and YouTube's padded 3×2 with turned faces, or any cube layout); default: the mapping's own.
     #[arg(long, value_parser = parse_layout)]
     pub(crate) layout: Option<Layout>,
@@ -154,26 +165,27 @@ fn output_axes(a: &ConvertArgs) -> FileAxes {
 }
 
 fn output_representation(a: &ConvertArgs) -> Result<(Representation, bool), crate::Failure> {
+    let to = with_lens(a.to, a.lens, a.fov, "--fov and --lens")?;
     let layout = a.layout.unwrap_or_else(|| {
-        if a.output.to_string_lossy().contains("{face}") && a.to.has_cube_faces() {
+        if a.output.to_string_lossy().contains("{face}") && to.has_cube_faces() {
             Layout::Faces
         } else {
-            Layout::for_mapping(a.to)[0]
+            Layout::for_mapping(to)[0]
         }
     });
-    if !Layout::for_mapping(a.to).contains(&layout) {
-        let names: Vec<&str> = Layout::for_mapping(a.to).iter().map(|l| l.name()).collect();
+    if !Layout::for_mapping(to).contains(&layout) {
+        let names: Vec<&str> = Layout::for_mapping(to).iter().map(|l| l.name()).collect();
         return Err(format!(
             "--layout {}: {} has no such layout; its layouts: {}",
             layout.name(),
-            a.to,
+            to,
             names.join(", ")
         )
         .into());
     }
     let six = layout.is_six_files();
     Ok((
-        Representation::new(a.to, layout.atlas(), output_axes(a).frame(a.to))?,
+        Representation::new(to, layout.atlas(), output_axes(a).frame(to))?,
         six,
     ))
 }
@@ -199,9 +211,11 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
     };
     stage(format!("loading {}", a.input.display()));
     let t0 = Instant::now();
+    let from = a.from_lens.apply(a.from)?;
+    let (repr, six) = output_representation(a)?;
     let opts = {
         let mut o = LoadOptions::default();
-        o.mapping = a.from;
+        o.mapping = from;
         o.layout = a.from_layout;
         o.axes = input_axes(a);
         o.face_transforms = a.from_face_transform.unwrap_or_default();
@@ -218,7 +232,6 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         ..
     } = loaded;
     let t_load = t0.elapsed();
-    let (repr, six) = output_representation(a)?;
     let in_texels = u64::from(src.width()) * u64::from(src.height());
     let size = a.size.unwrap_or_else(|| default_size(&repr, in_texels));
     if size == 0 {
@@ -242,6 +255,13 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         o.rotation = a.rotate;
         o.cancel = Some(stop);
         o
+    };
+    // What the input sees of the output, when it does not see everything or a mask is asked.
+    let seen = if !src.mapping().covers_sphere() || a.mask.is_some() {
+        stage("measuring what the input sees".to_owned());
+        Some(coverage(src.representation(), repr, w, h, &copts)?)
+    } else {
+        None
     };
     let samples = a
         .samples
@@ -349,6 +369,16 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         );
         (format!("convert {c:.0} ms, save {s:.0} ms"), written)
     };
+    if let (Some(path), Some(c)) = (&a.mask, &seen) {
+        let mask = envmap_render::image::RgbImage {
+            width: w,
+            height: h,
+            pixels: c.texels.iter().map(|&t| [t; 3]).collect(),
+        };
+        let mut o = SaveOptions::default();
+        o.inputs = sopts.inputs.clone();
+        envmap_render::image::write_rgb(&mask, path, &o).map_err(|e| format!("--mask: {e}"))?;
+    }
     if !a.quiet {
         note!(
             "{} {}×{} {} -> {} {}×{} {} ({}, {}×{} samples): load {:.0} ms, {}",
@@ -375,6 +405,17 @@ pub(crate) fn run(a: &ConvertArgs, stop: &AtomicBool) -> CliResult {
         );
         if let Some(t) = &texture_summary {
             note!("  texture: {t}");
+        }
+        if let Some(c) = &seen {
+            note!(
+                "  coverage: the input sees {:.2} % of the output's directions{}",
+                100.0 * c.fraction,
+                if c.fraction < 1.0 {
+                    " (black elsewhere; --mask writes where)"
+                } else {
+                    ""
+                }
+            );
         }
         note!("  input axes:  {}", src_axes.describe(src_mapping));
         note!("  output axes: {}", output_axes(a).describe(repr.mapping));

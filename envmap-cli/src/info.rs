@@ -26,6 +26,8 @@ pub(crate) struct InfoArgs {
     /// Mapping, when the aspect ratio does not say.
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) from: Option<AnyMapping>,
+    #[command(flatten)]
+    pub(crate) from_lens: crate::args::FromLensFlags,
     /// Layout, when the aspect ratio does not say.
     #[arg(long, value_parser = parse_layout)]
     pub(crate) layout: Option<Layout>,
@@ -52,7 +54,7 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
     });
     let opts = {
         let mut o = LoadOptions::default();
-        o.mapping = a.from;
+        o.mapping = a.from_lens.apply(a.from)?;
         o.layout = a.layout;
         o.axes = given;
         o.face_transforms = a.face_transform.unwrap_or_default();
@@ -102,6 +104,24 @@ pub(crate) fn run(a: &InfoArgs, stop: &AtomicBool) -> CliResult {
             texture_lines(&mut out, t)?;
         }
         p(&mut out, "mapping", repr.mapping.to_string())?;
+        if let AnyMapping::Fisheye(f) = repr.mapping {
+            let seen = repr.mapping.seen_solid_angle() / (4.0 * std::f64::consts::PI);
+            p(
+                &mut out,
+                "lens",
+                format!(
+                    "{}, {}° per lens (sees {:.1} % of the sphere{})",
+                    f.lens(),
+                    f.fov_degrees(),
+                    100.0 * seen,
+                    if f.covers_sphere() {
+                        ""
+                    } else {
+                        "; black where unseen"
+                    }
+                ),
+            )?;
+        }
         let (cw, ch) = img.cell_size();
         p(
             &mut out,

@@ -44,6 +44,8 @@ pub(crate) struct RenderArgs {
     /// For an environment file: its mapping, when the aspect ratio does not say.
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) from: Option<AnyMapping>,
+    #[command(flatten)]
+    pub(crate) from_lens: crate::args::FromLensFlags,
     /// For a built-in environment: look it up exactly instead of through a map (the reference).
     #[arg(long)]
     pub(crate) analytic: bool,
@@ -188,7 +190,7 @@ pub(crate) fn run(a: &RenderArgs, stop: &AtomicBool) -> CliResult {
             }
             let opts = {
                 let mut o = LoadOptions::default();
-                o.mapping = a.from;
+                o.mapping = a.from_lens.apply(a.from)?;
                 o.axes = given;
                 o.non_finite = NonFinite::Zero;
                 o.max_texels = a.max_megatexels.saturating_mul(1_000_000);

@@ -751,3 +751,107 @@ fn closed_report_pipes_do_not_stop_a_job() {
         "{err}"
     );
 }
+
+/// Fisheyes on the command line: the lens and field of view go into the file and come back
+/// out of it; a one-lens fisheye turned into a latlong is black where it does not see, the
+/// summary says how much it sees and `--mask` writes where; mistakes are named.
+#[test]
+fn fisheyes_keep_their_lens_and_say_what_they_see() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    latlong_file(d, "sky.exr", 256);
+    let o = envmap(
+        &[
+            "convert",
+            "sky.exr",
+            "dual.exr",
+            "--to",
+            "dual-fisheye",
+            "--fov",
+            "190",
+            "--lens",
+            "equisolid",
+            "--size",
+            "128",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let info = text(&envmap(&["info", "dual.exr"], d).stdout);
+    assert!(info.contains("mapping          dual-fisheye\n"), "{info}");
+    assert!(
+        info.contains("equisolid, 190° per lens (sees 100.0 %"),
+        "{info}"
+    );
+    // One lens of 180° from the file (its own lens read back), then into a latlong.
+    let o = envmap(
+        &[
+            "convert", "dual.exr", "one.exr", "--to", "fisheye", "--size", "64", "-q",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = envmap(
+        &[
+            "convert", "one.exr", "back.exr", "--to", "latlong", "--size", "128", "--mask",
+            "mask.png",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let summary = text(&o.stderr);
+    assert!(
+        summary.contains("coverage: the input sees 50.00 % of the output's directions"),
+        "{summary}"
+    );
+    let back = envmap_render::image::load(d.join("back.exr"), &Default::default()).unwrap();
+    let mask = image::open(d.join("mask.png")).unwrap().to_luma8();
+    assert_eq!((mask.width(), mask.height()), (128, 64));
+    // The latlong's centre (+z, the lens's axis) is seen, its left and right edges (−z) are
+    // not: black there, and so says the mask.
+    assert_eq!(mask.get_pixel(64, 32).0[0], 255);
+    assert_eq!(mask.get_pixel(1, 32).0[0], 0);
+    assert!(back.pixels()[32 * 128 + 64].iter().all(|&c| c > 0.0));
+    assert_eq!(back.pixels()[32 * 128 + 1], [0.0; 3]);
+    // Mistakes.
+    let o = envmap(
+        &[
+            "convert", "sky.exr", "x.exr", "--to", "cube", "--fov", "190",
+        ],
+        d,
+    );
+    assert_fails(&o, 1, "for fisheye and dual-fisheye, not cube");
+    let o = envmap(
+        &[
+            "convert", "sky.exr", "x.exr", "--to", "fisheye", "--fov", "400",
+        ],
+        d,
+    );
+    assert_fails(&o, 2, "at most 360");
+    let o = envmap(
+        &[
+            "convert",
+            "sky.exr",
+            "x.exr",
+            "--to",
+            "cube",
+            "--from-fov",
+            "190",
+        ],
+        d,
+    );
+    assert_fails(&o, 1, "need --from fisheye");
+    let o = envmap(
+        &[
+            "convert",
+            "sky.exr",
+            "x.exr",
+            "--to",
+            "fisheye",
+            "--lens",
+            "stereographic",
+        ],
+        d,
+    );
+    assert_fails(&o, 2, "equidistant or equisolid");
+}

@@ -74,6 +74,37 @@ pub enum Lens {
     Equisolid,
 }
 
+impl Lens {
+    /// Both laws, in the order of [`Lens::NAMES`].
+    pub const ALL: [Lens; 2] = [Lens::Equidistant, Lens::Equisolid];
+
+    /// The names the command line and file metadata use.
+    pub const NAMES: [&'static str; 2] = ["equidistant", "equisolid"];
+
+    /// The law's name: `equidistant` or `equisolid`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// The law named `name` (case-insensitive; `equal-area` is the equisolid law), if any.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Lens> {
+        if name.eq_ignore_ascii_case("equal-area") {
+            return Some(Lens::Equisolid);
+        }
+        Lens::ALL
+            .into_iter()
+            .find(|l| l.name().eq_ignore_ascii_case(name))
+    }
+}
+
+impl core::fmt::Display for Lens {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// One fisheye lens or two back to back; see the [module docs](self).
 ///
 /// The field of view is held in thousandths of a degree, so that two lenses compare equal
@@ -160,6 +191,27 @@ impl Fisheye {
             fov_millidegrees,
             dual,
         })
+    }
+
+    /// The lens and its field of view as file metadata and `envmap info` write them,
+    /// `"equidistant 190"` (degrees per lens); [`Fisheye::from_lens_text`] reads it back.
+    #[must_use]
+    pub fn lens_text(self) -> LensText {
+        LensText(self)
+    }
+
+    /// A fisheye of the kind of `self` (one lens or two) with the lens and field of view of
+    /// `text` as [`Fisheye::lens_text`] writes it (`"equisolid 190"`); `None` if it does not
+    /// parse or the field of view is not in (0°, 360°].
+    #[must_use]
+    pub fn from_lens_text(self, text: &str) -> Option<Fisheye> {
+        let mut words = text.split_whitespace();
+        let lens = Lens::from_name(words.next()?)?;
+        let fov: f64 = words.next()?.trim_end_matches('°').parse().ok()?;
+        if words.next().is_some() {
+            return None;
+        }
+        Fisheye::new(lens, fov, self.dual)
     }
 
     /// The lens law.
@@ -276,6 +328,16 @@ impl Fisheye {
         } else {
             1
         }
+    }
+}
+
+/// [`Fisheye::lens_text`]: the lens law and the field of view in degrees, `"equidistant 190"`.
+#[derive(Clone, Copy, Debug)]
+pub struct LensText(Fisheye);
+
+impl core::fmt::Display for LensText {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{} {}", self.0.lens.name(), self.0.fov_degrees())
     }
 }
 
@@ -458,6 +520,27 @@ mod tests {
             );
         }
         assert_eq!(Fisheye::default().fov_degrees(), 180.0);
+        // The lens text round trips, and refuses what is not a lens.
+        let f = Fisheye::new(Lens::Equisolid, 190.5, true).unwrap();
+        let text = std::format!("{}", f.lens_text());
+        assert_eq!(text, "equisolid 190.5");
+        assert_eq!(Fisheye::DUAL.from_lens_text(&text), Some(f));
+        assert_eq!(
+            Fisheye::SINGLE
+                .from_lens_text("EQUAL-AREA 90°")
+                .map(|f| f.lens()),
+            Some(Lens::Equisolid)
+        );
+        for bad in [
+            "",
+            "equidistant",
+            "fisheye 190",
+            "equidistant 0",
+            "equidistant 400",
+            "equidistant 190 x",
+        ] {
+            assert_eq!(Fisheye::SINGLE.from_lens_text(bad), None, "{bad}");
+        }
     }
 
     /// A lens's texels total its cap, 2π(1 − cos(F/2)), or its hemisphere, 2π, when two

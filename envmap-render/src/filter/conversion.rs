@@ -145,6 +145,93 @@ pub fn convert(
     Ok(out)
 }
 
+/// What the input of a conversion sees of its output: a fisheye under 360° leaves part of
+/// the sphere unseen, and [`convert`] writes black there. See [`coverage`].
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct Coverage {
+    /// The fraction of the output's solid angle that the input sees, in `[0, 1]`, each texel
+    /// weighted by its exact solid angle.
+    pub fraction: f64,
+    /// Per output texel, row by row, the fraction of its 2 × 2 sub-samples inside its chart
+    /// whose directions the input sees (0 outside every chart).
+    pub texels: Vec<f32>,
+}
+
+/// Sub-samples per texel side of [`coverage`].
+const COVERAGE_SAMPLES: u32 = 2;
+
+/// What `src` (a representation) sees of a `width × height` output in `repr`, through the
+/// rotation of `opts` as [`convert`] applies it: the fraction of the output's solid angle it
+/// sees, and each texel's seen fraction (2 × 2 sub-samples per texel). Every mapping but a
+/// fisheye under 360° sees everything (fraction 1).
+///
+/// # Errors
+///
+/// The size does not fit `repr`.
+pub fn coverage(
+    src: &Representation,
+    repr: Representation,
+    width: u32,
+    height: u32,
+    opts: &ConvertOptions,
+) -> Result<Coverage> {
+    repr.check_size(width, height)?;
+    let rot = opts.rotation.map_or(Mat3::IDENTITY, Frame::matrix);
+    let m = src.frame.matrix().transpose() * rot * repr.frame.matrix();
+    let atlas = repr.atlas;
+    let (cw, ch) = atlas.cell_size(width, height).unwrap_or((width, height));
+    let weights = crate::filter::weights::TexelWeights::new(repr.mapping, cw, ch);
+    let n = COVERAGE_SAMPLES;
+    let w = width as usize;
+    let mut texels = vec![0.0f32; w * height as usize];
+    let (seen, total) = texels
+        .par_chunks_mut(w.max(1))
+        .enumerate()
+        .map(|(y, row)| {
+            let (mut seen, mut total) = (0.0f64, 0.0f64);
+            for (x, t) in row.iter_mut().enumerate() {
+                let Some(c) = atlas.texel_to_chart(x as u32, y as u32, width, height) else {
+                    continue;
+                };
+                // Sub-samples inside the chart, and of those the ones seen.
+                let (mut inside, mut k) = (0u32, 0u32);
+                for b in 0..n {
+                    for a in 0..n {
+                        let u = ((f64::from(c.i) + (f64::from(a) + 0.5) / f64::from(n))
+                            / f64::from(c.w)) as f32;
+                        let v = ((f64::from(c.j) + (f64::from(b) + 0.5) / f64::from(n))
+                            / f64::from(c.h)) as f32;
+                        let Some(d) = repr
+                            .mapping
+                            .inverse(envmap_core::ChartUv::new(c.chart, u, v))
+                        else {
+                            continue;
+                        };
+                        inside += 1;
+                        if src.mapping.forward(m * d).is_some() {
+                            k += 1;
+                        }
+                    }
+                }
+                *t = if inside == 0 {
+                    0.0
+                } else {
+                    k as f32 / inside as f32
+                };
+                let omega = weights.get(c.chart, c.i, c.j);
+                seen += omega * f64::from(*t);
+                total += omega;
+            }
+            (seen, total)
+        })
+        .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+    Ok(Coverage {
+        fraction: if total > 0.0 { seen / total } else { 0.0 },
+        texels,
+    })
+}
+
 /// Runs `$body` with `$name` bound to the concrete mapping type of `$any`,
 /// so that the loops built from it are monomorphic and the kernels inline.
 macro_rules! concrete {

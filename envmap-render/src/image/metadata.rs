@@ -8,6 +8,9 @@ use crate::image::layout::{Layout, Representation};
 
 /// The key of the mapping's name.
 pub(crate) const MAPPING: &str = "envmap.mapping";
+/// The key of a fisheye's lens and field of view (`"equidistant 190"`: the law, and degrees
+/// per lens).
+pub(crate) const LENS: &str = "envmap.lens";
 /// The key of the layout's name.
 pub(crate) const LAYOUT: &str = "envmap.layout";
 /// The key of a six-file cube face's name.
@@ -60,8 +63,13 @@ impl FileMetadata {
     #[must_use]
     pub(crate) fn from_tags(tags: &[(String, String)]) -> Self {
         let get = |k: &str| tags.iter().find(|(key, _)| key == k).map(|(_, v)| v.trim());
+        // A fisheye's lens and field of view, when it says them.
+        let lens = |m: AnyMapping| match (m, get(LENS)) {
+            (AnyMapping::Fisheye(f), Some(t)) => f.from_lens_text(t).map(AnyMapping::Fisheye),
+            _ => Some(m),
+        };
         FileMetadata {
-            mapping: get(MAPPING).and_then(|v| v.parse().ok()),
+            mapping: get(MAPPING).and_then(|v| v.parse().ok()).and_then(lens),
             layout: get(LAYOUT).and_then(|v| v.parse().ok()),
             axes: get(AXES).and_then(parse_axes),
         }
@@ -135,6 +143,9 @@ pub(crate) fn tags(
 ) -> Vec<(String, String)> {
     let axes = identify(repr.mapping, repr.frame);
     let mut t = vec![(MAPPING.to_owned(), repr.mapping.to_string())];
+    if let AnyMapping::Fisheye(f) = repr.mapping {
+        t.push((LENS.to_owned(), f.lens_text().to_string()));
+    }
     if let Some(l) = layout.or_else(|| repr.layout()) {
         t.push((LAYOUT.to_owned(), l.name().to_owned()));
     }
@@ -153,10 +164,24 @@ pub(crate) fn description(
     face: Option<&str>,
 ) -> String {
     let axes = identify(repr.mapping, repr.frame);
+    let mapping = match repr.mapping {
+        AnyMapping::Fisheye(f) => format!(
+            "{} ({} lens, {} degrees each{})",
+            repr.mapping,
+            f.lens(),
+            f.fov_degrees(),
+            if f.covers_sphere() {
+                ""
+            } else {
+                "; black where unseen"
+            }
+        ),
+        m => m.to_string(),
+    };
     let what = match (layout.or_else(|| repr.layout()), face) {
         (_, Some(f)) => format!("face {f} of a cube written as six files"),
-        (Some(l), None) => format!("{} map, {} layout", repr.mapping, l.name()),
-        (None, None) => format!("{} map", repr.mapping),
+        (Some(l), None) => format!("{mapping} map, {} layout", l.name()),
+        (None, None) => format!("{mapping} map"),
     };
     format!("{what}; axes: {}", axes.describe(repr.mapping))
 }
