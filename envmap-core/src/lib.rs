@@ -19,6 +19,7 @@
 //! | [`Octahedral`] | [`octahedral`] | 1 square | Engelhardt & Dachsbacher 2008 |
 //! | [`EqualAreaOctahedral`] | [`octahedral`] | 1 square | Clarberg 2008; pbrt-v4 |
 //! | [`Fisheye`] | [`fisheye`] | 1 or 2 disks | Kannala & Brandt 2006: equidistant and equisolid lenses, field of view up to 360° |
+//! | [`Perspective`] | [`perspective`] | 1 rectangle | the gnomonic projection (a pinhole camera's view), any field of view under 180° and aspect ratio |
 //!
 //! Also: the two reflection formulas ([`reflect_view`], [`reflect_incident`]),
 //! axis conventions ([`Frame`], [`Framed`]), atlas layouts ([`Atlas`]), texel
@@ -64,6 +65,7 @@ pub mod latlong;
 mod mapping;
 mod math;
 pub mod octahedral;
+pub mod perspective;
 mod reflect;
 pub mod shaders;
 pub mod solid_angle;
@@ -83,6 +85,7 @@ pub use frame::{Frame, Framed};
 pub use latlong::LatLong;
 pub use mapping::{ChartUv, Mapping};
 pub use octahedral::{EqualAreaOctahedral, Octahedral};
+pub use perspective::Perspective;
 pub use reflect::{reflect_incident, reflect_view};
 pub use sphere_map::{SphereConvention, SphereMap};
 pub use tennisball::Tennisball;

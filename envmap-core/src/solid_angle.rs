@@ -128,6 +128,26 @@ pub fn eac_face(u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
     })
 }
 
+/// Solid angle of `[u0, u1] × [v0, v1]` in a perspective view whose half-width and
+/// half-height on the plane z = 1 are `tx` = tan(H/2) and `ty` = tan(V/2)
+/// ([`crate::perspective`]).
+///
+/// A rectangle of (u, v) is the rectangle `[tx(2u0 − 1), tx(2u1 − 1)] × [ty(2v0 − 1),
+/// ty(2v1 − 1)]` of the plane (its mirror image in y, of the same solid angle), measured as the
+/// cube face's. Orientation, clipping and NaN as in the [module documentation](self).
+#[must_use]
+#[inline]
+pub fn perspective(tx: f64, ty: f64, u0: f64, u1: f64, v0: f64, v1: f64) -> f64 {
+    oriented(u0, u1, v0, v1, |u0, u1, v0, v1| {
+        face_rectangle(
+            tx * (2.0 * u0 - 1.0),
+            ty * (2.0 * v0 - 1.0),
+            2.0 * tx * (u1 - u0),
+            2.0 * ty * (v1 - v0),
+        )
+    })
+}
+
 /// Solid angle of the rectangle `[x, x + dx] × [y, y + dy]` of the plane z = 1 (a cube
 /// face's, coordinates in [−1, 1]), as two triangles.
 #[inline]
