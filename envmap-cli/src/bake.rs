@@ -263,6 +263,14 @@ fn source(
         }
     })?;
     warn_replaced(Path::new(&a.input), loaded.replaced);
+    let m = loaded.image.mapping();
+    if !m.covers_sphere() {
+        note!(
+            "envmap: warning: {}: a {m} sees {:.1} % of the sphere; the lighting takes the rest as black",
+            a.input,
+            100.0 * m.seen_solid_angle() / (4.0 * std::f64::consts::PI)
+        );
+    }
     Ok((loaded.image, a.input.clone(), loaded.files))
 }
 
