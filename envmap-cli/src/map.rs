@@ -11,7 +11,8 @@ use clap::Args;
 use envmap_core::{AnyMapping, Frame, Mapping};
 
 use crate::args::{
-    output_size, parse_convention, parse_layout, parse_mapping, parse_world, CliResult,
+    output_size, parse_convention, parse_fov, parse_layout, parse_lens, parse_mapping, parse_world,
+    with_lens, CliResult,
 };
 use crate::text::{MapLines, UnmapLines};
 use envmap_render::cancel;
@@ -25,6 +26,12 @@ pub(crate) struct MapArgs {
     /// The mapping.
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) mapping: AnyMapping,
+    /// Field of view of each lens of a fisheye, in degrees (default 180).
+    #[arg(long, value_parser = parse_fov)]
+    pub(crate) fov: Option<f64>,
+    /// Lens law of a fisheye: equidistant (the default) or equisolid.
+    #[arg(long, value_parser = parse_lens)]
+    pub(crate) lens: Option<envmap_core::Lens>,
     /// The world of the directions read: y-up (the GL world: the mapping as its files use it, so GL's vectors give GL's cube face), y-up-lh, or z-up (envmap's canonical frame: the mapping's formula on the directions as given).
     #[arg(long, value_parser = parse_world, default_value = "y-up")]
     pub(crate) frame: World,
@@ -46,6 +53,12 @@ pub(crate) struct UnmapArgs {
     /// The mapping.
     #[arg(long, value_parser = parse_mapping)]
     pub(crate) mapping: AnyMapping,
+    /// Field of view of each lens of a fisheye, in degrees (default 180).
+    #[arg(long, value_parser = parse_fov)]
+    pub(crate) fov: Option<f64>,
+    /// Lens law of a fisheye: equidistant (the default) or equisolid.
+    #[arg(long, value_parser = parse_lens)]
+    pub(crate) lens: Option<envmap_core::Lens>,
     /// The world of the directions printed (as `map --frame`).
     #[arg(long, value_parser = parse_world, default_value = "y-up")]
     pub(crate) frame: World,
@@ -106,29 +119,30 @@ fn read_lines(
 }
 
 pub(crate) fn run_map(a: &MapArgs, stop: &AtomicBool) -> CliResult {
+    let mapping = with_lens(a.mapping, a.lens, a.fov, "--fov and --lens")?;
     let (name, lines) = read_lines(a.input.as_deref(), stop)?;
     let atlas = match a.layout {
-        Some(l) if !Layout::for_mapping(a.mapping).contains(&l) || l.is_six_files() => {
+        Some(l) if !Layout::for_mapping(mapping).contains(&l) || l.is_six_files() => {
             return Err(format!(
                 "--layout {}: not a single-image layout of {}",
                 l.name(),
-                a.mapping
+                mapping
             )
             .into());
         }
         Some(l) => l.atlas(),
-        None => a.mapping.atlas(),
+        None => mapping.atlas(),
     };
     let size = match a.size {
         Some(n) => {
-            let repr = Representation::new(a.mapping, atlas, Frame::IDENTITY)?;
+            let repr = Representation::new(mapping, atlas, Frame::IDENTITY)?;
             Some(output_size(&repr, n)?)
         }
         None => None,
     };
     let parser = MapLines::new(
-        a.mapping,
-        directions_frame(a.mapping, a.convention, a.frame),
+        mapping,
+        directions_frame(mapping, a.convention, a.frame),
         atlas,
         size,
     );
@@ -136,11 +150,9 @@ pub(crate) fn run_map(a: &MapArgs, stop: &AtomicBool) -> CliResult {
 }
 
 pub(crate) fn run_unmap(a: &UnmapArgs, stop: &AtomicBool) -> CliResult {
+    let mapping = with_lens(a.mapping, a.lens, a.fov, "--fov and --lens")?;
     let (name, lines) = read_lines(a.input.as_deref(), stop)?;
-    let parser = UnmapLines::new(
-        a.mapping,
-        directions_frame(a.mapping, a.convention, a.frame),
-    );
+    let parser = UnmapLines::new(mapping, directions_frame(mapping, a.convention, a.frame));
     write_rows(&name, &lines, parser.header(), |l| parser.line(l), stop)
 }
 
