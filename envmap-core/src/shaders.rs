@@ -53,7 +53,7 @@ macro_rules! wgsl_files {
         )*
         /// Every WGSL file as `(file name, text)`, in the order in which they
         /// can be concatenated (each needs only the ones before it).
-        pub const WGSL_FILES: [(&str, &str); 11] = [$(($file, $name)),*];
+        pub const WGSL_FILES: [(&str, &str); 12] = [$(($file, $name)),*];
         /// Every WGSL file concatenated in the order of [`WGSL_FILES`]: one
         /// self-contained module with every mapping and the lighting lookups.
         pub const ALL_WGSL: &str = concat!($(include_str!(concat!("../shaders/", $file))),*);
@@ -112,6 +112,11 @@ wgsl_files!(
         "`envmap_octahedral_forward`/`_inverse` and `envmap_equal_area_octahedral_forward`/`_inverse`, as [`crate::Octahedral`] and [`crate::EqualAreaOctahedral`]."
     ),
     (
+        FISHEYE_WGSL,
+        "fisheye.wgsl",
+        "`envmap_fisheye_forward` and `envmap_fisheye_inverse`, as [`crate::Fisheye`], the lens given by the arguments (half the field of view in radians, [`Fisheye::half_fov`](crate::Fisheye::half_fov); equisolid or equidistant; one lens or two), `envmap_fisheye_covers_sphere` and `envmap_fisheye_sin`."
+    ),
+    (
         LIGHTING_WGSL,
         "lighting.wgsl",
         "The image-based-lighting lookups for envmap's bake: SH9 irradiance, roughness to mip level per rule, the split sum with the DFG table, the dominant direction, and texture reads of latlong, octahedral and cube maps with each map's edge rule and a mip level from the direction's footprint."
@@ -120,7 +125,7 @@ wgsl_files!(
 
 /// The WGSL files each generated module is written from, in order: its
 /// name (the generated files' stem) and the files concatenated.
-pub const MODULES: [(&str, &[&str]); 11] = [
+pub const MODULES: [(&str, &[&str]); 12] = [
     ("latlong", &["common.wgsl", "frame.wgsl", "latlong.wgsl"]),
     ("cube", &["common.wgsl", "frame.wgsl", "cube.wgsl"]),
     (
@@ -144,6 +149,7 @@ pub const MODULES: [(&str, &[&str]); 11] = [
         "octahedral",
         &["common.wgsl", "frame.wgsl", "octahedral.wgsl"],
     ),
+    ("fisheye", &["common.wgsl", "frame.wgsl", "fisheye.wgsl"]),
     (
         "lighting",
         &[
@@ -168,6 +174,7 @@ pub const MODULES: [(&str, &[&str]); 11] = [
             "angular.wgsl",
             "tennisball.wgsl",
             "octahedral.wgsl",
+            "fisheye.wgsl",
             "lighting.wgsl",
         ],
     ),
@@ -185,7 +192,7 @@ macro_rules! generated {
             pub const $hlsl: &str = include_str!(concat!("../shaders/generated/hlsl/", $file, ".hlsl"));
         )*
         /// Every generated module as `(name, GLSL 4.50, GLSL ES 3.00, HLSL)`.
-        pub const GENERATED: [(&str, &str, &str, &str); 11] = [$(($file, $glsl, $es, $hlsl)),*];
+        pub const GENERATED: [(&str, &str, &str, &str); 12] = [$(($file, $glsl, $es, $hlsl)),*];
     };
 }
 
@@ -245,6 +252,13 @@ generated!(
         OCTAHEDRAL_HLSL,
         "octahedral",
         "both octahedral maps (with the common functions and the frames)"
+    ),
+    (
+        FISHEYE_GLSL,
+        FISHEYE_GLSL_ES,
+        FISHEYE_HLSL,
+        "fisheye",
+        "the fisheye lenses (with the common functions and the frames)"
     ),
     (
         LIGHTING_GLSL,

@@ -25,7 +25,17 @@
 //! other chart, which must then hold the same direction; and a frame's
 //! matrix product may give a zero component either sign (the core's
 //! `x·1 + y·0 + z·0` turns −0 into +0, a device may keep it), which moves a
-//! pole's u or picks the other image of a fold: the same direction again.
+//! pole's u or picks the other image of a fold: the same direction again;
+//! and next to a fisheye lens's rim (within 10⁻⁴ rad, [`FISHEYE_RIM`]) the
+//! device may see a direction the core does not, or the reverse (the two
+//! angles round apart at the limit k·(1 + 4ε)); further from it the unseen
+//! directions are invalid on both.
+//!
+//! The fisheye lenses (one equidistant lens of 180° and two, two equisolid
+//! lenses of 190°, one equidistant lens of 250°, one equisolid lens of
+//! 360°) take the lens as arguments, and each adds directions of its own
+//! either side of its rims; their bounds are tighter than the shared ones
+//! (twice the worst measured on lavapipe).
 //!
 //! The worst cases and where they occur are printed
 //! (`cargo test --release -p envmap-tests --test shader_mappings_gpu --
@@ -34,7 +44,9 @@
 mod gpu;
 
 use envmap_core::shaders::ALL_WGSL;
-use envmap_core::{AnyMapping, ChartUv, Frame, Framed, Mapping};
+use envmap_core::{
+    normalize_direction, AnyMapping, ChartUv, Fisheye, Frame, Framed, Lens, Mapping,
+};
 use envmap_tests::{angle_f32, uniform_direction, wrapped_distance, SplitMix64};
 use glam::Vec3;
 use gpu::{bytes_u32, f32s, gpu, u32s, Binding, INDEX_WGSL};
@@ -47,32 +59,46 @@ const ANGLE_BOUND: f64 = 1e-6;
 /// How close to a tennisball selection boundary (in the normalised
 /// components) a chart may differ.
 const TENNISBALL_TIE: f64 = 1e-6;
+/// How close to a fisheye lens's rim (radians from the circle θ = k) the
+/// device may see a direction the core does not, or the reverse.
+const FISHEYE_RIM: f64 = 1e-4;
 
 /// One mapping as the test runs it: the core's, and the WGSL expressions of
 /// its forward of `d` and inverse of `c`.
 struct Case {
-    name: &'static str,
+    name: String,
     mapping: Box<dyn Mapping>,
     any: Option<AnyMapping>,
-    forward: &'static str,
-    inverse: &'static str,
+    forward: String,
+    inverse: String,
     /// u wraps (0 ≡ 1): the latlong.
     wraps: bool,
     /// The frame the WGSL applies by `envmap_frame_to_canonical`.
     frame: Option<Frame>,
+    /// Forward (u, v) within this of the core's ([`UV_BOUND`] unless the
+    /// case says otherwise).
+    uv_bound: f64,
+    /// Inverse directions within this many radians of the core's
+    /// ([`ANGLE_BOUND`] unless the case says otherwise).
+    angle_bound: f64,
+    /// Directions of the case's own, after the shared ones (a fisheye's rims).
+    extra: Vec<Vec3>,
 }
 
 fn cases() -> Vec<Case> {
-    let plain = |m: AnyMapping, f: &'static str, i: &'static str| Case {
-        name: m.name(),
+    let plain = |m: AnyMapping, f: &str, i: &str| Case {
+        name: m.name().to_string(),
         mapping: Box::new(m),
         any: Some(m),
-        forward: f,
-        inverse: i,
+        forward: f.to_string(),
+        inverse: i.to_string(),
         wraps: m == AnyMapping::LatLong,
         frame: None,
+        uv_bound: UV_BOUND,
+        angle_bound: ANGLE_BOUND,
+        extra: Vec::new(),
     };
-    vec![
+    let mut v = vec![
         plain(
             AnyMapping::LatLong,
             "envmap_latlong_forward(d)",
@@ -128,26 +154,123 @@ fn cases() -> Vec<Case> {
             "envmap_angular_inverse(c)",
         ),
         Case {
-            name: "latlong, Y_UP_RH",
+            name: "latlong, Y_UP_RH".to_string(),
             mapping: Box::new(Framed::new(envmap_core::LatLong, Frame::Y_UP_RH)),
             any: None,
-            forward: "envmap_latlong_forward(envmap_frame_to_canonical(ENVMAP_FRAME_Y_UP_RH, d))",
-            inverse: "envmap_frame_from_canonical(ENVMAP_FRAME_Y_UP_RH, envmap_latlong_inverse(c))",
+            forward: "envmap_latlong_forward(envmap_frame_to_canonical(ENVMAP_FRAME_Y_UP_RH, d))"
+                .to_string(),
+            inverse: "envmap_frame_from_canonical(ENVMAP_FRAME_Y_UP_RH, envmap_latlong_inverse(c))"
+                .to_string(),
             wraps: true,
             frame: Some(Frame::Y_UP_RH),
+            uv_bound: UV_BOUND,
+            angle_bound: ANGLE_BOUND,
+            extra: Vec::new(),
         },
         Case {
-            name: "octahedral, Y_UP_LH",
+            name: "octahedral, Y_UP_LH".to_string(),
             mapping: Box::new(Framed::new(envmap_core::Octahedral, Frame::Y_UP_LH)),
             any: None,
             forward:
-                "envmap_octahedral_forward(envmap_frame_to_canonical(ENVMAP_FRAME_Y_UP_LH, d))",
+                "envmap_octahedral_forward(envmap_frame_to_canonical(ENVMAP_FRAME_Y_UP_LH, d))"
+                    .to_string(),
             inverse:
-                "envmap_frame_from_canonical(ENVMAP_FRAME_Y_UP_LH, envmap_octahedral_inverse(c))",
+                "envmap_frame_from_canonical(ENVMAP_FRAME_Y_UP_LH, envmap_octahedral_inverse(c))"
+                    .to_string(),
             wraps: false,
             frame: Some(Frame::Y_UP_LH),
+            uv_bound: UV_BOUND,
+            angle_bound: ANGLE_BOUND,
+            extra: Vec::new(),
         },
-    ]
+    ];
+    // The fisheye lenses: the lens passed as arguments (half the field of
+    // view as its f32 bits, exactly the core's), its rims swept. Bounds
+    // about twice the worst measured on lavapipe: forward 1.2e-7 in u, v
+    // (one ulp) for every lens; inverse 1.4e-7 rad (180°, one lens or two),
+    // 2.9e-7 (equisolid 190°), 1.5e-7 (equidistant 250°), 5.0e-7 (equisolid
+    // 360°).
+    for (f, uv_bound, angle_bound) in [
+        (Fisheye::SINGLE, 2.5e-7, 3e-7),
+        (Fisheye::DUAL, 2.5e-7, 3e-7),
+        (fisheye(Lens::Equisolid, 190.0, true), 2.5e-7, 6e-7),
+        (fisheye(Lens::Equidistant, 250.0, false), 2.5e-7, 3e-7),
+        (fisheye(Lens::Equisolid, 360.0, false), 2.5e-7, 1e-6),
+    ] {
+        v.push(fisheye_case(f, uv_bound, angle_bound));
+    }
+    v
+}
+
+fn fisheye(lens: Lens, fov: f64, dual: bool) -> Fisheye {
+    Fisheye::new(lens, fov, dual).expect("a field of view in (0°, 360°]")
+}
+
+/// The case of one fisheye: `envmap_fisheye_forward(d, k, equisolid, dual)`
+/// and its inverse.
+fn fisheye_case(f: Fisheye, uv_bound: f64, angle_bound: f64) -> Case {
+    let args = format!(
+        "bitcast<f32>({:#010x}u), {}, {}",
+        f.half_fov().to_bits(),
+        f.lens() == Lens::Equisolid,
+        f.is_dual()
+    );
+    Case {
+        name: format!(
+            "{} {} {}°",
+            f.name(),
+            match f.lens() {
+                Lens::Equidistant => "equidistant",
+                Lens::Equisolid => "equisolid",
+            },
+            f.fov_degrees()
+        ),
+        mapping: Box::new(f),
+        any: Some(AnyMapping::Fisheye(f)),
+        forward: format!("envmap_fisheye_forward(d, {args})"),
+        inverse: format!("envmap_fisheye_inverse(c, {args})"),
+        wraps: false,
+        frame: None,
+        uv_bound,
+        angle_bound,
+        extra: rim_directions(f),
+    }
+}
+
+/// Directions at angles k + δ from each lens's axis (k half the field of
+/// view; δ from −10⁻² to 10⁻² rad, 0 included), at 97 azimuths: either side
+/// of where the core stops seeing.
+fn rim_directions(f: Fisheye) -> Vec<Vec3> {
+    let k = f64::from(f.half_fov());
+    let mut v = Vec::new();
+    let axes: &[f64] = if f.is_dual() { &[1.0, -1.0] } else { &[1.0] };
+    for &axis in axes {
+        let deltas = (-7..=-2).flat_map(|e| [-(10f64.powi(e)), 10f64.powi(e)]);
+        for delta in deltas.chain([0.0]) {
+            let theta = k + delta;
+            if !(0.0..=std::f64::consts::PI).contains(&theta) {
+                continue;
+            }
+            for j in 0..97 {
+                let phi = std::f64::consts::TAU * (f64::from(j) + 0.25) / 97.0;
+                let d = glam::DVec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    axis * theta.cos(),
+                );
+                v.push(d.as_vec3());
+            }
+        }
+    }
+    v
+}
+
+/// How far `d` is from the rim of the lens that would see it (radians).
+fn rim_distance(f: Fisheye, d: Vec3) -> f64 {
+    let u = envmap_tests::unit_f64(d);
+    let axial = if f.is_dual() && d.z < 0.0 { -u.z } else { u.z };
+    let theta = u.x.hypot(u.y).atan2(axial);
+    (theta - f64::from(f.half_fov())).abs()
 }
 
 /// The kernel of one case: forward of `dirs[i]`, inverse of `points[i]`,
@@ -383,6 +506,13 @@ struct Tally {
     subnormal: usize,
     tennisball_ties: usize,
     frame_zeros: usize,
+    /// Fisheye directions within [`FISHEYE_RIM`] of the rim that one side
+    /// sees and the other does not.
+    fisheye_rim: usize,
+    /// The furthest of them from the rim (radians).
+    fisheye_rim_worst: f64,
+    /// Finite non-zero directions invalid on both (a fisheye's unseen ones).
+    unseen: usize,
     failures: Vec<String>,
 }
 
@@ -397,17 +527,22 @@ impl Tally {
 #[test]
 fn every_mapping_on_the_gpu_against_the_core() {
     let g = gpu("shader mappings");
-    let dirs = directions();
-    let dir_bits: Vec<u32> = dirs
-        .iter()
-        .flat_map(|d| [d.x.to_bits(), d.y.to_bits(), d.z.to_bits(), 0])
-        .collect();
-    println!("{} directions", dirs.len());
-    assert!(dirs.len() >= 100_000);
+    let shared = directions();
+    println!("{} directions", shared.len());
+    assert!(shared.len() >= 100_000);
     let mut all_failures = Vec::new();
     let mut table = Vec::new();
     for case in cases() {
         let m = case.mapping.as_ref();
+        let fisheye = match case.any {
+            Some(AnyMapping::Fisheye(f)) => Some(f),
+            _ => None,
+        };
+        let dirs: Vec<Vec3> = shared.iter().chain(&case.extra).copied().collect();
+        let dir_bits: Vec<u32> = dirs
+            .iter()
+            .flat_map(|d| [d.x.to_bits(), d.y.to_bits(), d.z.to_bits(), 0])
+            .collect();
         let pts = points(m, &dirs);
         let pt_bits: Vec<u32> = pts
             .iter()
@@ -438,11 +573,15 @@ fn every_mapping_on_the_gpu_against_the_core() {
             );
             let want = m.forward(d);
             let sub = has_subnormal(d);
+            let invalid = got.chart == u32::MAX && got.u == 0.0 && got.v == 0.0;
             let matches = |want: Option<ChartUv>| match want {
-                None => got.chart == u32::MAX && got.u == 0.0 && got.v == 0.0,
-                Some(w) => w.chart == got.chart && uv_error(w, got, case.wraps) <= UV_BOUND,
+                None => invalid,
+                Some(w) => w.chart == got.chart && uv_error(w, got, case.wraps) <= case.uv_bound,
             };
             if matches(want) {
+                if want.is_none() && normalize_direction(d).is_some() {
+                    t.unseen += 1;
+                }
                 if let Some(w) = want {
                     let e = uv_error(w, got, case.wraps);
                     if e > t.forward_worst.0 || t.forward_worst.1.is_empty() {
@@ -476,6 +615,14 @@ fn every_mapping_on_the_gpu_against_the_core() {
                         t.tennisball_ties += 1;
                         continue;
                     }
+                }
+            }
+            if let Some(f) = fisheye {
+                let rim = rim_distance(f, d);
+                if want.is_none() != invalid && rim < FISHEYE_RIM {
+                    t.fisheye_rim += 1;
+                    t.fisheye_rim_worst = t.fisheye_rim_worst.max(rim);
+                    continue;
                 }
             }
             if let (Some(f), Some(w)) = (case.frame, want) {
@@ -515,7 +662,7 @@ fn every_mapping_on_the_gpu_against_the_core() {
                             format!("c = {} (core {}, device {})", show_c(c), show(w), show(got)),
                         );
                     }
-                    if a > ANGLE_BOUND || (len - 1.0).abs() > 1e-5 {
+                    if a > case.angle_bound || (len - 1.0).abs() > 1e-5 {
                         t.fail(format!(
                             "inverse of {}: core {}, device {} ({a:.3e} rad, length {len})",
                             show_c(c),
@@ -555,24 +702,37 @@ fn every_mapping_on_the_gpu_against_the_core() {
         );
         println!("    inverse worst (rad): {}", at(&t.inverse_worst));
         println!(
-            "    documented disagreements: {} subnormal, {} tennisball chart ties, {} signed zeros from a frame",
-            t.subnormal, t.tennisball_ties, t.frame_zeros
+            "    documented disagreements: {} subnormal, {} tennisball chart ties, {} signed zeros from a frame, {} seen on one side only within {FISHEYE_RIM:e} rad of a fisheye's rim",
+            t.subnormal, t.tennisball_ties, t.frame_zeros, t.fisheye_rim
         );
+        if let Some(f) = fisheye {
+            println!(
+                "    {} unseen directions invalid on both ({} of the case's own at its rims); \
+                 seen on one side only at most {:.2e} rad from the rim",
+                t.unseen,
+                case.extra.len(),
+                t.fisheye_rim_worst
+            );
+            if !f.covers_sphere() && t.unseen == 0 {
+                t.fail("no unseen direction was tested".to_string());
+            }
+        }
         table.push(format!(
-            "| {} | {:.2e} | {:.2e} | {:.2e} | {} | {} | {} |",
+            "| {} | {:.2e} | {:.2e} | {:.2e} | {} | {} | {} | {} |",
             case.name,
             t.forward_worst.0,
             t.forward_angle.0,
             t.inverse_worst.0,
             t.subnormal,
             t.tennisball_ties,
-            t.frame_zeros
+            t.frame_zeros,
+            t.fisheye_rim
         ));
         for f in &t.failures {
             all_failures.push(format!("{}: {f}", case.name));
         }
     }
-    println!("| mapping | forward max |Δu|,|Δv| | forward as angle (rad) | inverse (rad) | subnormal | chart ties | frame zeros |");
+    println!("| mapping | forward max |Δu|,|Δv| | forward as angle (rad) | inverse (rad) | subnormal | chart ties | frame zeros | fisheye rim |");
     for row in table {
         println!("{row}");
     }

@@ -553,6 +553,86 @@ fn atan2f_meets_its_bound_under_the_spec_rules() {
     assert!(spec.0 <= ATAN2F_PORTABLE_BOUND, "{spec:?}");
 }
 
+/// `envmap_fisheye_sin` of fisheye.wgsl in f32, as a device may evaluate
+/// it: each step `a·b + c` rounded twice, or fused into one rounding.
+fn fisheye_sin(x: f32, fused: bool) -> f32 {
+    let mad = |a: f32, b: f32, c: f32| if fused { a.mul_add(b, c) } else { a * b + c };
+    if x <= std::f32::consts::FRAC_PI_4 {
+        let s = envmap_simd::approx::coeffs::SIN_EXACT;
+        let u = x * x;
+        let mut p = s[2];
+        p = mad(p, u, s[1]);
+        p = mad(p, u, s[0]);
+        return mad(x, u * p, x);
+    }
+    let c = envmap_simd::approx::coeffs::COS_EXACT;
+    let lo = (std::f64::consts::FRAC_PI_2 - f64::from(std::f32::consts::FRAC_PI_2)) as f32;
+    let y = (std::f32::consts::FRAC_PI_2 - x) + lo;
+    let u = y * y;
+    let mut q = c[2];
+    q = mad(q, u, c[1]);
+    q = mad(q, u, c[0]);
+    let half_u = 0.5 * u;
+    let w = 1.0 - half_u;
+    let rest = (1.0 - w) - half_u;
+    w + mad(u * u, q, rest)
+}
+
+/// The bound docs/shaders.md states for `envmap_fisheye_sin` under WGSL's
+/// accuracy rules (relative).
+const FISHEYE_SIN_PORTABLE_BOUND: f64 = 1.5e-7;
+
+/// fisheye.wgsl's sine carries envmap-simd's exact-tier sine and cosine
+/// coefficients and the low part of π/2, and its relative error, swept over
+/// [0, π/2] (every 97th f32, and the ends), stays within the stated bound
+/// with the steps fused or not; at π/2 (a 360° lens's k/2) it is 1 exactly.
+#[test]
+fn fisheye_sin_meets_its_bound_under_the_spec_rules() {
+    let fisheye = envmap_core::shaders::FISHEYE_WGSL;
+    let coeffs = envmap_simd::approx::coeffs::SIN_EXACT
+        .iter()
+        .rev()
+        .chain(envmap_simd::approx::coeffs::COS_EXACT.iter().rev());
+    let mut at = 0;
+    for c in coeffs {
+        let text = rust_decimal_of(c.abs());
+        let found = fisheye[at..]
+            .find(&text)
+            .unwrap_or_else(|| panic!("fisheye.wgsl lacks the coefficient {c} ({text}) in order"));
+        at += found + text.len();
+    }
+    let lo = (std::f64::consts::FRAC_PI_2 - f64::from(std::f32::consts::FRAC_PI_2)) as f32;
+    assert!(
+        fisheye.contains(&format!("-{}", rust_decimal_of(lo.abs()))),
+        "fisheye.wgsl lacks pi/2's low part {lo:e}"
+    );
+    let half_pi = std::f32::consts::FRAC_PI_2;
+    let mut worst = (0.0f64, 0.0f32);
+    let mut bits = 1u32;
+    let mut xs = Vec::new();
+    while f32::from_bits(bits) < half_pi {
+        xs.push(f32::from_bits(bits));
+        bits += 97;
+    }
+    xs.extend([0.0, std::f32::consts::FRAC_PI_4, half_pi]);
+    for x in xs {
+        let want = f64::from(x).sin();
+        for fused in [false, true] {
+            let e = (f64::from(fisheye_sin(x, fused)) - want).abs() / want.max(f64::MIN_POSITIVE);
+            if e > worst.0 {
+                worst = (e, x);
+            }
+        }
+    }
+    assert_eq!(fisheye_sin(half_pi, false), 1.0);
+    assert_eq!(fisheye_sin(half_pi, true), 1.0);
+    println!(
+        "envmap_fisheye_sin: worst relative error {:.3e} at x = {:e} (steps fused or not)",
+        worst.0, worst.1
+    );
+    assert!(worst.0 <= FISHEYE_SIN_PORTABLE_BOUND, "{worst:?}");
+}
+
 /// The exact decimal expansion of an f32 (every f32 is a finite binary
 /// fraction), as the WGSL files write their constants.
 fn rust_decimal_of(x: f32) -> String {

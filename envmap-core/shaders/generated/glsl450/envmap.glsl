@@ -1,4 +1,4 @@
-// envmap shaders, GLSL 4.50: envmap (from common.wgsl, frame.wgsl, latlong.wgsl, cube.wgsl, eac.wgsl, sphere_map.wgsl, dual_paraboloid.wgsl, angular.wgsl, tennisball.wgsl, octahedral.wgsl, lighting.wgsl).
+// envmap shaders, GLSL 4.50: envmap (from common.wgsl, frame.wgsl, latlong.wgsl, cube.wgsl, eac.wgsl, sphere_map.wgsl, dual_paraboloid.wgsl, angular.wgsl, tennisball.wgsl, octahedral.wgsl, fisheye.wgsl, lighting.wgsl).
 // Written by naga 29.0.4 from the WGSL in envmap-core/shaders/ (the source, with every
 // formula, source and comment): do not edit; after changing the WGSL run
 // ENVMAP_BLESS_SHADERS=1 cargo test --release -p envmap-tests --test shader_sources
@@ -37,6 +37,8 @@ const float ENVMAP_DISK_LIMIT = 1.0000005;
 const mat3x3 ENVMAP_FRAME_Z_UP_RH = mat3x3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0));
 const mat3x3 ENVMAP_FRAME_Y_UP_RH = mat3x3(vec3(1.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0), vec3(0.0, -1.0, 0.0));
 const mat3x3 ENVMAP_FRAME_Y_UP_LH = mat3x3(vec3(1.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0), vec3(0.0, 1.0, 0.0));
+const float ENVMAP_FISHEYE_SEEN_SCALE = 1.0000005;
+const float ENVMAP_FISHEYE_HALF_PI_LO = -4.371139e-8;
 const float ENVMAP_SH_Y00_CONSTANT = 0.2820948;
 const float ENVMAP_SH_Y1_CONSTANT = 0.48860252;
 const float ENVMAP_SH_Y2_CONSTANT = 1.0925485;
@@ -97,8 +99,8 @@ bool envmap_in_unit_disk(vec2 uv_1) {
     if (!(_e1)) {
         return false;
     }
-    vec2 p_1 = ((2.0 * uv_1) - vec2(1.0));
-    return (((p_1.x * p_1.x) + (p_1.y * p_1.y)) <= ENVMAP_DISK_LIMIT);
+    vec2 p_2 = ((2.0 * uv_1) - vec2(1.0));
+    return (((p_2.x * p_2.x) + (p_2.y * p_2.y)) <= ENVMAP_DISK_LIMIT);
 }
 
 float envmap_clamp_unit(float x_3) {
@@ -229,11 +231,11 @@ EnvmapDirection envmap_latlong_inverse(EnvmapChartUv c) {
     if ((c.uv.x > 0.5)) {
         phi = (ENVMAP_TAU * (c.uv.x - 1.0));
     }
-    float theta_1 = (ENVMAP_PI * c.uv.y);
-    float st = sin(theta_1);
+    float theta_2 = (ENVMAP_PI * c.uv.y);
+    float st = sin(theta_2);
     float _e33 = phi;
     float _e36 = phi;
-    return EnvmapDirection(vec3((st * cos(_e33)), (st * sin(_e36)), cos(theta_1)), true);
+    return EnvmapDirection(vec3((st * cos(_e33)), (st * sin(_e36)), cos(theta_2)), true);
 }
 
 EnvmapCubeFace envmap_cube_select_face(vec3 d_4) {
@@ -387,25 +389,25 @@ EnvmapChartUv envmap_sphere_map_forward_sigma(vec3 dir_3, float sigma) {
         EnvmapChartUv _e5 = envmap_invalid_chart_uv();
         return _e5;
     }
-    vec3 r_3 = _e2.dir;
-    float w = (sigma * r_3.z);
+    vec3 r_4 = _e2.dir;
+    float w = (sigma * r_4.z);
     if ((w < 0.0)) {
-        one_plus_w = (((r_3.x * r_3.x) + (r_3.y * r_3.y)) / (1.0 - w));
+        one_plus_w = (((r_4.x * r_4.x) + (r_4.y * r_4.y)) / (1.0 - w));
     } else {
         one_plus_w = (1.0 + w);
     }
     float _e29 = one_plus_w;
-    float s_9 = max(max(abs(r_3.x), abs(r_3.y)), _e29);
+    float s_9 = max(max(abs(r_4.x), abs(r_4.y)), _e29);
     if ((s_9 == 0.0)) {
         return EnvmapChartUv(0u, vec2(1.0, 0.5));
     }
-    float x_6 = (r_3.x / s_9);
-    float y_2 = (r_3.y / s_9);
+    float x_8 = (r_4.x / s_9);
+    float y_3 = (r_4.y / s_9);
     float _e42 = one_plus_w;
     float h = (_e42 / s_9);
-    float m_2 = sqrt((((x_6 * x_6) + (y_2 * y_2)) + (h * h)));
-    float _e55 = envmap_clamp_unit(((0.5 * (x_6 / m_2)) + 0.5));
-    float _e61 = envmap_clamp_unit(((0.5 * (y_2 / m_2)) + 0.5));
+    float m_2 = sqrt((((x_8 * x_8) + (y_3 * y_3)) + (h * h)));
+    float _e55 = envmap_clamp_unit(((0.5 * (x_8 / m_2)) + 0.5));
+    float _e61 = envmap_clamp_unit(((0.5 * (y_3 / m_2)) + 0.5));
     return EnvmapChartUv(0u, vec2(_e55, _e61));
 }
 
@@ -422,11 +424,11 @@ EnvmapDirection envmap_sphere_map_inverse_sigma(EnvmapChartUv c_4, float sigma_1
         EnvmapDirection _e13 = envmap_invalid_direction();
         return _e13;
     }
-    float x_7 = ((2.0 * c_4.uv.x) - 1.0);
-    float y_3 = ((2.0 * c_4.uv.y) - 1.0);
-    float r2_ = ((x_7 * x_7) + (y_3 * y_3));
+    float x_9 = ((2.0 * c_4.uv.x) - 1.0);
+    float y_4 = ((2.0 * c_4.uv.y) - 1.0);
+    float r2_ = ((x_9 * x_9) + (y_4 * y_4));
     float nz = sqrt(max((1.0 - r2_), 0.0));
-    vec3 d_9 = vec3(((2.0 * x_7) * nz), ((2.0 * y_3) * nz), (sigma_1 * (1.0 - (2.0 * r2_))));
+    vec3 d_9 = vec3(((2.0 * x_9) * nz), ((2.0 * y_4) * nz), (sigma_1 * (1.0 - (2.0 * r2_))));
     return EnvmapDirection((d_9 / vec3(sqrt(dot(d_9, d_9)))), true);
 }
 
@@ -467,11 +469,11 @@ EnvmapChartUv envmap_dual_paraboloid_forward(vec3 dir_6) {
         EnvmapChartUv _e4 = envmap_invalid_chart_uv();
         return _e4;
     }
-    vec3 r_4 = _e1.dir;
+    vec3 r_5 = _e1.dir;
     bool _e7 = envmap_sign_bit(dir_6.z);
-    float den_1 = (1.0 + abs(r_4.z));
-    float _e18 = envmap_clamp_unit(((0.5 * (r_4.x / den_1)) + 0.5));
-    float _e25 = envmap_clamp_unit(((0.5 * (r_4.y / den_1)) + 0.5));
+    float den_1 = (1.0 + abs(r_5.z));
+    float _e18 = envmap_clamp_unit(((0.5 * (r_5.x / den_1)) + 0.5));
+    float _e25 = envmap_clamp_unit(((0.5 * (r_5.y / den_1)) + 0.5));
     return EnvmapChartUv((_e7 ? 1u : 0u), vec2(_e18, _e25));
 }
 
@@ -489,16 +491,16 @@ EnvmapDirection envmap_dual_paraboloid_inverse(EnvmapChartUv c_7) {
         EnvmapDirection _e12 = envmap_invalid_direction();
         return _e12;
     }
-    float x_8 = ((2.0 * c_7.uv.x) - 1.0);
-    float y_4 = ((2.0 * c_7.uv.y) - 1.0);
-    float r2_1 = ((x_8 * x_8) + (y_4 * y_4));
+    float x_10 = ((2.0 * c_7.uv.x) - 1.0);
+    float y_5 = ((2.0 * c_7.uv.y) - 1.0);
+    float r2_1 = ((x_10 * x_10) + (y_5 * y_5));
     z_2 = max((1.0 - r2_1), 0.0);
     if ((c_7.chart == 1u)) {
         float _e36 = z_2;
         z_2 = -(_e36);
     }
     float _e42 = z_2;
-    vec3 d_10 = (vec3((2.0 * x_8), (2.0 * y_4), _e42) / vec3((1.0 + r2_1)));
+    vec3 d_10 = (vec3((2.0 * x_10), (2.0 * y_5), _e42) / vec3((1.0 + r2_1)));
     return EnvmapDirection((d_10 / vec3(sqrt(dot(d_10, d_10)))), true);
 }
 
@@ -510,7 +512,7 @@ EnvmapChartUv envmap_angular_forward(vec3 dir_7) {
         EnvmapChartUv _e4 = envmap_invalid_chart_uv();
         return _e4;
     }
-    vec3 r_5 = _e1.dir;
+    vec3 r_6 = _e1.dir;
     float a_5 = max(abs(dir_7.x), abs(dir_7.y));
     if ((a_5 != 0.0)) {
         px = (dir_7.x / a_5);
@@ -521,8 +523,8 @@ EnvmapChartUv envmap_angular_forward(vec3 dir_7) {
     float _e24 = py;
     float _e25 = py;
     float len = sqrt(((_e21 * _e22) + (_e24 * _e25)));
-    float sin_theta = (max(abs(r_5.x), abs(r_5.y)) * len);
-    float _e36 = envmap_atan2f(sin_theta, r_5.z);
+    float sin_theta = (max(abs(r_6.x), abs(r_6.y)) * len);
+    float _e36 = envmap_atan2f(sin_theta, r_6.z);
     float rho_1 = min((_e36 / ENVMAP_PI), 1.0);
     float k_1 = (rho_1 / len);
     float _e42 = px;
@@ -548,9 +550,9 @@ EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_8) {
         EnvmapDirection _e12 = envmap_invalid_direction();
         return _e12;
     }
-    float x_9 = ((2.0 * c_8.uv.x) - 1.0);
-    float y_5 = ((2.0 * c_8.uv.y) - 1.0);
-    float rho_2 = min(sqrt(((x_9 * x_9) + (y_5 * y_5))), 1.0);
+    float x_11 = ((2.0 * c_8.uv.x) - 1.0);
+    float y_6 = ((2.0 * c_8.uv.y) - 1.0);
+    float rho_2 = min(sqrt(((x_11 * x_11) + (y_6 * y_6))), 1.0);
     if ((rho_2 <= 0.5)) {
         s_1 = sin((ENVMAP_PI * rho_2));
         co = cos((ENVMAP_PI * rho_2));
@@ -566,7 +568,7 @@ EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_8) {
     float _e54 = k;
     float _e56 = k;
     float _e58 = co;
-    vec3 d_11 = vec3((_e54 * x_9), (_e56 * y_5), _e58);
+    vec3 d_11 = vec3((_e54 * x_11), (_e56 * y_6), _e58);
     return EnvmapDirection((d_11 / vec3(sqrt(dot(d_11, d_11)))), true);
 }
 
@@ -606,19 +608,19 @@ EnvmapChartUv envmap_tennisball_forward(vec3 dir_8) {
     }
     float a_6 = _e1.dir.x;
     float b_3 = _e1.dir.y;
-    float c_16 = _e1.dir.z;
-    bool _e14 = envmap_tennisball_selects_first_chart(a_6, b_3, c_16);
+    float c_17 = _e1.dir.z;
+    bool _e14 = envmap_tennisball_selects_first_chart(a_6, b_3, c_17);
     if (_e14) {
         chart = 0u;
-        float _e20 = envmap_atan2f(b_3, sqrt(((a_6 * a_6) + (c_16 * c_16))));
+        float _e20 = envmap_atan2f(b_3, sqrt(((a_6 * a_6) + (c_17 * c_17))));
         theta = _e20;
-        float _e21 = envmap_atan2f(a_6, c_16);
+        float _e21 = envmap_atan2f(a_6, c_17);
         phi_1 = _e21;
     } else {
         chart = 1u;
-        float _e27 = envmap_atan2f(a_6, sqrt(((b_3 * b_3) + (c_16 * c_16))));
+        float _e27 = envmap_atan2f(a_6, sqrt(((b_3 * b_3) + (c_17 * c_17))));
         theta = _e27;
-        float _e29 = envmap_atan2f(b_3, -(c_16));
+        float _e29 = envmap_atan2f(b_3, -(c_17));
         phi_1 = _e29;
     }
     float _e32 = theta;
@@ -647,11 +649,11 @@ EnvmapDirection envmap_tennisball_inverse(EnvmapChartUv c_10) {
         return _e12;
     }
     float phi_4 = ((c_10.uv.x - 0.5) * 4.712389);
-    float theta_2 = ((0.5 - c_10.uv.y) * ENVMAP_HALF_PI);
+    float theta_3 = ((0.5 - c_10.uv.y) * ENVMAP_HALF_PI);
     float sp = sin(phi_4);
     float cp = cos(phi_4);
-    float st_1 = sin(theta_2);
-    float ct = cos(theta_2);
+    float st_1 = sin(theta_3);
+    float ct = cos(theta_3);
     if ((c_10.chart == 0u)) {
         return EnvmapDirection(vec3((ct * sp), st_1, (ct * cp)), true);
     }
@@ -671,14 +673,14 @@ EnvmapChartUv envmap_octahedral_forward(vec3 dir_9) {
         return _e4;
     }
     vec3 d_12 = _e1.dir;
-    vec3 p_2 = (d_12 / vec3(((abs(d_12.x) + abs(d_12.y)) + abs(d_12.z))));
-    if ((p_2.z < 0.0)) {
-        float _e24 = envmap_copysign((1.0 - abs(p_2.y)), dir_9.x);
-        float _e30 = envmap_copysign((1.0 - abs(p_2.x)), dir_9.y);
+    vec3 p_3 = (d_12 / vec3(((abs(d_12.x) + abs(d_12.y)) + abs(d_12.z))));
+    if ((p_3.z < 0.0)) {
+        float _e24 = envmap_copysign((1.0 - abs(p_3.y)), dir_9.x);
+        float _e30 = envmap_copysign((1.0 - abs(p_3.x)), dir_9.y);
         EnvmapChartUv _e31 = envmap_octahedral_to_uv(_e24, _e30);
         return _e31;
     }
-    EnvmapChartUv _e34 = envmap_octahedral_to_uv(p_2.x, p_2.y);
+    EnvmapChartUv _e34 = envmap_octahedral_to_uv(p_3.x, p_3.y);
     return _e34;
 }
 
@@ -696,13 +698,13 @@ EnvmapDirection envmap_octahedral_inverse(EnvmapChartUv c_11) {
         EnvmapDirection _e12 = envmap_invalid_direction();
         return _e12;
     }
-    float x_10 = ((2.0 * c_11.uv.x) - 1.0);
-    float y_6 = ((2.0 * c_11.uv.y) - 1.0);
-    float z_3 = ((1.0 - abs(x_10)) - abs(y_6));
-    d_5 = vec3(x_10, y_6, z_3);
+    float x_12 = ((2.0 * c_11.uv.x) - 1.0);
+    float y_7 = ((2.0 * c_11.uv.y) - 1.0);
+    float z_3 = ((1.0 - abs(x_12)) - abs(y_7));
+    d_5 = vec3(x_12, y_7, z_3);
     if ((z_3 < 0.0)) {
-        float _e37 = envmap_copysign((1.0 - abs(y_6)), x_10);
-        float _e41 = envmap_copysign((1.0 - abs(x_10)), y_6);
+        float _e37 = envmap_copysign((1.0 - abs(y_7)), x_12);
+        float _e41 = envmap_copysign((1.0 - abs(x_12)), y_7);
         d_5 = vec3(_e37, _e41, z_3);
     }
     vec3 _e43 = d_5;
@@ -724,7 +726,7 @@ EnvmapChartUv envmap_equal_area_octahedral_forward(vec3 dir_10) {
     float ax_2 = abs(d_13.x);
     float ay_2 = abs(d_13.y);
     float az_1 = abs(d_13.z);
-    float r_6 = sqrt((((ax_2 * ax_2) + (ay_2 * ay_2)) / (1.0 + az_1)));
+    float r_7 = sqrt((((ax_2 * ax_2) + (ay_2 * ay_2)) / (1.0 + az_1)));
     float hi = max(ax_2, ay_2);
     float lo = min(ax_2, ay_2);
     if ((hi != 0.0)) {
@@ -736,9 +738,9 @@ EnvmapChartUv envmap_equal_area_octahedral_forward(vec3 dir_10) {
         phi_2 = (1.0 - _e30);
     }
     float _e33 = phi_2;
-    v = (_e33 * r_6);
+    v = (_e33 * r_7);
     float _e36 = v;
-    u_2 = (r_6 - _e36);
+    u_2 = (r_7 - _e36);
     if ((d_13.z < 0.0)) {
         float u0_ = u_2;
         float _e43 = v;
@@ -798,18 +800,166 @@ EnvmapDirection envmap_equal_area_octahedral_inverse(EnvmapChartUv c_12) {
     return EnvmapDirection((d_14 / vec3(sqrt(dot(d_14, d_14)))), true);
 }
 
+float envmap_fisheye_sin(float x_6) {
+    float p_1 = -0.0001951829;
+    float q = 2.4432327e-5;
+    if ((x_6 <= ENVMAP_QUARTER_PI)) {
+        float u_7 = (x_6 * x_6);
+        float _e6 = p_1;
+        p_1 = ((_e6 * u_7) + 0.008332189);
+        float _e10 = p_1;
+        p_1 = ((_e10 * u_7) - 0.16666655);
+        float _e14 = p_1;
+        return (x_6 + (x_6 * (u_7 * _e14)));
+    }
+    float y_8 = ((ENVMAP_HALF_PI - x_6) + ENVMAP_FISHEYE_HALF_PI_LO);
+    float u_8 = (y_8 * y_8);
+    float _e25 = q;
+    q = ((_e25 * u_8) - 0.001388731);
+    float _e29 = q;
+    q = ((_e29 * u_8) + 0.041666646);
+    float half_u = (0.5 * u_8);
+    float w_1 = (1.0 - half_u);
+    float rest = ((1.0 - w_1) - half_u);
+    float _e41 = q;
+    return (w_1 + (((u_8 * u_8) * _e41) + rest));
+}
+
+float envmap_fisheye_asin(float q_1) {
+    float _e7 = envmap_atan2f(q_1, sqrt(((1.0 - q_1) * (1.0 + q_1))));
+    return _e7;
+}
+
+bool envmap_fisheye_covers_sphere(float half_fov, bool dual) {
+    if (dual) {
+        return (half_fov >= ENVMAP_HALF_PI);
+    }
+    return (half_fov >= ENVMAP_PI);
+}
+
+EnvmapChartUv envmap_fisheye_forward(vec3 dir_11, float half_fov_1, bool equisolid, bool dual_1) {
+    bool local_15 = false;
+    float axial = 0.0;
+    float side = 1.0;
+    bool local_16 = false;
+    float r_2 = 0.0;
+    float x_7 = 1.0;
+    float y_2 = 0.0;
+    EnvmapDirection _e4 = envmap_normalize_direction(dir_11);
+    if (!(_e4.valid)) {
+        EnvmapChartUv _e7 = envmap_invalid_chart_uv();
+        return _e7;
+    }
+    vec3 d_15 = _e4.dir;
+    if (dual_1) {
+        local_15 = (dir_11.z < 0.0);
+    } else {
+        local_15 = false;
+    }
+    bool back = local_15;
+    axial = d_15.z;
+    if (back) {
+        axial = -(d_15.z);
+        side = -1.0;
+    }
+    float rho_3 = sqrt(((d_15.x * d_15.x) + (d_15.y * d_15.y)));
+    float _e31 = axial;
+    float _e32 = envmap_atan2f(rho_3, _e31);
+    bool _e33 = envmap_fisheye_covers_sphere(half_fov_1, dual_1);
+    if (!(_e33)) {
+        local_16 = (_e32 > (half_fov_1 * ENVMAP_FISHEYE_SEEN_SCALE));
+    } else {
+        local_16 = false;
+    }
+    bool _e41 = local_16;
+    if (_e41) {
+        EnvmapChartUv _e42 = envmap_invalid_chart_uv();
+        return _e42;
+    }
+    if (equisolid) {
+        float _e46 = envmap_fisheye_sin((0.5 * _e32));
+        float _e49 = envmap_fisheye_sin((0.5 * half_fov_1));
+        r_2 = (_e46 / _e49);
+    } else {
+        r_2 = (_e32 / half_fov_1);
+    }
+    float _e52 = r_2;
+    r_2 = min(_e52, 1.0);
+    float a_7 = max(abs(dir_11.x), abs(dir_11.y));
+    if ((a_7 != 0.0)) {
+        x_7 = (dir_11.x / a_7);
+        y_2 = (dir_11.y / a_7);
+    }
+    float _e70 = r_2;
+    float _e73 = x_7;
+    float _e74 = x_7;
+    float _e76 = y_2;
+    float _e77 = y_2;
+    float s_10 = ((0.5 * _e70) / sqrt(((_e73 * _e74) + (_e76 * _e77))));
+    float _e82 = side;
+    float _e84 = x_7;
+    float _e88 = envmap_clamp_unit((0.5 + ((_e82 * s_10) * _e84)));
+    float _e89 = y_2;
+    float _e93 = envmap_clamp_unit((0.5 - (s_10 * _e89)));
+    return EnvmapChartUv((back ? 1u : 0u), vec2(_e88, _e93));
+}
+
+EnvmapDirection envmap_fisheye_inverse(EnvmapChartUv c_13, float half_fov_2, bool equisolid_1, bool dual_2) {
+    bool local_17 = false;
+    float side_1 = 1.0;
+    float theta_1 = 0.0;
+    uint charts = (dual_2 ? 2u : 1u);
+    if (!((c_13.chart >= charts))) {
+        bool _e13 = envmap_in_unit_disk(c_13.uv);
+        local_17 = !(_e13);
+    } else {
+        local_17 = true;
+    }
+    bool _e16 = local_17;
+    if (_e16) {
+        EnvmapDirection _e17 = envmap_invalid_direction();
+        return _e17;
+    }
+    if ((c_13.chart == 1u)) {
+        side_1 = -1.0;
+    }
+    float a_8 = ((2.0 * c_13.uv.x) - 1.0);
+    float b_4 = (1.0 - (2.0 * c_13.uv.y));
+    float r_8 = min(sqrt(((a_8 * a_8) + (b_4 * b_4))), 1.0);
+    if (equisolid_1) {
+        float _e45 = envmap_fisheye_sin((0.5 * half_fov_2));
+        float _e49 = envmap_fisheye_asin(min((r_8 * _e45), 1.0));
+        theta_1 = (2.0 * _e49);
+    } else {
+        theta_1 = (r_8 * half_fov_2);
+    }
+    float _e53 = theta_1;
+    float t_17 = min(_e53, ENVMAP_PI);
+    float sin_t = sin(t_17);
+    float cos_t = cos(t_17);
+    if ((r_8 == 0.0)) {
+        float _e60 = side_1;
+        return EnvmapDirection(vec3(0.0, 0.0, _e60), true);
+    }
+    float s_11 = (sin_t / r_8);
+    float _e67 = side_1;
+    float _e71 = side_1;
+    vec3 d_16 = vec3(((_e67 * s_11) * a_8), (s_11 * b_4), (_e71 * cos_t));
+    return EnvmapDirection((d_16 / vec3(sqrt(dot(d_16, d_16)))), true);
+}
+
 float[9] envmap_sh9_basis(vec3 n_1) {
     EnvmapDirection _e1 = envmap_normalize_direction(n_1);
     if (!(_e1.valid)) {
         return float[9](0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     }
-    float x_11 = _e1.dir.x;
-    float y_7 = _e1.dir.y;
+    float x_13 = _e1.dir.x;
+    float y_9 = _e1.dir.y;
     float z_4 = _e1.dir.z;
-    return float[9](ENVMAP_SH_Y00_CONSTANT, (ENVMAP_SH_Y1_CONSTANT * y_7), (ENVMAP_SH_Y1_CONSTANT * z_4), (ENVMAP_SH_Y1_CONSTANT * x_11), (ENVMAP_SH_Y2_CONSTANT * (x_11 * y_7)), (ENVMAP_SH_Y2_CONSTANT * (y_7 * z_4)), (ENVMAP_SH_Y20_CONSTANT * (((3.0 * z_4) * z_4) - 1.0)), (ENVMAP_SH_Y2_CONSTANT * (x_11 * z_4)), (ENVMAP_SH_Y22_CONSTANT * ((x_11 * x_11) - (y_7 * y_7))));
+    return float[9](ENVMAP_SH_Y00_CONSTANT, (ENVMAP_SH_Y1_CONSTANT * y_9), (ENVMAP_SH_Y1_CONSTANT * z_4), (ENVMAP_SH_Y1_CONSTANT * x_13), (ENVMAP_SH_Y2_CONSTANT * (x_13 * y_9)), (ENVMAP_SH_Y2_CONSTANT * (y_9 * z_4)), (ENVMAP_SH_Y20_CONSTANT * (((3.0 * z_4) * z_4) - 1.0)), (ENVMAP_SH_Y2_CONSTANT * (x_13 * z_4)), (ENVMAP_SH_Y22_CONSTANT * ((x_13 * x_13) - (y_9 * y_9))));
 }
 
-vec3 envmap_sh9_eval(vec3 c_13[9], vec3 n_2) {
+vec3 envmap_sh9_eval(vec3 c_14[9], vec3 n_2) {
     vec3 e = vec3(0.0);
     uint i = 0u;
     float _e2[9] = envmap_sh9_basis(n_2);
@@ -829,7 +979,7 @@ vec3 envmap_sh9_eval(vec3 c_13[9], vec3 n_2) {
             vec3 _e11 = e;
             uint _e12 = i;
             uint _e14 = i;
-            e = (_e11 + (c_13[_e12] * _e2[_e14]));
+            e = (_e11 + (c_14[_e12] * _e2[_e14]));
         }
     }
     vec3 _e21 = e;
@@ -875,25 +1025,25 @@ vec3 envmap_sh9_filament(vec3 sh[9], vec3 n_5) {
     if (!(_e2.valid)) {
         return vec3(0.0);
     }
-    float x_12 = _e2.dir.x;
-    float y_8 = _e2.dir.y;
+    float x_14 = _e2.dir.x;
+    float y_10 = _e2.dir.y;
     float z_5 = _e2.dir.z;
-    return ((((((((sh[0] + (sh[1] * y_8)) + (sh[2] * z_5)) + (sh[3] * x_12)) + (sh[4] * (y_8 * x_12))) + (sh[5] * (y_8 * z_5))) + (sh[6] * (((3.0 * z_5) * z_5) - 1.0))) + (sh[7] * (z_5 * x_12))) + (sh[8] * ((x_12 * x_12) - (y_8 * y_8))));
+    return ((((((((sh[0] + (sh[1] * y_10)) + (sh[2] * z_5)) + (sh[3] * x_14)) + (sh[4] * (y_10 * x_14))) + (sh[5] * (y_10 * z_5))) + (sh[6] * (((3.0 * z_5) * z_5) - 1.0))) + (sh[7] * (z_5 * x_14))) + (sh[8] * ((x_14 * x_14) - (y_10 * y_10))));
 }
 
 float envmap_roughness_to_lod_linear(float roughness, float levels) {
-    float r_7 = clamp(roughness, 0.0, 1.0);
-    return (r_7 * (levels - 1.0));
+    float r_9 = clamp(roughness, 0.0, 1.0);
+    return (r_9 * (levels - 1.0));
 }
 
 float envmap_roughness_to_lod_filament(float roughness_1, float levels_1) {
-    float r_8 = clamp(roughness_1, 0.0, 1.0);
-    return ((r_8 * (2.0 - r_8)) * (levels_1 - 1.0));
+    float r_10 = clamp(roughness_1, 0.0, 1.0);
+    return ((r_10 * (2.0 - r_10)) * (levels_1 - 1.0));
 }
 
 float envmap_roughness_to_lod_unity(float roughness_2, float levels_2) {
-    float r_9 = clamp(roughness_2, 0.0, 1.0);
-    return ((r_9 * (1.7 - (0.7 * r_9))) * (levels_2 - 1.0));
+    float r_11 = clamp(roughness_2, 0.0, 1.0);
+    return ((r_11 * (1.7 - (0.7 * r_11))) * (levels_2 - 1.0));
 }
 
 vec3 envmap_reflect_view(vec3 n_6, vec3 v_1) {
@@ -904,22 +1054,22 @@ vec3 envmap_reflect_incident(vec3 i_2, vec3 n_7) {
     return (i_2 - ((2.0 * dot(n_7, i_2)) * n_7));
 }
 
-vec3 envmap_specular_dominant_direction(vec3 n_8, vec3 r_2, float roughness_3) {
-    bool local_15 = false;
-    float a_7 = (roughness_3 * roughness_3);
-    vec3 d_15 = ((r_2 * (1.0 - a_7)) + (n_8 * a_7));
-    float l2_ = dot(d_15, d_15);
+vec3 envmap_specular_dominant_direction(vec3 n_8, vec3 r_3, float roughness_3) {
+    bool local_18 = false;
+    float a_9 = (roughness_3 * roughness_3);
+    vec3 d_17 = ((r_3 * (1.0 - a_9)) + (n_8 * a_9));
+    float l2_ = dot(d_17, d_17);
     if ((l2_ > 0.0)) {
-        bool _e14 = envmap_all_finite(d_15);
-        local_15 = _e14;
+        bool _e14 = envmap_all_finite(d_17);
+        local_18 = _e14;
     } else {
-        local_15 = false;
+        local_18 = false;
     }
-    bool _e16 = local_15;
+    bool _e16 = local_18;
     if (_e16) {
-        return (d_15 * (1.0 / sqrt(l2_)));
+        return (d_17 * (1.0 / sqrt(l2_)));
     }
-    return r_2;
+    return r_3;
 }
 
 vec3 envmap_specular_direction(vec3 n_9, vec3 v_2, float roughness_4, bool dominant) {
@@ -943,15 +1093,15 @@ vec3 envmap_diffuse_color(vec3 base_color_1, float metallic_1) {
 
 vec3 envmap_split_sum_factor(vec3 f0_, vec2 dfg, bool multiscatter) {
     vec3 s_2 = vec3(0.0);
-    bool local_16 = false;
+    bool local_19 = false;
     s_2 = ((f0_ * dfg.x) + vec3(dfg.y));
     float albedo = (dfg.x + dfg.y);
     if (multiscatter) {
-        local_16 = (albedo > 0.0);
+        local_19 = (albedo > 0.0);
     } else {
-        local_16 = false;
+        local_19 = false;
     }
-    bool _e17 = local_16;
+    bool _e17 = local_19;
     if (_e17) {
         vec3 _e18 = s_2;
         s_2 = (_e18 * (vec3(1.0) + (f0_ * ((1.0 / albedo) - 1.0))));
@@ -962,14 +1112,14 @@ vec3 envmap_split_sum_factor(vec3 f0_, vec2 dfg, bool multiscatter) {
 
 vec3 envmap_split_sum_factor_filament(vec3 f0_1, vec2 dfg_1, bool multiscatter_1) {
     vec3 s_3 = vec3(0.0);
-    bool local_17 = false;
+    bool local_20 = false;
     s_3 = mix(vec3(dfg_1.x), vec3(dfg_1.y), f0_1);
     if (multiscatter_1) {
-        local_17 = (dfg_1.y > 0.0);
+        local_20 = (dfg_1.y > 0.0);
     } else {
-        local_17 = false;
+        local_20 = false;
     }
-    bool _e15 = local_17;
+    bool _e15 = local_20;
     if (_e15) {
         vec3 _e16 = s_3;
         s_3 = (_e16 * (vec3(1.0) + (f0_1 * ((1.0 / dfg_1.y) - 1.0))));
@@ -990,31 +1140,31 @@ vec2 envmap_dfg_uv(float n_dot_v, float roughness_5) {
 vec2 envmap_dfg_load(sampler2D t, float n_dot_v_1, float roughness_6) {
     vec2 _e3 = envmap_dfg_uv(n_dot_v_1, roughness_6);
     vec2 size_2 = vec2(uvec2(textureSize(t, 0).xy));
-    vec2 x_13 = clamp(((_e3 * size_2) - vec2(0.5)), vec2(0.0), (size_2 - vec2(1.0)));
-    ivec2 i0_ = ivec2(floor(x_13));
+    vec2 x_15 = clamp(((_e3 * size_2) - vec2(0.5)), vec2(0.0), (size_2 - vec2(1.0)));
+    ivec2 i0_ = ivec2(floor(x_15));
     ivec2 i1_ = min((i0_ + ivec2(1)), (ivec2(size_2) - ivec2(1)));
-    vec2 f = (x_13 - floor(x_13));
+    vec2 f = (x_15 - floor(x_15));
     vec4 _e33 = texelFetch(t, ivec2(i0_.x, i0_.y), 0);
-    vec2 a_8 = _e33.xy;
+    vec2 a_10 = _e33.xy;
     vec4 _e39 = texelFetch(t, ivec2(i1_.x, i0_.y), 0);
-    vec2 b_4 = _e39.xy;
+    vec2 b_5 = _e39.xy;
     vec4 _e45 = texelFetch(t, ivec2(i0_.x, i1_.y), 0);
-    vec2 c_17 = _e45.xy;
+    vec2 c_18 = _e45.xy;
     vec4 _e51 = texelFetch(t, ivec2(i1_.x, i1_.y), 0);
-    vec2 d_16 = _e51.xy;
-    vec2 top = (a_8 + (f.x * (b_4 - a_8)));
-    vec2 bottom = (c_17 + (f.x * (d_16 - c_17)));
+    vec2 d_18 = _e51.xy;
+    vec2 top = (a_10 + (f.x * (b_5 - a_10)));
+    vec2 bottom = (c_18 + (f.x * (d_18 - c_18)));
     return (top + (f.y * (bottom - top)));
 }
 
 EnvmapFootprint envmap_bilinear_footprint(float u_3, int n_10) {
-    float x_14 = clamp(((u_3 * float(n_10)) - 0.5), -0.5, (float(n_10) - 0.5));
-    float t_17 = floor(x_14);
-    return EnvmapFootprint(int(t_17), (int(t_17) + 1), (x_14 - t_17));
+    float x_16 = clamp(((u_3 * float(n_10)) - 0.5), -0.5, (float(n_10) - 0.5));
+    float t_18 = floor(x_16);
+    return EnvmapFootprint(int(t_18), (int(t_18) + 1), (x_16 - t_18));
 }
 
-vec3 envmap_blend(vec3 a_2, vec3 b_1, vec3 c_14, vec3 d_6, float fx, float fy) {
-    vec3 left = (((c_14 - a_2) * fy) + a_2);
+vec3 envmap_blend(vec3 a_2, vec3 b_1, vec3 c_15, vec3 d_6, float fx, float fy) {
+    vec3 left = (((c_15 - a_2) * fy) + a_2);
     vec3 right = (((d_6 - b_1) * fy) + b_1);
     return (((right - left) * fx) + left);
 }
@@ -1022,18 +1172,18 @@ vec3 envmap_blend(vec3 a_2, vec3 b_1, vec3 c_14, vec3 d_6, float fx, float fy) {
 vec3 envmap_latlong_texel(sampler2D t_1, int i_3, int j, int level) {
     int ii = 0;
     int jj = 0;
-    bool local_18 = false;
+    bool local_21 = false;
     ivec2 size_3 = ivec2(uvec2(textureSize(t_1, level).xy));
     ii = i_3;
     jj = j;
     int _e8 = jj;
     if (!((_e8 < 0))) {
         int _e14 = jj;
-        local_18 = (_e14 >= size_3.y);
+        local_21 = (_e14 >= size_3.y);
     } else {
-        local_18 = true;
+        local_21 = true;
     }
-    bool _e18 = local_18;
+    bool _e18 = local_21;
     if (_e18) {
         int _e24 = jj;
         int _e26 = jj;
@@ -1075,19 +1225,19 @@ vec3 envmap_latlong_bilinear(sampler2D t_2, vec2 uv_2, int level_1) {
 vec3 envmap_octahedral_texel(sampler2D t_3, int i_4, int j_1, int level_2) {
     int ii_1 = 0;
     int jj_1 = 0;
-    bool local_19 = false;
-    bool local_20 = false;
+    bool local_22 = false;
+    bool local_23 = false;
     ivec2 size_5 = ivec2(uvec2(textureSize(t_3, level_2).xy));
     ii_1 = i_4;
     jj_1 = j_1;
     int _e8 = jj_1;
     if (!((_e8 < 0))) {
         int _e14 = jj_1;
-        local_19 = (_e14 >= size_5.y);
+        local_22 = (_e14 >= size_5.y);
     } else {
-        local_19 = true;
+        local_22 = true;
     }
-    bool _e18 = local_19;
+    bool _e18 = local_22;
     if (_e18) {
         int _e24 = jj_1;
         int _e26 = jj_1;
@@ -1099,11 +1249,11 @@ vec3 envmap_octahedral_texel(sampler2D t_3, int i_4, int j_1, int level_2) {
     int _e38 = ii_1;
     if (!((_e38 < 0))) {
         int _e44 = ii_1;
-        local_20 = (_e44 >= size_5.x);
+        local_23 = (_e44 >= size_5.x);
     } else {
-        local_20 = true;
+        local_23 = true;
     }
-    bool _e48 = local_20;
+    bool _e48 = local_23;
     if (_e48) {
         int _e54 = ii_1;
         int _e56 = ii_1;
@@ -1148,44 +1298,44 @@ vec3 envmap_cube_texel_across(sampler2DArray t_5, uint face_1, int i_5, int j_2,
 }
 
 vec3 envmap_cube_texel(sampler2DArray t_6, uint face_2, int i_6, int j_3, int level_5) {
-    bool local_21 = false;
-    bool local_22 = false;
-    bool local_23 = false;
     bool local_24 = false;
+    bool local_25 = false;
+    bool local_26 = false;
+    bool local_27 = false;
     ivec2 size_8 = ivec2(uvec2(textureSize(t_6, level_5).xy));
     if (!((i_6 < 0))) {
-        local_21 = (i_6 >= size_8.x);
+        local_24 = (i_6 >= size_8.x);
     } else {
-        local_21 = true;
+        local_24 = true;
     }
-    bool iout = local_21;
+    bool iout = local_24;
     if (!((j_3 < 0))) {
-        local_22 = (j_3 >= size_8.y);
+        local_25 = (j_3 >= size_8.y);
     } else {
-        local_22 = true;
+        local_25 = true;
     }
-    bool jout = local_22;
+    bool jout = local_25;
     int ic = min(max(i_6, 0), (size_8.x - 1));
     int jc = min(max(j_3, 0), (size_8.y - 1));
     if (iout) {
-        local_23 = jout;
+        local_26 = jout;
     } else {
-        local_23 = false;
+        local_26 = false;
     }
-    bool _e38 = local_23;
+    bool _e38 = local_26;
     if (_e38) {
         vec3 _e39 = envmap_cube_texel_across(t_6, face_2, i_6, jc, level_5);
         vec3 _e40 = envmap_cube_texel_across(t_6, face_2, ic, j_3, level_5);
         vec4 _e43 = texelFetch(t_6, ivec3(ivec2(ic, jc), int(face_2)), level_5);
-        vec3 c_18 = _e43.xyz;
-        return (((_e39 + _e40) + c_18) / vec3(3.0));
+        vec3 c_19 = _e43.xyz;
+        return (((_e39 + _e40) + c_19) / vec3(3.0));
     }
     if (!(iout)) {
-        local_24 = jout;
+        local_27 = jout;
     } else {
-        local_24 = true;
+        local_27 = true;
     }
-    bool _e54 = local_24;
+    bool _e54 = local_27;
     if (_e54) {
         vec3 _e55 = envmap_cube_texel_across(t_6, face_2, i_6, j_3, level_5);
         return _e55;
@@ -1194,14 +1344,14 @@ vec3 envmap_cube_texel(sampler2DArray t_6, uint face_2, int i_6, int j_3, int le
     return _e58.xyz;
 }
 
-vec3 envmap_cube_bilinear(sampler2DArray t_7, EnvmapChartUv c_15, int level_6) {
+vec3 envmap_cube_bilinear(sampler2DArray t_7, EnvmapChartUv c_16, int level_6) {
     ivec2 size_9 = ivec2(uvec2(textureSize(t_7, level_6).xy));
-    EnvmapFootprint _e8 = envmap_bilinear_footprint(c_15.uv.x, size_9.x);
-    EnvmapFootprint _e12 = envmap_bilinear_footprint(c_15.uv.y, size_9.y);
-    vec3 _e16 = envmap_cube_texel(t_7, c_15.chart, _e8.first, _e12.first, level_6);
-    vec3 _e20 = envmap_cube_texel(t_7, c_15.chart, _e8.second, _e12.first, level_6);
-    vec3 _e24 = envmap_cube_texel(t_7, c_15.chart, _e8.first, _e12.second, level_6);
-    vec3 _e28 = envmap_cube_texel(t_7, c_15.chart, _e8.second, _e12.second, level_6);
+    EnvmapFootprint _e8 = envmap_bilinear_footprint(c_16.uv.x, size_9.x);
+    EnvmapFootprint _e12 = envmap_bilinear_footprint(c_16.uv.y, size_9.y);
+    vec3 _e16 = envmap_cube_texel(t_7, c_16.chart, _e8.first, _e12.first, level_6);
+    vec3 _e20 = envmap_cube_texel(t_7, c_16.chart, _e8.second, _e12.first, level_6);
+    vec3 _e24 = envmap_cube_texel(t_7, c_16.chart, _e8.first, _e12.second, level_6);
+    vec3 _e28 = envmap_cube_texel(t_7, c_16.chart, _e8.second, _e12.second, level_6);
     vec3 _e31 = envmap_blend(_e16, _e20, _e24, _e28, _e8.f, _e12.f);
     return _e31;
 }
@@ -1215,8 +1365,8 @@ EnvmapLevels envmap_levels(float lod, int levels_3) {
     return EnvmapLevels(k_4, (l - float(k_4)));
 }
 
-vec3 envmap_latlong_chain(sampler2D t_8, int levels_4, vec3 dir_11, float lod_1) {
-    EnvmapChartUv _e4 = envmap_latlong_forward(dir_11);
+vec3 envmap_latlong_chain(sampler2D t_8, int levels_4, vec3 dir_12, float lod_1) {
+    EnvmapChartUv _e4 = envmap_latlong_forward(dir_12);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return vec3(0.0);
     }
@@ -1229,8 +1379,8 @@ vec3 envmap_latlong_chain(sampler2D t_8, int levels_4, vec3 dir_11, float lod_1)
     return _e13;
 }
 
-vec3 envmap_octahedral_chain(sampler2D t_9, int levels_5, vec3 dir_12, float lod_2) {
-    EnvmapChartUv _e4 = envmap_octahedral_forward(dir_12);
+vec3 envmap_octahedral_chain(sampler2D t_9, int levels_5, vec3 dir_13, float lod_2) {
+    EnvmapChartUv _e4 = envmap_octahedral_forward(dir_13);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return vec3(0.0);
     }
@@ -1243,8 +1393,8 @@ vec3 envmap_octahedral_chain(sampler2D t_9, int levels_5, vec3 dir_12, float lod
     return _e13;
 }
 
-vec3 envmap_equal_area_octahedral_chain(sampler2D t_10, int levels_6, vec3 dir_13, float lod_3) {
-    EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_13);
+vec3 envmap_equal_area_octahedral_chain(sampler2D t_10, int levels_6, vec3 dir_14, float lod_3) {
+    EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_14);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return vec3(0.0);
     }
@@ -1257,8 +1407,8 @@ vec3 envmap_equal_area_octahedral_chain(sampler2D t_10, int levels_6, vec3 dir_1
     return _e13;
 }
 
-vec3 envmap_cube_chain(sampler2DArray t_11, int levels_7, vec3 dir_14, float lod_4) {
-    EnvmapChartUv _e4 = envmap_cube_forward(dir_14);
+vec3 envmap_cube_chain(sampler2DArray t_11, int levels_7, vec3 dir_15, float lod_4) {
+    EnvmapChartUv _e4 = envmap_cube_forward(dir_15);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return vec3(0.0);
     }
@@ -1280,10 +1430,10 @@ float envmap_latlong_lod(float angle, float height) {
     return max(log2(((angle * height) / ENVMAP_PI)), 0.0);
 }
 
-float envmap_octahedral_lod(vec3 dir_15, float angle_1, float size) {
-    vec3 a_9 = abs(dir_15);
-    float p_3 = (length(dir_15) / ((a_9.x + a_9.y) + a_9.z));
-    float texel = (2.0 / ((size * p_3) * sqrt(p_3)));
+float envmap_octahedral_lod(vec3 dir_16, float angle_1, float size) {
+    vec3 a_11 = abs(dir_16);
+    float p_4 = (length(dir_16) / ((a_11.x + a_11.y) + a_11.z));
+    float texel = (2.0 / ((size * p_4) * sqrt(p_4)));
     return max(log2((angle_1 / texel)), 0.0);
 }
 
@@ -1291,20 +1441,20 @@ float envmap_equal_area_octahedral_lod(float angle_2, float size_1) {
     return max(log2(((angle_2 * size_1) / 3.5449078)), 0.0);
 }
 
-vec4 envmap_latlong_sample_level(sampler2D t_12, vec3 dir_16, float lod_5) {
-    EnvmapChartUv _e4 = envmap_latlong_forward(dir_16);
+vec4 envmap_latlong_sample_level(sampler2D t_12, vec3 dir_17, float lod_5) {
+    EnvmapChartUv _e4 = envmap_latlong_forward(dir_17);
     vec4 _e6 = textureLod(t_12, vec2(_e4.uv), lod_5);
     return _e6;
 }
 
-vec4 envmap_octahedral_sample_level(sampler2D t_13, vec3 dir_17, float lod_6) {
-    EnvmapChartUv _e4 = envmap_octahedral_forward(dir_17);
+vec4 envmap_octahedral_sample_level(sampler2D t_13, vec3 dir_18, float lod_6) {
+    EnvmapChartUv _e4 = envmap_octahedral_forward(dir_18);
     vec4 _e6 = textureLod(t_13, vec2(_e4.uv), lod_6);
     return _e6;
 }
 
-vec4 envmap_equal_area_octahedral_sample_level(sampler2D t_14, vec3 dir_18, float lod_7) {
-    EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_18);
+vec4 envmap_equal_area_octahedral_sample_level(sampler2D t_14, vec3 dir_19, float lod_7) {
+    EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_19);
     vec4 _e6 = textureLod(t_14, vec2(_e4.uv), lod_7);
     return _e6;
 }

@@ -1,4 +1,4 @@
-// envmap shaders, HLSL (shader model 5.0): envmap (from common.wgsl, frame.wgsl, latlong.wgsl, cube.wgsl, eac.wgsl, sphere_map.wgsl, dual_paraboloid.wgsl, angular.wgsl, tennisball.wgsl, octahedral.wgsl, lighting.wgsl).
+// envmap shaders, HLSL (shader model 5.0): envmap (from common.wgsl, frame.wgsl, latlong.wgsl, cube.wgsl, eac.wgsl, sphere_map.wgsl, dual_paraboloid.wgsl, angular.wgsl, tennisball.wgsl, octahedral.wgsl, fisheye.wgsl, lighting.wgsl).
 // Written by naga 29.0.4 from the WGSL in envmap-core/shaders/ (the source, with every
 // formula, source and comment): do not edit; after changing the WGSL run
 // ENVMAP_BLESS_SHADERS=1 cargo test --release -p envmap-tests --test shader_sources
@@ -43,6 +43,8 @@ static const float ENVMAP_DISK_LIMIT = 1.0000005;
 static const float3x3 ENVMAP_FRAME_Z_UP_RH = float3x3(float3(1.0, 0.0, 0.0), float3(0.0, 1.0, 0.0), float3(0.0, 0.0, 1.0));
 static const float3x3 ENVMAP_FRAME_Y_UP_RH = float3x3(float3(1.0, 0.0, 0.0), float3(0.0, 0.0, 1.0), float3(0.0, -1.0, 0.0));
 static const float3x3 ENVMAP_FRAME_Y_UP_LH = float3x3(float3(1.0, 0.0, 0.0), float3(0.0, 0.0, 1.0), float3(0.0, 1.0, 0.0));
+static const float ENVMAP_FISHEYE_SEEN_SCALE = 1.0000005;
+static const float ENVMAP_FISHEYE_HALF_PI_LO = -4.371139e-8;
 static const float ENVMAP_SH_Y00_CONSTANT = 0.2820948;
 static const float ENVMAP_SH_Y1_CONSTANT = 0.48860252;
 static const float ENVMAP_SH_Y2_CONSTANT = 1.0925485;
@@ -128,8 +130,8 @@ bool envmap_in_unit_disk(float2 uv_1)
     if (!(_e1)) {
         return false;
     }
-    float2 p_1 = ((2.0 * uv_1) - (1.0).xx);
-    return (((p_1.x * p_1.x) + (p_1.y * p_1.y)) <= ENVMAP_DISK_LIMIT);
+    float2 p_2 = ((2.0 * uv_1) - (1.0).xx);
+    return (((p_2.x * p_2.x) + (p_2.y * p_2.y)) <= ENVMAP_DISK_LIMIT);
 }
 
 float envmap_clamp_unit(float x_3)
@@ -279,11 +281,11 @@ EnvmapDirection envmap_latlong_inverse(EnvmapChartUv c)
     if ((c.uv.x > 0.5)) {
         phi = (ENVMAP_TAU * (c.uv.x - 1.0));
     }
-    float theta_1 = (ENVMAP_PI * c.uv.y);
-    float st = sin(theta_1);
+    float theta_2 = (ENVMAP_PI * c.uv.y);
+    float st = sin(theta_2);
     float _e33 = phi;
     float _e36 = phi;
-    const EnvmapDirection envmapdirection_6 = ConstructEnvmapDirection(float3((st * cos(_e33)), (st * sin(_e36)), cos(theta_1)), true);
+    const EnvmapDirection envmapdirection_6 = ConstructEnvmapDirection(float3((st * cos(_e33)), (st * sin(_e36)), cos(theta_2)), true);
     return envmapdirection_6;
 }
 
@@ -472,26 +474,26 @@ EnvmapChartUv envmap_sphere_map_forward_sigma(float3 dir_3, float sigma)
         const EnvmapChartUv envmapchartuv_7 = _e5;
         return envmapchartuv_7;
     }
-    float3 r_3 = _e2.dir;
-    float w = (sigma * r_3.z);
+    float3 r_4 = _e2.dir;
+    float w = (sigma * r_4.z);
     if ((w < 0.0)) {
-        one_plus_w = (((r_3.x * r_3.x) + (r_3.y * r_3.y)) / (1.0 - w));
+        one_plus_w = (((r_4.x * r_4.x) + (r_4.y * r_4.y)) / (1.0 - w));
     } else {
         one_plus_w = (1.0 + w);
     }
     float _e29 = one_plus_w;
-    float s_9 = max(max(abs(r_3.x), abs(r_3.y)), _e29);
+    float s_9 = max(max(abs(r_4.x), abs(r_4.y)), _e29);
     if ((s_9 == 0.0)) {
         const EnvmapChartUv envmapchartuv_8 = ConstructEnvmapChartUv(0u, float2(1.0, 0.5));
         return envmapchartuv_8;
     }
-    float x_6 = (r_3.x / s_9);
-    float y_2 = (r_3.y / s_9);
+    float x_8 = (r_4.x / s_9);
+    float y_3 = (r_4.y / s_9);
     float _e42 = one_plus_w;
     float h = (_e42 / s_9);
-    float m_2 = sqrt((((x_6 * x_6) + (y_2 * y_2)) + (h * h)));
-    const float _e55 = envmap_clamp_unit(((0.5 * (x_6 / m_2)) + 0.5));
-    const float _e61 = envmap_clamp_unit(((0.5 * (y_2 / m_2)) + 0.5));
+    float m_2 = sqrt((((x_8 * x_8) + (y_3 * y_3)) + (h * h)));
+    const float _e55 = envmap_clamp_unit(((0.5 * (x_8 / m_2)) + 0.5));
+    const float _e61 = envmap_clamp_unit(((0.5 * (y_3 / m_2)) + 0.5));
     const EnvmapChartUv envmapchartuv_9 = ConstructEnvmapChartUv(0u, float2(_e55, _e61));
     return envmapchartuv_9;
 }
@@ -512,11 +514,11 @@ EnvmapDirection envmap_sphere_map_inverse_sigma(EnvmapChartUv c_4, float sigma_1
         const EnvmapDirection envmapdirection_11 = _e13;
         return envmapdirection_11;
     }
-    float x_7 = ((2.0 * c_4.uv.x) - 1.0);
-    float y_3 = ((2.0 * c_4.uv.y) - 1.0);
-    float r2_ = ((x_7 * x_7) + (y_3 * y_3));
+    float x_9 = ((2.0 * c_4.uv.x) - 1.0);
+    float y_4 = ((2.0 * c_4.uv.y) - 1.0);
+    float r2_ = ((x_9 * x_9) + (y_4 * y_4));
     float nz = sqrt(max((1.0 - r2_), 0.0));
-    float3 d_9 = float3(((2.0 * x_7) * nz), ((2.0 * y_3) * nz), (sigma_1 * (1.0 - (2.0 * r2_))));
+    float3 d_9 = float3(((2.0 * x_9) * nz), ((2.0 * y_4) * nz), (sigma_1 * (1.0 - (2.0 * r2_))));
     const EnvmapDirection envmapdirection_12 = ConstructEnvmapDirection((d_9 / (sqrt(dot(d_9, d_9))).xxx), true);
     return envmapdirection_12;
 }
@@ -571,11 +573,11 @@ EnvmapChartUv envmap_dual_paraboloid_forward(float3 dir_6)
         const EnvmapChartUv envmapchartuv_14 = _e4;
         return envmapchartuv_14;
     }
-    float3 r_4 = _e1.dir;
+    float3 r_5 = _e1.dir;
     const bool _e7 = envmap_sign_bit(dir_6.z);
-    float den_1 = (1.0 + abs(r_4.z));
-    const float _e18 = envmap_clamp_unit(((0.5 * (r_4.x / den_1)) + 0.5));
-    const float _e25 = envmap_clamp_unit(((0.5 * (r_4.y / den_1)) + 0.5));
+    float den_1 = (1.0 + abs(r_5.z));
+    const float _e18 = envmap_clamp_unit(((0.5 * (r_5.x / den_1)) + 0.5));
+    const float _e25 = envmap_clamp_unit(((0.5 * (r_5.y / den_1)) + 0.5));
     const EnvmapChartUv envmapchartuv_15 = ConstructEnvmapChartUv((_e7 ? 1u : 0u), float2(_e18, _e25));
     return envmapchartuv_15;
 }
@@ -597,16 +599,16 @@ EnvmapDirection envmap_dual_paraboloid_inverse(EnvmapChartUv c_7)
         const EnvmapDirection envmapdirection_15 = _e12;
         return envmapdirection_15;
     }
-    float x_8 = ((2.0 * c_7.uv.x) - 1.0);
-    float y_4 = ((2.0 * c_7.uv.y) - 1.0);
-    float r2_1 = ((x_8 * x_8) + (y_4 * y_4));
+    float x_10 = ((2.0 * c_7.uv.x) - 1.0);
+    float y_5 = ((2.0 * c_7.uv.y) - 1.0);
+    float r2_1 = ((x_10 * x_10) + (y_5 * y_5));
     z_2 = max((1.0 - r2_1), 0.0);
     if ((c_7.chart == 1u)) {
         float _e36 = z_2;
         z_2 = -(_e36);
     }
     float _e42 = z_2;
-    float3 d_10 = (float3((2.0 * x_8), (2.0 * y_4), _e42) / ((1.0 + r2_1)).xxx);
+    float3 d_10 = (float3((2.0 * x_10), (2.0 * y_5), _e42) / ((1.0 + r2_1)).xxx);
     const EnvmapDirection envmapdirection_16 = ConstructEnvmapDirection((d_10 / (sqrt(dot(d_10, d_10))).xxx), true);
     return envmapdirection_16;
 }
@@ -622,7 +624,7 @@ EnvmapChartUv envmap_angular_forward(float3 dir_7)
         const EnvmapChartUv envmapchartuv_16 = _e4;
         return envmapchartuv_16;
     }
-    float3 r_5 = _e1.dir;
+    float3 r_6 = _e1.dir;
     float a_5 = max(abs(dir_7.x), abs(dir_7.y));
     if ((a_5 != 0.0)) {
         px = (dir_7.x / a_5);
@@ -633,8 +635,8 @@ EnvmapChartUv envmap_angular_forward(float3 dir_7)
     float _e24 = py;
     float _e25 = py;
     float len = sqrt(((_e21 * _e22) + (_e24 * _e25)));
-    float sin_theta = (max(abs(r_5.x), abs(r_5.y)) * len);
-    const float _e36 = envmap_atan2f(sin_theta, r_5.z);
+    float sin_theta = (max(abs(r_6.x), abs(r_6.y)) * len);
+    const float _e36 = envmap_atan2f(sin_theta, r_6.z);
     float rho_1 = min((_e36 / ENVMAP_PI), 1.0);
     float k_1 = (rho_1 / len);
     float _e42 = px;
@@ -664,9 +666,9 @@ EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_8)
         const EnvmapDirection envmapdirection_17 = _e12;
         return envmapdirection_17;
     }
-    float x_9 = ((2.0 * c_8.uv.x) - 1.0);
-    float y_5 = ((2.0 * c_8.uv.y) - 1.0);
-    float rho_2 = min(sqrt(((x_9 * x_9) + (y_5 * y_5))), 1.0);
+    float x_11 = ((2.0 * c_8.uv.x) - 1.0);
+    float y_6 = ((2.0 * c_8.uv.y) - 1.0);
+    float rho_2 = min(sqrt(((x_11 * x_11) + (y_6 * y_6))), 1.0);
     if ((rho_2 <= 0.5)) {
         s_1 = sin((ENVMAP_PI * rho_2));
         co = cos((ENVMAP_PI * rho_2));
@@ -682,7 +684,7 @@ EnvmapDirection envmap_angular_inverse(EnvmapChartUv c_8)
     float _e54 = k;
     float _e56 = k;
     float _e58 = co;
-    float3 d_11 = float3((_e54 * x_9), (_e56 * y_5), _e58);
+    float3 d_11 = float3((_e54 * x_11), (_e56 * y_6), _e58);
     const EnvmapDirection envmapdirection_18 = ConstructEnvmapDirection((d_11 / (sqrt(dot(d_11, d_11))).xxx), true);
     return envmapdirection_18;
 }
@@ -728,19 +730,19 @@ EnvmapChartUv envmap_tennisball_forward(float3 dir_8)
     }
     float a_6 = _e1.dir.x;
     float b_3 = _e1.dir.y;
-    float c_16 = _e1.dir.z;
-    const bool _e14 = envmap_tennisball_selects_first_chart(a_6, b_3, c_16);
+    float c_17 = _e1.dir.z;
+    const bool _e14 = envmap_tennisball_selects_first_chart(a_6, b_3, c_17);
     if (_e14) {
         chart = 0u;
-        const float _e20 = envmap_atan2f(b_3, sqrt(((a_6 * a_6) + (c_16 * c_16))));
+        const float _e20 = envmap_atan2f(b_3, sqrt(((a_6 * a_6) + (c_17 * c_17))));
         theta = _e20;
-        const float _e21 = envmap_atan2f(a_6, c_16);
+        const float _e21 = envmap_atan2f(a_6, c_17);
         phi_1 = _e21;
     } else {
         chart = 1u;
-        const float _e27 = envmap_atan2f(a_6, sqrt(((b_3 * b_3) + (c_16 * c_16))));
+        const float _e27 = envmap_atan2f(a_6, sqrt(((b_3 * b_3) + (c_17 * c_17))));
         theta = _e27;
-        const float _e29 = envmap_atan2f(b_3, -(c_16));
+        const float _e29 = envmap_atan2f(b_3, -(c_17));
         phi_1 = _e29;
     }
     float _e32 = theta;
@@ -773,11 +775,11 @@ EnvmapDirection envmap_tennisball_inverse(EnvmapChartUv c_10)
         return envmapdirection_19;
     }
     float phi_4 = ((c_10.uv.x - 0.5) * 4.712389);
-    float theta_2 = ((0.5 - c_10.uv.y) * ENVMAP_HALF_PI);
+    float theta_3 = ((0.5 - c_10.uv.y) * ENVMAP_HALF_PI);
     float sp = sin(phi_4);
     float cp = cos(phi_4);
-    float st_1 = sin(theta_2);
-    float ct = cos(theta_2);
+    float st_1 = sin(theta_3);
+    float ct = cos(theta_3);
     if ((c_10.chart == 0u)) {
         const EnvmapDirection envmapdirection_20 = ConstructEnvmapDirection(float3((ct * sp), st_1, (ct * cp)), true);
         return envmapdirection_20;
@@ -803,15 +805,15 @@ EnvmapChartUv envmap_octahedral_forward(float3 dir_9)
         return envmapchartuv_21;
     }
     float3 d_12 = _e1.dir;
-    float3 p_2 = (d_12 / (((abs(d_12.x) + abs(d_12.y)) + abs(d_12.z))).xxx);
-    if ((p_2.z < 0.0)) {
-        const float _e24 = envmap_copysign((1.0 - abs(p_2.y)), dir_9.x);
-        const float _e30 = envmap_copysign((1.0 - abs(p_2.x)), dir_9.y);
+    float3 p_3 = (d_12 / (((abs(d_12.x) + abs(d_12.y)) + abs(d_12.z))).xxx);
+    if ((p_3.z < 0.0)) {
+        const float _e24 = envmap_copysign((1.0 - abs(p_3.y)), dir_9.x);
+        const float _e30 = envmap_copysign((1.0 - abs(p_3.x)), dir_9.y);
         const EnvmapChartUv _e31 = envmap_octahedral_to_uv(_e24, _e30);
         const EnvmapChartUv envmapchartuv_22 = _e31;
         return envmapchartuv_22;
     }
-    const EnvmapChartUv _e34 = envmap_octahedral_to_uv(p_2.x, p_2.y);
+    const EnvmapChartUv _e34 = envmap_octahedral_to_uv(p_3.x, p_3.y);
     const EnvmapChartUv envmapchartuv_23 = _e34;
     return envmapchartuv_23;
 }
@@ -833,13 +835,13 @@ EnvmapDirection envmap_octahedral_inverse(EnvmapChartUv c_11)
         const EnvmapDirection envmapdirection_22 = _e12;
         return envmapdirection_22;
     }
-    float x_10 = ((2.0 * c_11.uv.x) - 1.0);
-    float y_6 = ((2.0 * c_11.uv.y) - 1.0);
-    float z_3 = ((1.0 - abs(x_10)) - abs(y_6));
-    d_5 = float3(x_10, y_6, z_3);
+    float x_12 = ((2.0 * c_11.uv.x) - 1.0);
+    float y_7 = ((2.0 * c_11.uv.y) - 1.0);
+    float z_3 = ((1.0 - abs(x_12)) - abs(y_7));
+    d_5 = float3(x_12, y_7, z_3);
     if ((z_3 < 0.0)) {
-        const float _e37 = envmap_copysign((1.0 - abs(y_6)), x_10);
-        const float _e41 = envmap_copysign((1.0 - abs(x_10)), y_6);
+        const float _e37 = envmap_copysign((1.0 - abs(y_7)), x_12);
+        const float _e41 = envmap_copysign((1.0 - abs(x_12)), y_7);
         d_5 = float3(_e37, _e41, z_3);
     }
     float3 _e43 = d_5;
@@ -865,7 +867,7 @@ EnvmapChartUv envmap_equal_area_octahedral_forward(float3 dir_10)
     float ax_2 = abs(d_13.x);
     float ay_2 = abs(d_13.y);
     float az_1 = abs(d_13.z);
-    float r_6 = sqrt((((ax_2 * ax_2) + (ay_2 * ay_2)) / (1.0 + az_1)));
+    float r_7 = sqrt((((ax_2 * ax_2) + (ay_2 * ay_2)) / (1.0 + az_1)));
     float hi = max(ax_2, ay_2);
     float lo = min(ax_2, ay_2);
     if ((hi != 0.0)) {
@@ -877,9 +879,9 @@ EnvmapChartUv envmap_equal_area_octahedral_forward(float3 dir_10)
         phi_2 = (1.0 - _e30);
     }
     float _e33 = phi_2;
-    v = (_e33 * r_6);
+    v = (_e33 * r_7);
     float _e36 = v;
-    u_2 = (r_6 - _e36);
+    u_2 = (r_7 - _e36);
     if ((d_13.z < 0.0)) {
         float u0_ = u_2;
         float _e43 = v;
@@ -944,6 +946,168 @@ EnvmapDirection envmap_equal_area_octahedral_inverse(EnvmapChartUv c_12)
     return envmapdirection_25;
 }
 
+float envmap_fisheye_sin(float x_6)
+{
+    float p_1 = -0.0001951829;
+    float q = 2.4432327e-5;
+
+    if ((x_6 <= ENVMAP_QUARTER_PI)) {
+        float u_7 = (x_6 * x_6);
+        float _e6 = p_1;
+        p_1 = ((_e6 * u_7) + 0.008332189);
+        float _e10 = p_1;
+        p_1 = ((_e10 * u_7) - 0.16666655);
+        float _e14 = p_1;
+        return (x_6 + (x_6 * (u_7 * _e14)));
+    }
+    float y_8 = ((ENVMAP_HALF_PI - x_6) + ENVMAP_FISHEYE_HALF_PI_LO);
+    float u_8 = (y_8 * y_8);
+    float _e25 = q;
+    q = ((_e25 * u_8) - 0.001388731);
+    float _e29 = q;
+    q = ((_e29 * u_8) + 0.041666646);
+    float half_u = (0.5 * u_8);
+    float w_1 = (1.0 - half_u);
+    float rest = ((1.0 - w_1) - half_u);
+    float _e41 = q;
+    return (w_1 + (((u_8 * u_8) * _e41) + rest));
+}
+
+float envmap_fisheye_asin(float q_1)
+{
+    const float _e7 = envmap_atan2f(q_1, sqrt(((1.0 - q_1) * (1.0 + q_1))));
+    return _e7;
+}
+
+bool envmap_fisheye_covers_sphere(float half_fov, bool dual)
+{
+    if (dual) {
+        return (half_fov >= ENVMAP_HALF_PI);
+    }
+    return (half_fov >= ENVMAP_PI);
+}
+
+EnvmapChartUv envmap_fisheye_forward(float3 dir_11, float half_fov_1, bool equisolid, bool dual_1)
+{
+    bool local_15 = (bool)0;
+    float axial = (float)0;
+    float side = 1.0;
+    bool local_16 = (bool)0;
+    float r_2 = (float)0;
+    float x_7 = 1.0;
+    float y_2 = 0.0;
+
+    const EnvmapDirection _e4 = envmap_normalize_direction(dir_11);
+    if (!(_e4.valid)) {
+        const EnvmapChartUv _e7 = envmap_invalid_chart_uv();
+        const EnvmapChartUv envmapchartuv_26 = _e7;
+        return envmapchartuv_26;
+    }
+    float3 d_15 = _e4.dir;
+    if (dual_1) {
+        local_15 = (dir_11.z < 0.0);
+    } else {
+        local_15 = false;
+    }
+    bool back = local_15;
+    axial = d_15.z;
+    if (back) {
+        axial = -(d_15.z);
+        side = -1.0;
+    }
+    float rho_3 = sqrt(((d_15.x * d_15.x) + (d_15.y * d_15.y)));
+    float _e31 = axial;
+    const float _e32 = envmap_atan2f(rho_3, _e31);
+    const bool _e33 = envmap_fisheye_covers_sphere(half_fov_1, dual_1);
+    if (!(_e33)) {
+        local_16 = (_e32 > (half_fov_1 * ENVMAP_FISHEYE_SEEN_SCALE));
+    } else {
+        local_16 = false;
+    }
+    bool _e41 = local_16;
+    if (_e41) {
+        const EnvmapChartUv _e42 = envmap_invalid_chart_uv();
+        const EnvmapChartUv envmapchartuv_27 = _e42;
+        return envmapchartuv_27;
+    }
+    if (equisolid) {
+        const float _e46 = envmap_fisheye_sin((0.5 * _e32));
+        const float _e49 = envmap_fisheye_sin((0.5 * half_fov_1));
+        r_2 = (_e46 / _e49);
+    } else {
+        r_2 = (_e32 / half_fov_1);
+    }
+    float _e52 = r_2;
+    r_2 = min(_e52, 1.0);
+    float a_7 = max(abs(dir_11.x), abs(dir_11.y));
+    if ((a_7 != 0.0)) {
+        x_7 = (dir_11.x / a_7);
+        y_2 = (dir_11.y / a_7);
+    }
+    float _e70 = r_2;
+    float _e73 = x_7;
+    float _e74 = x_7;
+    float _e76 = y_2;
+    float _e77 = y_2;
+    float s_10 = ((0.5 * _e70) / sqrt(((_e73 * _e74) + (_e76 * _e77))));
+    float _e82 = side;
+    float _e84 = x_7;
+    const float _e88 = envmap_clamp_unit((0.5 + ((_e82 * s_10) * _e84)));
+    float _e89 = y_2;
+    const float _e93 = envmap_clamp_unit((0.5 - (s_10 * _e89)));
+    const EnvmapChartUv envmapchartuv_28 = ConstructEnvmapChartUv((back ? 1u : 0u), float2(_e88, _e93));
+    return envmapchartuv_28;
+}
+
+EnvmapDirection envmap_fisheye_inverse(EnvmapChartUv c_13, float half_fov_2, bool equisolid_1, bool dual_2)
+{
+    bool local_17 = (bool)0;
+    float side_1 = 1.0;
+    float theta_1 = (float)0;
+
+    uint charts = (dual_2 ? 2u : 1u);
+    if (!((c_13.chart >= charts))) {
+        const bool _e13 = envmap_in_unit_disk(c_13.uv);
+        local_17 = !(_e13);
+    } else {
+        local_17 = true;
+    }
+    bool _e16 = local_17;
+    if (_e16) {
+        const EnvmapDirection _e17 = envmap_invalid_direction();
+        const EnvmapDirection envmapdirection_26 = _e17;
+        return envmapdirection_26;
+    }
+    if ((c_13.chart == 1u)) {
+        side_1 = -1.0;
+    }
+    float a_8 = ((2.0 * c_13.uv.x) - 1.0);
+    float b_4 = (1.0 - (2.0 * c_13.uv.y));
+    float r_8 = min(sqrt(((a_8 * a_8) + (b_4 * b_4))), 1.0);
+    if (equisolid_1) {
+        const float _e45 = envmap_fisheye_sin((0.5 * half_fov_2));
+        const float _e49 = envmap_fisheye_asin(min((r_8 * _e45), 1.0));
+        theta_1 = (2.0 * _e49);
+    } else {
+        theta_1 = (r_8 * half_fov_2);
+    }
+    float _e53 = theta_1;
+    float t_17 = min(_e53, ENVMAP_PI);
+    float sin_t = sin(t_17);
+    float cos_t = cos(t_17);
+    if ((r_8 == 0.0)) {
+        float _e60 = side_1;
+        const EnvmapDirection envmapdirection_27 = ConstructEnvmapDirection(float3(0.0, 0.0, _e60), true);
+        return envmapdirection_27;
+    }
+    float s_11 = (sin_t / r_8);
+    float _e67 = side_1;
+    float _e71 = side_1;
+    float3 d_16 = float3(((_e67 * s_11) * a_8), (s_11 * b_4), (_e71 * cos_t));
+    const EnvmapDirection envmapdirection_28 = ConstructEnvmapDirection((d_16 / (sqrt(dot(d_16, d_16))).xxx), true);
+    return envmapdirection_28;
+}
+
 typedef float ret_Constructarray9_float_[9];
 ret_Constructarray9_float_ Constructarray9_float_(float arg0, float arg1, float arg2, float arg3, float arg4, float arg5, float arg6, float arg7, float arg8) {
     float ret[9] = { arg0, arg1, arg2, arg3, arg4, arg5, arg6, arg7, arg8 };
@@ -957,13 +1121,13 @@ ret_envmap_sh9_basis envmap_sh9_basis(float3 n_1)
     if (!(_e1.valid)) {
         return Constructarray9_float_(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     }
-    float x_11 = _e1.dir.x;
-    float y_7 = _e1.dir.y;
+    float x_13 = _e1.dir.x;
+    float y_9 = _e1.dir.y;
     float z_4 = _e1.dir.z;
-    return Constructarray9_float_(ENVMAP_SH_Y00_CONSTANT, (ENVMAP_SH_Y1_CONSTANT * y_7), (ENVMAP_SH_Y1_CONSTANT * z_4), (ENVMAP_SH_Y1_CONSTANT * x_11), (ENVMAP_SH_Y2_CONSTANT * (x_11 * y_7)), (ENVMAP_SH_Y2_CONSTANT * (y_7 * z_4)), (ENVMAP_SH_Y20_CONSTANT * (((3.0 * z_4) * z_4) - 1.0)), (ENVMAP_SH_Y2_CONSTANT * (x_11 * z_4)), (ENVMAP_SH_Y22_CONSTANT * ((x_11 * x_11) - (y_7 * y_7))));
+    return Constructarray9_float_(ENVMAP_SH_Y00_CONSTANT, (ENVMAP_SH_Y1_CONSTANT * y_9), (ENVMAP_SH_Y1_CONSTANT * z_4), (ENVMAP_SH_Y1_CONSTANT * x_13), (ENVMAP_SH_Y2_CONSTANT * (x_13 * y_9)), (ENVMAP_SH_Y2_CONSTANT * (y_9 * z_4)), (ENVMAP_SH_Y20_CONSTANT * (((3.0 * z_4) * z_4) - 1.0)), (ENVMAP_SH_Y2_CONSTANT * (x_13 * z_4)), (ENVMAP_SH_Y22_CONSTANT * ((x_13 * x_13) - (y_9 * y_9))));
 }
 
-float3 envmap_sh9_eval(float3 c_13[9], float3 n_2)
+float3 envmap_sh9_eval(float3 c_14[9], float3 n_2)
 {
     float3 e = (0.0).xxx;
     uint i = 0u;
@@ -988,7 +1152,7 @@ float3 envmap_sh9_eval(float3 c_13[9], float3 n_2)
             float3 _e11 = e;
             uint _e12 = i;
             uint _e14 = i;
-            e = (_e11 + (c_13[min(uint(_e12), 8u)] * _e2[min(uint(_e14), 8u)]));
+            e = (_e11 + (c_14[min(uint(_e12), 8u)] * _e2[min(uint(_e14), 8u)]));
         }
     }
     float3 _e21 = e;
@@ -1041,28 +1205,28 @@ float3 envmap_sh9_filament(float3 sh[9], float3 n_5)
     if (!(_e2.valid)) {
         return (0.0).xxx;
     }
-    float x_12 = _e2.dir.x;
-    float y_8 = _e2.dir.y;
+    float x_14 = _e2.dir.x;
+    float y_10 = _e2.dir.y;
     float z_5 = _e2.dir.z;
-    return ((((((((sh[0] + (sh[1] * y_8)) + (sh[2] * z_5)) + (sh[3] * x_12)) + (sh[4] * (y_8 * x_12))) + (sh[5] * (y_8 * z_5))) + (sh[6] * (((3.0 * z_5) * z_5) - 1.0))) + (sh[7] * (z_5 * x_12))) + (sh[8] * ((x_12 * x_12) - (y_8 * y_8))));
+    return ((((((((sh[0] + (sh[1] * y_10)) + (sh[2] * z_5)) + (sh[3] * x_14)) + (sh[4] * (y_10 * x_14))) + (sh[5] * (y_10 * z_5))) + (sh[6] * (((3.0 * z_5) * z_5) - 1.0))) + (sh[7] * (z_5 * x_14))) + (sh[8] * ((x_14 * x_14) - (y_10 * y_10))));
 }
 
 float envmap_roughness_to_lod_linear(float roughness, float levels)
 {
-    float r_7 = clamp(roughness, 0.0, 1.0);
-    return (r_7 * (levels - 1.0));
+    float r_9 = clamp(roughness, 0.0, 1.0);
+    return (r_9 * (levels - 1.0));
 }
 
 float envmap_roughness_to_lod_filament(float roughness_1, float levels_1)
 {
-    float r_8 = clamp(roughness_1, 0.0, 1.0);
-    return ((r_8 * (2.0 - r_8)) * (levels_1 - 1.0));
+    float r_10 = clamp(roughness_1, 0.0, 1.0);
+    return ((r_10 * (2.0 - r_10)) * (levels_1 - 1.0));
 }
 
 float envmap_roughness_to_lod_unity(float roughness_2, float levels_2)
 {
-    float r_9 = clamp(roughness_2, 0.0, 1.0);
-    return ((r_9 * (1.7 - (0.7 * r_9))) * (levels_2 - 1.0));
+    float r_11 = clamp(roughness_2, 0.0, 1.0);
+    return ((r_11 * (1.7 - (0.7 * r_11))) * (levels_2 - 1.0));
 }
 
 float3 envmap_reflect_view(float3 n_6, float3 v_1)
@@ -1075,24 +1239,24 @@ float3 envmap_reflect_incident(float3 i_2, float3 n_7)
     return (i_2 - ((2.0 * dot(n_7, i_2)) * n_7));
 }
 
-float3 envmap_specular_dominant_direction(float3 n_8, float3 r_2, float roughness_3)
+float3 envmap_specular_dominant_direction(float3 n_8, float3 r_3, float roughness_3)
 {
-    bool local_15 = (bool)0;
+    bool local_18 = (bool)0;
 
-    float a_7 = (roughness_3 * roughness_3);
-    float3 d_15 = ((r_2 * (1.0 - a_7)) + (n_8 * a_7));
-    float l2_ = dot(d_15, d_15);
+    float a_9 = (roughness_3 * roughness_3);
+    float3 d_17 = ((r_3 * (1.0 - a_9)) + (n_8 * a_9));
+    float l2_ = dot(d_17, d_17);
     if ((l2_ > 0.0)) {
-        const bool _e14 = envmap_all_finite(d_15);
-        local_15 = _e14;
+        const bool _e14 = envmap_all_finite(d_17);
+        local_18 = _e14;
     } else {
-        local_15 = false;
+        local_18 = false;
     }
-    bool _e16 = local_15;
+    bool _e16 = local_18;
     if (_e16) {
-        return (d_15 * (1.0 / sqrt(l2_)));
+        return (d_17 * (1.0 / sqrt(l2_)));
     }
-    return r_2;
+    return r_3;
 }
 
 float3 envmap_specular_direction(float3 n_9, float3 v_2, float roughness_4, bool dominant)
@@ -1120,16 +1284,16 @@ float3 envmap_diffuse_color(float3 base_color_1, float metallic_1)
 float3 envmap_split_sum_factor(float3 f0_, float2 dfg, bool multiscatter)
 {
     float3 s_2 = (float3)0;
-    bool local_16 = (bool)0;
+    bool local_19 = (bool)0;
 
     s_2 = ((f0_ * dfg.x) + (dfg.y).xxx);
     float albedo = (dfg.x + dfg.y);
     if (multiscatter) {
-        local_16 = (albedo > 0.0);
+        local_19 = (albedo > 0.0);
     } else {
-        local_16 = false;
+        local_19 = false;
     }
-    bool _e17 = local_16;
+    bool _e17 = local_19;
     if (_e17) {
         float3 _e18 = s_2;
         s_2 = (_e18 * ((1.0).xxx + (f0_ * ((1.0 / albedo) - 1.0))));
@@ -1141,15 +1305,15 @@ float3 envmap_split_sum_factor(float3 f0_, float2 dfg, bool multiscatter)
 float3 envmap_split_sum_factor_filament(float3 f0_1, float2 dfg_1, bool multiscatter_1)
 {
     float3 s_3 = (float3)0;
-    bool local_17 = (bool)0;
+    bool local_20 = (bool)0;
 
     s_3 = lerp((dfg_1.x).xxx, (dfg_1.y).xxx, f0_1);
     if (multiscatter_1) {
-        local_17 = (dfg_1.y > 0.0);
+        local_20 = (dfg_1.y > 0.0);
     } else {
-        local_17 = false;
+        local_20 = false;
     }
-    bool _e15 = local_17;
+    bool _e15 = local_20;
     if (_e15) {
         float3 _e16 = s_3;
         s_3 = (_e16 * ((1.0).xxx + (f0_1 * ((1.0 / dfg_1.y) - 1.0))));
@@ -1184,20 +1348,20 @@ float2 envmap_dfg_load(Texture2D<float4> t, float n_dot_v_1, float roughness_6)
 {
     const float2 _e3 = envmap_dfg_uv(n_dot_v_1, roughness_6);
     float2 size_2 = float2(NagaMipDimensions2D(t, int(0)));
-    float2 x_13 = clamp(((_e3 * size_2) - (0.5).xx), (0.0).xx, (size_2 - (1.0).xx));
-    int2 i0_ = naga_f2i32(floor(x_13));
+    float2 x_15 = clamp(((_e3 * size_2) - (0.5).xx), (0.0).xx, (size_2 - (1.0).xx));
+    int2 i0_ = naga_f2i32(floor(x_15));
     int2 i1_ = min(asint(asuint(i0_) + asuint((int(1)).xx)), asint(asuint(naga_f2i32(size_2)) - asuint((int(1)).xx)));
-    float2 f = (x_13 - floor(x_13));
+    float2 f = (x_15 - floor(x_15));
     float4 _e33 = t.Load(int3(int2(i0_.x, i0_.y), int(0)));
-    float2 a_8 = _e33.xy;
+    float2 a_10 = _e33.xy;
     float4 _e39 = t.Load(int3(int2(i1_.x, i0_.y), int(0)));
-    float2 b_4 = _e39.xy;
+    float2 b_5 = _e39.xy;
     float4 _e45 = t.Load(int3(int2(i0_.x, i1_.y), int(0)));
-    float2 c_17 = _e45.xy;
+    float2 c_18 = _e45.xy;
     float4 _e51 = t.Load(int3(int2(i1_.x, i1_.y), int(0)));
-    float2 d_16 = _e51.xy;
-    float2 top = (a_8 + (f.x * (b_4 - a_8)));
-    float2 bottom = (c_17 + (f.x * (d_16 - c_17)));
+    float2 d_18 = _e51.xy;
+    float2 top = (a_10 + (f.x * (b_5 - a_10)));
+    float2 bottom = (c_18 + (f.x * (d_18 - c_18)));
     return (top + (f.y * (bottom - top)));
 }
 
@@ -1215,15 +1379,15 @@ int naga_f2i32(float value) {
 
 EnvmapFootprint envmap_bilinear_footprint(float u_3, int n_10)
 {
-    float x_14 = clamp(((u_3 * float(n_10)) - 0.5), -0.5, (float(n_10) - 0.5));
-    float t_17 = floor(x_14);
-    const EnvmapFootprint envmapfootprint = ConstructEnvmapFootprint(naga_f2i32(t_17), asint(asuint(naga_f2i32(t_17)) + asuint(int(1))), (x_14 - t_17));
+    float x_16 = clamp(((u_3 * float(n_10)) - 0.5), -0.5, (float(n_10) - 0.5));
+    float t_18 = floor(x_16);
+    const EnvmapFootprint envmapfootprint = ConstructEnvmapFootprint(naga_f2i32(t_18), asint(asuint(naga_f2i32(t_18)) + asuint(int(1))), (x_16 - t_18));
     return envmapfootprint;
 }
 
-float3 envmap_blend(float3 a_2, float3 b_1, float3 c_14, float3 d_6, float fx, float fy)
+float3 envmap_blend(float3 a_2, float3 b_1, float3 c_15, float3 d_6, float fx, float fy)
 {
-    float3 left = (((c_14 - a_2) * fy) + a_2);
+    float3 left = (((c_15 - a_2) * fy) + a_2);
     float3 right = (((d_6 - b_1) * fy) + b_1);
     return (((right - left) * fx) + left);
 }
@@ -1236,7 +1400,7 @@ float3 envmap_latlong_texel(Texture2D<float4> t_1, int i_3, int j, int level)
 {
     int ii = (int)0;
     int jj = (int)0;
-    bool local_18 = (bool)0;
+    bool local_21 = (bool)0;
 
     int2 size_3 = int2(NagaMipDimensions2D(t_1, level));
     ii = i_3;
@@ -1244,11 +1408,11 @@ float3 envmap_latlong_texel(Texture2D<float4> t_1, int i_3, int j, int level)
     int _e8 = jj;
     if (!((_e8 < int(0)))) {
         int _e14 = jj;
-        local_18 = (_e14 >= size_3.y);
+        local_21 = (_e14 >= size_3.y);
     } else {
-        local_18 = true;
+        local_21 = true;
     }
-    bool _e18 = local_18;
+    bool _e18 = local_21;
     if (_e18) {
         int _e24 = jj;
         int _e26 = jj;
@@ -1292,8 +1456,8 @@ float3 envmap_octahedral_texel(Texture2D<float4> t_3, int i_4, int j_1, int leve
 {
     int ii_1 = (int)0;
     int jj_1 = (int)0;
-    bool local_19 = (bool)0;
-    bool local_20 = (bool)0;
+    bool local_22 = (bool)0;
+    bool local_23 = (bool)0;
 
     int2 size_5 = int2(NagaMipDimensions2D(t_3, level_2));
     ii_1 = i_4;
@@ -1301,11 +1465,11 @@ float3 envmap_octahedral_texel(Texture2D<float4> t_3, int i_4, int j_1, int leve
     int _e8 = jj_1;
     if (!((_e8 < int(0)))) {
         int _e14 = jj_1;
-        local_19 = (_e14 >= size_5.y);
+        local_22 = (_e14 >= size_5.y);
     } else {
-        local_19 = true;
+        local_22 = true;
     }
-    bool _e18 = local_19;
+    bool _e18 = local_22;
     if (_e18) {
         int _e24 = jj_1;
         int _e26 = jj_1;
@@ -1317,11 +1481,11 @@ float3 envmap_octahedral_texel(Texture2D<float4> t_3, int i_4, int j_1, int leve
     int _e38 = ii_1;
     if (!((_e38 < int(0)))) {
         int _e44 = ii_1;
-        local_20 = (_e44 >= size_5.x);
+        local_23 = (_e44 >= size_5.x);
     } else {
-        local_20 = true;
+        local_23 = true;
     }
-    bool _e48 = local_20;
+    bool _e48 = local_23;
     if (_e48) {
         int _e54 = ii_1;
         int _e56 = ii_1;
@@ -1377,45 +1541,45 @@ float3 envmap_cube_texel_across(Texture2DArray<float4> t_5, uint face_1, int i_5
 
 float3 envmap_cube_texel(Texture2DArray<float4> t_6, uint face_2, int i_6, int j_3, int level_5)
 {
-    bool local_21 = (bool)0;
-    bool local_22 = (bool)0;
-    bool local_23 = (bool)0;
     bool local_24 = (bool)0;
+    bool local_25 = (bool)0;
+    bool local_26 = (bool)0;
+    bool local_27 = (bool)0;
 
     int2 size_8 = int2(NagaMipDimensions2DArray(t_6, level_5));
     if (!((i_6 < int(0)))) {
-        local_21 = (i_6 >= size_8.x);
+        local_24 = (i_6 >= size_8.x);
     } else {
-        local_21 = true;
+        local_24 = true;
     }
-    bool iout = local_21;
+    bool iout = local_24;
     if (!((j_3 < int(0)))) {
-        local_22 = (j_3 >= size_8.y);
+        local_25 = (j_3 >= size_8.y);
     } else {
-        local_22 = true;
+        local_25 = true;
     }
-    bool jout = local_22;
+    bool jout = local_25;
     int ic = clamp(i_6, int(0), asint(asuint(size_8.x) - asuint(int(1))));
     int jc = clamp(j_3, int(0), asint(asuint(size_8.y) - asuint(int(1))));
     if (iout) {
-        local_23 = jout;
+        local_26 = jout;
     } else {
-        local_23 = false;
+        local_26 = false;
     }
-    bool _e38 = local_23;
+    bool _e38 = local_26;
     if (_e38) {
         const float3 _e39 = envmap_cube_texel_across(t_6, face_2, i_6, jc, level_5);
         const float3 _e40 = envmap_cube_texel_across(t_6, face_2, ic, j_3, level_5);
         float4 _e43 = t_6.Load(int4(int2(ic, jc), int(face_2), level_5));
-        float3 c_18 = _e43.xyz;
-        return (((_e39 + _e40) + c_18) / (3.0).xxx);
+        float3 c_19 = _e43.xyz;
+        return (((_e39 + _e40) + c_19) / (3.0).xxx);
     }
     if (!(iout)) {
-        local_24 = jout;
+        local_27 = jout;
     } else {
-        local_24 = true;
+        local_27 = true;
     }
-    bool _e54 = local_24;
+    bool _e54 = local_27;
     if (_e54) {
         const float3 _e55 = envmap_cube_texel_across(t_6, face_2, i_6, j_3, level_5);
         return _e55;
@@ -1424,15 +1588,15 @@ float3 envmap_cube_texel(Texture2DArray<float4> t_6, uint face_2, int i_6, int j
     return _e58.xyz;
 }
 
-float3 envmap_cube_bilinear(Texture2DArray<float4> t_7, EnvmapChartUv c_15, int level_6)
+float3 envmap_cube_bilinear(Texture2DArray<float4> t_7, EnvmapChartUv c_16, int level_6)
 {
     int2 size_9 = int2(NagaMipDimensions2DArray(t_7, level_6));
-    const EnvmapFootprint _e8 = envmap_bilinear_footprint(c_15.uv.x, size_9.x);
-    const EnvmapFootprint _e12 = envmap_bilinear_footprint(c_15.uv.y, size_9.y);
-    const float3 _e16 = envmap_cube_texel(t_7, c_15.chart, _e8.first, _e12.first, level_6);
-    const float3 _e20 = envmap_cube_texel(t_7, c_15.chart, _e8.second, _e12.first, level_6);
-    const float3 _e24 = envmap_cube_texel(t_7, c_15.chart, _e8.first, _e12.second, level_6);
-    const float3 _e28 = envmap_cube_texel(t_7, c_15.chart, _e8.second, _e12.second, level_6);
+    const EnvmapFootprint _e8 = envmap_bilinear_footprint(c_16.uv.x, size_9.x);
+    const EnvmapFootprint _e12 = envmap_bilinear_footprint(c_16.uv.y, size_9.y);
+    const float3 _e16 = envmap_cube_texel(t_7, c_16.chart, _e8.first, _e12.first, level_6);
+    const float3 _e20 = envmap_cube_texel(t_7, c_16.chart, _e8.second, _e12.first, level_6);
+    const float3 _e24 = envmap_cube_texel(t_7, c_16.chart, _e8.first, _e12.second, level_6);
+    const float3 _e28 = envmap_cube_texel(t_7, c_16.chart, _e8.second, _e12.second, level_6);
     const float3 _e31 = envmap_blend(_e16, _e20, _e24, _e28, _e8.f, _e12.f);
     return _e31;
 }
@@ -1456,9 +1620,9 @@ EnvmapLevels envmap_levels(float lod, int levels_3)
     return envmaplevels_1;
 }
 
-float3 envmap_latlong_chain(Texture2D<float4> t_8, int levels_4, float3 dir_11, float lod_1)
+float3 envmap_latlong_chain(Texture2D<float4> t_8, int levels_4, float3 dir_12, float lod_1)
 {
-    const EnvmapChartUv _e4 = envmap_latlong_forward(dir_11);
+    const EnvmapChartUv _e4 = envmap_latlong_forward(dir_12);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return (0.0).xxx;
     }
@@ -1471,9 +1635,9 @@ float3 envmap_latlong_chain(Texture2D<float4> t_8, int levels_4, float3 dir_11, 
     return _e13;
 }
 
-float3 envmap_octahedral_chain(Texture2D<float4> t_9, int levels_5, float3 dir_12, float lod_2)
+float3 envmap_octahedral_chain(Texture2D<float4> t_9, int levels_5, float3 dir_13, float lod_2)
 {
-    const EnvmapChartUv _e4 = envmap_octahedral_forward(dir_12);
+    const EnvmapChartUv _e4 = envmap_octahedral_forward(dir_13);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return (0.0).xxx;
     }
@@ -1486,9 +1650,9 @@ float3 envmap_octahedral_chain(Texture2D<float4> t_9, int levels_5, float3 dir_1
     return _e13;
 }
 
-float3 envmap_equal_area_octahedral_chain(Texture2D<float4> t_10, int levels_6, float3 dir_13, float lod_3)
+float3 envmap_equal_area_octahedral_chain(Texture2D<float4> t_10, int levels_6, float3 dir_14, float lod_3)
 {
-    const EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_13);
+    const EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_14);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return (0.0).xxx;
     }
@@ -1501,9 +1665,9 @@ float3 envmap_equal_area_octahedral_chain(Texture2D<float4> t_10, int levels_6, 
     return _e13;
 }
 
-float3 envmap_cube_chain(Texture2DArray<float4> t_11, int levels_7, float3 dir_14, float lod_4)
+float3 envmap_cube_chain(Texture2DArray<float4> t_11, int levels_7, float3 dir_15, float lod_4)
 {
-    const EnvmapChartUv _e4 = envmap_cube_forward(dir_14);
+    const EnvmapChartUv _e4 = envmap_cube_forward(dir_15);
     if ((_e4.chart == ENVMAP_INVALID_CHART)) {
         return (0.0).xxx;
     }
@@ -1527,11 +1691,11 @@ float envmap_latlong_lod(float angle, float height)
     return max(log2(((angle * height) / ENVMAP_PI)), 0.0);
 }
 
-float envmap_octahedral_lod(float3 dir_15, float angle_1, float size)
+float envmap_octahedral_lod(float3 dir_16, float angle_1, float size)
 {
-    float3 a_9 = abs(dir_15);
-    float p_3 = (length(dir_15) / ((a_9.x + a_9.y) + a_9.z));
-    float texel = (2.0 / ((size * p_3) * sqrt(p_3)));
+    float3 a_11 = abs(dir_16);
+    float p_4 = (length(dir_16) / ((a_11.x + a_11.y) + a_11.z));
+    float texel = (2.0 / ((size * p_4) * sqrt(p_4)));
     return max(log2((angle_1 / texel)), 0.0);
 }
 
@@ -1540,23 +1704,23 @@ float envmap_equal_area_octahedral_lod(float angle_2, float size_1)
     return max(log2(((angle_2 * size_1) / 3.5449078)), 0.0);
 }
 
-float4 envmap_latlong_sample_level(Texture2D<float4> t_12, SamplerState s_4, float3 dir_16, float lod_5)
+float4 envmap_latlong_sample_level(Texture2D<float4> t_12, SamplerState s_4, float3 dir_17, float lod_5)
 {
-    const EnvmapChartUv _e4 = envmap_latlong_forward(dir_16);
+    const EnvmapChartUv _e4 = envmap_latlong_forward(dir_17);
     float4 _e6 = t_12.SampleLevel(s_4, _e4.uv, lod_5);
     return _e6;
 }
 
-float4 envmap_octahedral_sample_level(Texture2D<float4> t_13, SamplerState s_5, float3 dir_17, float lod_6)
+float4 envmap_octahedral_sample_level(Texture2D<float4> t_13, SamplerState s_5, float3 dir_18, float lod_6)
 {
-    const EnvmapChartUv _e4 = envmap_octahedral_forward(dir_17);
+    const EnvmapChartUv _e4 = envmap_octahedral_forward(dir_18);
     float4 _e6 = t_13.SampleLevel(s_5, _e4.uv, lod_6);
     return _e6;
 }
 
-float4 envmap_equal_area_octahedral_sample_level(Texture2D<float4> t_14, SamplerState s_6, float3 dir_18, float lod_7)
+float4 envmap_equal_area_octahedral_sample_level(Texture2D<float4> t_14, SamplerState s_6, float3 dir_19, float lod_7)
 {
-    const EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_18);
+    const EnvmapChartUv _e4 = envmap_equal_area_octahedral_forward(dir_19);
     float4 _e6 = t_14.SampleLevel(s_6, _e4.uv, lod_7);
     return _e6;
 }
