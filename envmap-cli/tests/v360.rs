@@ -51,14 +51,11 @@
 //!   one lens looking along +z, the equirect's centre, with +x to the right
 //!   of its image and +y up. F is `h_fov`/`v_fov` for an output and
 //!   `ih_fov`/`iv_fov` for an input, 180° by default, as envmap's.
-//! - v360's `dfisheye` is envmap's `dual-fisheye` (180° per lens by
-//!   default, as envmap's; the same options) with the two halves of the
-//!   image swapped: v360 puts the lens looking along −z on the left and the
-//!   one along +z on the right. Neither lens is mirrored: the −z lens has −x
-//!   to the right of its image in both. The test swaps the halves of v360's
-//!   outputs and of envmap's file before v360 reads it ([`swap_halves`]);
-//!   a half turn about the vertical, `envmap convert --rotate 180,0,0`,
-//!   does the same.
+//! - v360's `dfisheye` is envmap's `dual-fisheye` in its default layout,
+//!   `dfisheye` (180° per lens by default, as envmap's; the same options):
+//!   the lens looking along −z on the left, the one along +z on the right.
+//!   Neither lens is mirrored: the −z lens has −x to the right of its image
+//!   in both. (envmap's `--layout side-by-side` puts the +z lens left.)
 //! - Outside the image circle, v360's fisheye outputs continue the lens law
 //!   (the corners of a 180° lens show directions up to 127° from its axis);
 //!   envmap's are black. Reading a fisheye, v360 takes the whole square as
@@ -495,20 +492,6 @@ fn inside_circle(i: u32, j: u32, w: u32, h: u32) -> bool {
     x.hypot(y) + f64::from(RIM_MARGIN) <= 0.5 * f64::from(w.min(h))
 }
 
-/// `img` with its left and right halves swapped (a side-by-side image of
-/// even width). v360's `dfisheye` holds the lens looking along −z on the
-/// left and the one looking along +z on the right, each seen as envmap's
-/// (+x, or −x for the back lens, to the right of its image; +y up): envmap's
-/// dual fisheye with its halves swapped.
-fn swap_halves(img: &EnvImage) -> EnvImage {
-    let (w, h) = (img.width(), img.height());
-    assert_eq!(w % 2, 0, "a side-by-side image has an even width");
-    let pixels = (0..h)
-        .flat_map(|y| (0..w).map(move |x| img.get((x + w / 2) % w, y)))
-        .collect();
-    EnvImage::from_pixels(w, h, pixels, *img.representation()).unwrap()
-}
-
 /// The lens axis, in canonical axes, of a fisheye file's (front) lens: the
 /// latlong's centre.
 fn lens_axis(mapping: AnyMapping) -> DVec3 {
@@ -543,16 +526,12 @@ fn seen_inside(
     }
 }
 
-/// Loads v360's output `name` in `dir` as `mapping`, its halves swapped
-/// back for a dual fisheye.
+/// Loads v360's output `name` in `dir` as `mapping` (a dual fisheye in its
+/// default layout, v360's own).
 fn load_v360_fisheye(dir: &Path, name: &str, mapping: AnyMapping) -> EnvImage {
     let mut opts = LoadOptions::default();
     opts.mapping = Some(mapping);
-    let img = load(dir.join(name), &opts).unwrap();
-    match mapping {
-        AnyMapping::Fisheye(f) if f.is_dual() => swap_halves(&img),
-        _ => img,
-    }
+    load(dir.join(name), &opts).unwrap()
 }
 
 /// Which way a fisheye case converts.
@@ -625,20 +604,8 @@ fn fisheye_case(d: &Path, lenses: u32, fov: Option<f64>, n: u32, way: Way) -> Th
             let input = format!("{stem}.exr");
             let repr = Representation::for_file(mapping, Default::default());
             direction_file(d, &input, repr, w, h);
-            // v360 holds the two lenses the other way round.
-            let v360_input = if dual {
-                let img = load(d.join(&input), &LoadOptions::default()).unwrap();
-                let swapped = format!("{stem}-swapped.exr");
-                save(
-                    &swap_halves(&img),
-                    d.join(&swapped),
-                    &SaveOptions::default(),
-                )
-                .unwrap();
-                swapped
-            } else {
-                input.clone()
-            };
+            // envmap's dual fisheye is laid out as v360's: the same file.
+            let v360_input = input.clone();
             // envmap's file states its lens: no --from-fov.
             let ours = format!("{stem}-latlong-envmap.exr");
             run_envmap(

@@ -17,6 +17,7 @@
 //! | [`Atlas::TENNISBALL_STACKED`] | 1×2 | 3:1 | chart 0 at 0,0; chart 1 at 0,1 |
 //! | [`Atlas::CUBE_3X2`] | 3×2 | 1:1 | +x 0,0; −x 1,0; +y 2,0; −y 0,1; +z 1,1; −z 2,1 (ffmpeg `v360`'s `c3x2`) |
 //! | [`Atlas::EAC_V360`] | 3×2 | 1:1 | −x 0,0; +z 1,0; +x 2,0; −y 0,1; −z 1,1; +y 2,1 (ffmpeg `v360`'s `eac`, as held in memory) |
+//! | [`Atlas::DUAL_FISHEYE_V360`] | 2×1 | 1:1 | back (chart 1) 0,0; front (chart 0) 1,0 (ffmpeg `v360`'s `dfisheye`) |
 //!
 //! Faces keep their GL orientation in every cube layout (each face image is
 //! exactly what GL expects for that face), except the vertical cross's −z,
@@ -186,6 +187,16 @@ impl Atlas {
         cell_aspect_w: 1,
         cell_aspect_h: 1,
         cells: &[cell(0, 0, 0), cell(1, 1, 0)],
+    };
+    /// Dual fisheye as ffmpeg's `v360` lays out its `dfisheye`: the back lens (chart 1,
+    /// looking along −z) left, the front lens (chart 0, looking along +z) right.
+    pub const DUAL_FISHEYE_V360: Atlas = Atlas {
+        name: "dfisheye",
+        cols: 2,
+        rows: 1,
+        cell_aspect_w: 1,
+        cell_aspect_h: 1,
+        cells: &[cell(0, 1, 0), cell(1, 0, 0)],
     };
     /// Cube, three faces by two: +x, −x, +y on top, −y, +z, −z below (ffmpeg
     /// `v360`'s `c3x2` with its default face order `rludfb`).

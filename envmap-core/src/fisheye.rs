@@ -388,7 +388,7 @@ impl Mapping for Fisheye {
     }
     fn atlas(&self) -> Atlas {
         if self.dual {
-            Atlas::PARABOLOID_SIDE_BY_SIDE
+            Atlas::DUAL_FISHEYE_V360
         } else {
             Atlas::SINGLE_SQUARE
         }

@@ -26,7 +26,8 @@ pub enum Layout {
     Faces,
     /// `square`: one square image (sphere maps, angular map, octahedral maps).
     Square,
-    /// `side-by-side`: dual paraboloid, front disk left, back disk right (2:1).
+    /// `side-by-side`: dual paraboloid (and dual fisheye), front disk left, back disk right
+    /// (2:1).
     SideBySide,
     /// `stacked`: tennisball, two 3:1 strips stacked (3:2).
     Stacked,
@@ -40,11 +41,16 @@ pub enum Layout {
     /// `(3n + 4) × (2n + 8)` file. Held in memory unturned and unpadded
     /// ([`Atlas::EAC_V360`]); see [`crate::image`], "Layouts".
     V360,
+    /// `dfisheye`: a dual fisheye as ffmpeg's `v360` lays it out (its `dfisheye`): the back
+    /// lens (looking along −z) left, the front lens (along +z, the latlong's centre) right
+    /// (2:1; [`Atlas::DUAL_FISHEYE_V360`]). The dual fisheye's default; `side-by-side` puts
+    /// the front lens left.
+    DualFisheye,
 }
 
 impl Layout {
     /// Every layout, in the order of [`Layout::NAMES`].
-    pub const ALL: [Layout; 11] = [
+    pub const ALL: [Layout; 12] = [
         Layout::LatLong,
         Layout::Cross,
         Layout::VCross,
@@ -56,10 +62,11 @@ impl Layout {
         Layout::Stacked,
         Layout::Grid3x2,
         Layout::V360,
+        Layout::DualFisheye,
     ];
 
     /// The names [`FromStr`] accepts (case-insensitive), in the order of [`Layout::ALL`].
-    pub const NAMES: [&'static str; 11] = [
+    pub const NAMES: [&'static str; 12] = [
         "latlong",
         "cross",
         "vcross",
@@ -71,6 +78,7 @@ impl Layout {
         "stacked",
         "3x2",
         "v360",
+        "dfisheye",
     ];
 
     /// The layout's name, as the command line spells it.
@@ -94,6 +102,7 @@ impl Layout {
             Layout::Stacked => Atlas::TENNISBALL_STACKED,
             Layout::Grid3x2 => Atlas::CUBE_3X2,
             Layout::V360 => Atlas::EAC_V360,
+            Layout::DualFisheye => Atlas::DUAL_FISHEYE_V360,
         }
     }
 
@@ -130,6 +139,7 @@ impl Layout {
                 AnyMapping::Fisheye(Fisheye::DUAL),
             ],
             Layout::Stacked => &[AnyMapping::Tennisball],
+            Layout::DualFisheye => &[AnyMapping::Fisheye(Fisheye::DUAL)],
         }
     }
 
@@ -161,7 +171,7 @@ impl Layout {
             | AnyMapping::EqualAreaOctahedral
             | AnyMapping::Angular => &[Layout::Square],
             AnyMapping::DualParaboloid => &[Layout::SideBySide],
-            AnyMapping::Fisheye(f) if f.is_dual() => &[Layout::SideBySide],
+            AnyMapping::Fisheye(f) if f.is_dual() => &[Layout::DualFisheye, Layout::SideBySide],
             AnyMapping::Fisheye(_) => &[Layout::Square],
             AnyMapping::Tennisball => &[Layout::Stacked],
         }

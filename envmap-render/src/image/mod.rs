@@ -140,11 +140,12 @@
 //! | `strip` | [`Layout::Strip`] | cube | 6:1 | [`Atlas::CUBE_HORIZONTAL_STRIP`](envmap_core::Atlas::CUBE_HORIZONTAL_STRIP) |
 //! | `vstrip` | [`Layout::VStrip`] | cube | 1:6 | [`Atlas::CUBE_VERTICAL_STRIP`](envmap_core::Atlas::CUBE_VERTICAL_STRIP) |
 //! | `faces` | [`Layout::Faces`] | cube | six square files | in memory: [`Atlas::CUBE_HORIZONTAL_STRIP`](envmap_core::Atlas::CUBE_HORIZONTAL_STRIP) |
-//! | `square` | [`Layout::Square`] | sphere, sphere-gl, angular, octahedral, octahedral-equal-area | 1:1 | [`Atlas::SINGLE_SQUARE`](envmap_core::Atlas::SINGLE_SQUARE) |
-//! | `side-by-side` | [`Layout::SideBySide`] | paraboloid | 2:1 | [`Atlas::PARABOLOID_SIDE_BY_SIDE`](envmap_core::Atlas::PARABOLOID_SIDE_BY_SIDE) |
+//! | `square` | [`Layout::Square`] | sphere, sphere-gl, angular, octahedral, octahedral-equal-area, fisheye | 1:1 | [`Atlas::SINGLE_SQUARE`](envmap_core::Atlas::SINGLE_SQUARE) |
+//! | `side-by-side` | [`Layout::SideBySide`] | paraboloid, dual-fisheye (front left) | 2:1 | [`Atlas::PARABOLOID_SIDE_BY_SIDE`](envmap_core::Atlas::PARABOLOID_SIDE_BY_SIDE) |
 //! | `stacked` | [`Layout::Stacked`] | tennisball | 3:2 | [`Atlas::TENNISBALL_STACKED`](envmap_core::Atlas::TENNISBALL_STACKED) |
 //! | `3x2` | [`Layout::Grid3x2`] | cube, eac | 3:2 | [`Atlas::CUBE_3X2`](envmap_core::Atlas::CUBE_3X2) |
 //! | `v360` | [`Layout::V360`] | eac (its default) | (3n + 4) × (2n + 8) for n × n faces | in memory: [`Atlas::EAC_V360`](envmap_core::Atlas::EAC_V360) |
+//! | `dfisheye` | [`Layout::DualFisheye`] | dual-fisheye (its default: back lens left, front right, as v360's `dfisheye`) | 2:1 | [`Atlas::DUAL_FISHEYE_V360`](envmap_core::Atlas::DUAL_FISHEYE_V360) |
 //!
 //! Every cube layout holds the equi-angular cube map (`eac`) as well, face
 //! for face; named alone, a cube layout is read as the cube (`--from eac`
