@@ -185,7 +185,8 @@ pub fn coverage(
     let n = COVERAGE_SAMPLES;
     let w = width as usize;
     let mut texels = vec![0.0f32; w * height as usize];
-    let (seen, total) = texels
+    // Per row, then summed in row order: the same sums however many threads.
+    let rows: Vec<(f64, f64)> = texels
         .par_chunks_mut(w.max(1))
         .enumerate()
         .map(|(y, row)| {
@@ -225,7 +226,8 @@ pub fn coverage(
             }
             (seen, total)
         })
-        .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+        .collect();
+    let (seen, total) = rows.iter().fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
     Ok(Coverage {
         fraction: if total > 0.0 { seen / total } else { 0.0 },
         texels,
