@@ -87,20 +87,6 @@ fn looks_at(to: &EnvImage, from: &Representation, k: usize) -> Vec<Vec3> {
         .collect()
 }
 
-/// For a fisheye that does not see every direction, the angle (rad) of `d` past the rim of
-/// what it sees (negative inside); `None` for every other mapping.
-fn past_rim(m: AnyMapping, d: Vec3) -> Option<f64> {
-    let AnyMapping::Fisheye(f) = m else {
-        return None;
-    };
-    if f.covers_sphere() {
-        return None;
-    }
-    let d = d.as_dvec3();
-    let axial = if f.is_dual() { d.z.abs() } else { d.z };
-    Some(d.x.hypot(d.y).atan2(axial) - f.fov_degrees().to_radians() / 2.0)
-}
-
 #[test]
 fn every_pair_against_exact_values() {
     let mut worst = (f64::INFINITY, String::new());
@@ -123,14 +109,14 @@ fn every_pair_against_exact_values() {
                 inside(k)
                     && looks_at(&want, &rin, k)
                         .into_iter()
-                        .all(|d| past_rim(from, d).is_none_or(|p| p < -margin))
+                        .all(|d| envmap_tests::past_rim(from, d).is_none_or(|p| p < -margin))
             };
             for (k, px) in got.pixels().iter().enumerate() {
                 let dirs = looks_at(&want, &rin, k);
                 let unseen = !dirs.is_empty()
                     && dirs
                         .into_iter()
-                        .all(|d| past_rim(from, d).is_some_and(|p| p > margin));
+                        .all(|d| envmap_tests::past_rim(from, d).is_some_and(|p| p > margin));
                 if unseen && *px != [0.0; 3] {
                     failures.push(format!("{from} -> {to}: texel {k} unseen but {px:?}"));
                     break;

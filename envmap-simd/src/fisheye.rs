@@ -39,7 +39,7 @@ impl Mapping8 for Fisheye {
             Lens::Equidistant => theta * f32x8::splat(1.0 / k),
             Lens::Equisolid => {
                 let (s, _) = T::sin_cos(f32x8::splat(0.5) * theta);
-                s / f32x8::splat(self.half_fov_sin_half())
+                s * f32x8::splat(1.0 / self.half_fov_sin_half())
             }
         }
         .fast_min(f32x8::ONE);

@@ -125,19 +125,10 @@ fn singular_direction(m: AnyMapping) -> Option<DVec3> {
 /// mapping but a fisheye that does not cover the sphere; for that one, whether `d` is within
 /// its field of view, or `None` within 1e-6 rad of the rim, where rounding decides.
 fn sees(m: AnyMapping, d: DVec3) -> Option<bool> {
-    let AnyMapping::Fisheye(f) = m else {
-        return Some(true);
-    };
-    if f.covers_sphere() {
-        return Some(true);
-    }
-    let axial = if f.is_dual() { d.z.abs() } else { d.z };
-    let theta = d.x.hypot(d.y).atan2(axial);
-    let k = f.fov_degrees().to_radians() / 2.0;
-    if (theta - k).abs() < 1e-6 {
-        None
-    } else {
-        Some(theta < k)
+    match envmap_tests::past_rim(m, d.as_vec3()) {
+        None => Some(true),
+        Some(p) if p.abs() < 1e-6 => None,
+        Some(p) => Some(p < 0.0),
     }
 }
 

@@ -119,7 +119,9 @@ fn check_forward<T: Tier>(m: AnyMapping, dirs: &[Vec3]) {
     for (d, got) in dirs.iter().zip(&out) {
         let want = m.forward(*d);
         // At a partial fisheye's rim the tier's angle may fall on either side.
-        if (want.is_none() != (got.chart == INVALID_CHART)) && near_fisheye_rim(m, *d, 1e-3) {
+        if (want.is_none() != (got.chart == INVALID_CHART))
+            && envmap_tests::past_rim(m, *d).is_some_and(|p| p.abs() < 1e-3)
+        {
             continue;
         }
         match want {
@@ -224,18 +226,6 @@ fn check_inverse<T: Tier>(m: AnyMapping, rng: &mut SplitMix64, n: usize) {
         worst.0,
         worst.1
     );
-}
-
-/// Whether `d` is within `margin` rad of the rim of what fisheye `m` sees (where a tier's
-/// rounding may decide either way whether it is seen); false for every other mapping.
-fn near_fisheye_rim(m: AnyMapping, d: Vec3, margin: f64) -> bool {
-    let AnyMapping::Fisheye(f) = m else {
-        return false;
-    };
-    let (x, y, z) = (f64::from(d.x), f64::from(d.y), f64::from(d.z));
-    let axial = if f.is_dual() { z.abs() } else { z };
-    let theta = x.hypot(y).atan2(axial);
-    (theta - f.fov_degrees().to_radians() / 2.0).abs() < margin
 }
 
 fn all_tiers(m: AnyMapping) {
